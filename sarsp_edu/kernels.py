@@ -1,0 +1,163 @@
+"""The squared-exponential (RBF) kernel used by both processes.
+
+The paper (section 5.2) and its reference implementation use one kernel for the
+Gaussian process and the Student-t process: TensorFlow Probability's
+``ExponentiatedQuadratic``, in which the amplitude enters squared,
+
+.. math::
+
+    k(x, x') = a^2 \\exp\\left(-\\frac{\\lVert x - x' \\rVert^2}{2 \\ell^2}\\right),
+
+with one length scale shared by every input dimension.  The observation noise is
+*not* part of the kernel here; the processes add it to the diagonal.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.distance import cdist
+
+__all__ = ["RBF", "squared_distances"]
+
+
+def squared_distances(X: np.ndarray, Y: np.ndarray | None = None) -> np.ndarray:
+    """Pairwise squared Euclidean distances.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n, d)
+    Y : ndarray of shape (m, d), optional
+        Defaults to ``X``; the result is then exactly symmetric with a zero
+        diagonal.
+
+    Returns
+    -------
+    ndarray of shape (n, m)
+    """
+    if Y is None:
+        D2 = cdist(X, X, "sqeuclidean")
+        # cdist is exact on the diagonal already; symmetrise against rounding.
+        return 0.5 * (D2 + D2.T)
+    return cdist(X, Y, "sqeuclidean")
+
+
+def _check_positive(name: str, value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}") from None
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
+    return value
+
+
+class RBF:
+    """Squared-exponential kernel ``k(x, x') = amplitude**2 exp(-|x - x'|**2 / (2 length_scale**2))``.
+
+    Parameters
+    ----------
+    amplitude : float, default 1.0
+        Output scale ``a`` (> 0); the prior variance of the process is ``a**2``.
+    length_scale : float, default 1.0
+        Length scale ``l`` (> 0), shared by all input dimensions.
+
+    Notes
+    -----
+    Hyperparameters are optimised in log space: ``theta = [log a, log l]``.
+    The gradient returned by ``__call__(..., eval_gradient=True)`` is taken
+    with respect to ``theta``:
+
+    - d K / d log a = 2 K
+    - d K / d log l = K * |x - x'|**2 / l**2
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sarsp_edu import RBF
+    >>> k = RBF(amplitude=2.0, length_scale=0.5)
+    >>> round(float(k(np.array([[0.0]]), np.array([[0.5]]))[0, 0]), 6)  # 4 exp(-0.5)
+    2.426123
+    """
+
+    n_hyperparameters = 2
+
+    def __init__(self, amplitude: float = 1.0, length_scale: float = 1.0):
+        self.amplitude = _check_positive("amplitude", amplitude)
+        self.length_scale = _check_positive("length_scale", length_scale)
+
+    # -- hyperparameters in log space -------------------------------------
+    @property
+    def theta(self) -> np.ndarray:
+        """Log hyperparameters ``[log amplitude, log length_scale]``."""
+        return np.log([self.amplitude, self.length_scale])
+
+    def clone_with_theta(self, theta) -> "RBF":
+        """A new kernel with hyperparameters ``exp(theta)``."""
+        a, l = np.exp(np.asarray(theta, dtype=float))
+        return RBF(amplitude=a, length_scale=l)
+
+    # -- evaluation ---------------------------------------------------------
+    def from_squared_distances(self, D2: np.ndarray, eval_gradient: bool = False):
+        """Kernel matrix (and gradient) from precomputed squared distances.
+
+        The fit evaluates the kernel at many hyperparameters on one training
+        set; computing the distances once and reusing them here saves most
+        of the cost of each step.
+
+        Returns
+        -------
+        K : ndarray of shape (n, m)
+        K_gradient : ndarray of shape (n, m, 2), only if ``eval_gradient``
+            Derivatives with respect to ``theta``.
+        """
+        inv_l2 = 1.0 / self.length_scale**2
+        K = self.amplitude**2 * np.exp(-0.5 * inv_l2 * D2)
+        if not eval_gradient:
+            return K
+        K_gradient = np.empty(K.shape + (2,))
+        K_gradient[..., 0] = 2.0 * K
+        K_gradient[..., 1] = K * D2 * inv_l2
+        return K, K_gradient
+
+    def __call__(self, X, Y=None, eval_gradient: bool = False):
+        """Kernel matrix ``K(X, Y)``.
+
+        Parameters
+        ----------
+        X : array-like of shape (n, d)
+        Y : array-like of shape (m, d), optional
+            Defaults to ``X``.  The gradient is only defined for ``Y=None``.
+        eval_gradient : bool, default False
+            Also return the gradient with respect to the log hyperparameters.
+
+        Returns
+        -------
+        K : ndarray of shape (n, m)
+        K_gradient : ndarray of shape (n, n, 2), only if ``eval_gradient``
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        if Y is not None:
+            if eval_gradient:
+                raise ValueError("eval_gradient=True is only supported when Y is None")
+            Y = np.atleast_2d(np.asarray(Y, dtype=float))
+            if Y.shape[1] != X.shape[1]:
+                raise ValueError(
+                    f"X and Y must have the same number of features, got "
+                    f"X.shape={X.shape} and Y.shape={Y.shape}"
+                )
+        return self.from_squared_distances(squared_distances(X, Y), eval_gradient)
+
+    def diag(self, X) -> np.ndarray:
+        """The diagonal of ``K(X, X)``: ``amplitude**2`` for every row of ``X``."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        return np.full(X.shape[0], self.amplitude**2)
+
+    def __repr__(self) -> str:
+        return f"RBF(amplitude={self.amplitude:.4g}, length_scale={self.length_scale:.4g})"
+
+    def __eq__(self, other) -> bool:
+        return (
+            isinstance(other, RBF)
+            and self.amplitude == other.amplitude
+            and self.length_scale == other.length_scale
+        )

@@ -1,0 +1,853 @@
+"""Gaussian-process and Student-t-process regression in closed form.
+
+Both models share one implementation; the Student-t process (TP) differs from
+the Gaussian process (GP) only where the mathematics differs:
+
+==========================  ==================================  =======================================
+quantity                    GP (Rasmussen & Williams 2006)      TP (Shah, Wilson & Ghahramani 2014)
+==========================  ==================================  =======================================
+marginal likelihood         multivariate normal N(0, K)         multivariate t, nu dof, covariance K
+predictive mean             k*^T K^-1 y  (paper eq. 4)          the same
+predictive variance         k** - k*^T K^-1 k*  (paper eq. 5)   (nu + beta - 2) / (nu + n - 2) x GP's
+predictive distribution     normal                              Student-t with nu + n dof
+==========================  ==================================  =======================================
+
+Here ``K = K(X, X) + noise_variance * I``, ``n`` is the number of training
+points and ``beta = y^T K^-1 y``.  The paper's eq. 6 writes
+``K(X*, X*)^-1`` inside ``beta``; that is a typo: the factor uses the
+*training* covariance, as in Shah et al. (2014, eq. 7 and Lemma 3), and this
+module implements the correct form.
+
+As in the paper's reference implementation the prior mean is zero and
+neither inputs nor targets are rescaled.  Hyperparameters (amplitude, length
+scale, noise variance and, optionally, the TP's ``nu``) live in log space; the
+fit maximises the log marginal likelihood plus, by default, LogNormal(0, 1)
+log priors on the amplitude, length scale and noise variance (the reference
+implementation's MAP fit), with Adam (the paper's optimiser: learning rate
+0.1, 50 steps) or L-BFGS-B.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import numbers
+import warnings
+
+import numpy as np
+from scipy import linalg, optimize, special, stats
+
+from .kernels import RBF, squared_distances
+
+__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator"]
+
+_LOG_2PI = math.log(2.0 * math.pi)
+_OPTIMIZERS = ("adam", "lbfgs", None)
+_PRIORS = ("lognormal", None)
+
+
+class NotFittedError(ValueError, AttributeError):
+    """Raised when a model is used for prediction before ``fit``."""
+
+
+def as_generator(rng) -> np.random.Generator:
+    """``numpy.random.Generator`` from a seed, a Generator or ``None``.
+
+    A Generator is returned unchanged (so successive calls draw fresh
+    numbers); an int or ``None`` seeds a new one.
+    """
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if rng is None or isinstance(rng, (numbers.Integral, np.random.SeedSequence)):
+        return np.random.default_rng(rng)
+    raise ValueError(
+        f"rng must be None, an int seed or a numpy.random.Generator, got rng={rng!r}"
+    )
+
+
+# --------------------------------------------------------------------------
+# validation helpers
+# --------------------------------------------------------------------------
+def _positive(name, value):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
+    return value
+
+
+def _positive_int_or_none(name, value):
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(f"{name} must be a positive integer or None, got {name}={value!r}")
+    return int(value)
+
+
+def _check_X(X, name="X", n_features=None):
+    X = np.asarray(X, dtype=float)
+    if X.ndim != 2:
+        hint = " (for a single feature use X.reshape(-1, 1))" if X.ndim == 1 else ""
+        raise ValueError(
+            f"{name} must be a 2-D array of shape (n_samples, n_features), "
+            f"got an array of shape {X.shape}{hint}"
+        )
+    if X.shape[0] == 0 or X.shape[1] == 0:
+        raise ValueError(f"{name} must hold at least one sample and one feature, got shape {X.shape}")
+    if n_features is not None and X.shape[1] != n_features:
+        raise ValueError(
+            f"{name} has {X.shape[1]} features but the model was fitted on {n_features}"
+        )
+    if not np.all(np.isfinite(X)):
+        bad = np.argwhere(~np.isfinite(X))[0]
+        raise ValueError(
+            f"{name} must be finite, got {X[tuple(bad)]} at row {bad[0]}, column {bad[1]}"
+        )
+    return X
+
+
+def _check_training(X, y):
+    X = _check_X(X)
+    y = np.asarray(y, dtype=float)
+    if y.ndim == 2 and y.shape[1] == 1:
+        y = y[:, 0]
+    if y.ndim != 1:
+        raise ValueError(f"y must be a 1-D array of shape (n_samples,), got shape {y.shape}")
+    if y.shape[0] != X.shape[0]:
+        raise ValueError(
+            f"X and y must have the same number of samples, got {X.shape[0]} rows in X "
+            f"and {y.shape[0]} values in y"
+        )
+    if not np.all(np.isfinite(y)):
+        i = int(np.flatnonzero(~np.isfinite(y))[0])
+        raise ValueError(f"y must be finite, got y[{i}]={y[i]}")
+    return X, y
+
+
+def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
+    """Lower Cholesky factor of ``K``, adding diagonal jitter if needed.
+
+    Tries ``K`` as it is, then ``K + j I`` with ``j`` = 1e-10, 1e-9, ... times
+    the mean of the diagonal.  Returns ``(L, jitter)``; raises
+    ``numpy.linalg.LinAlgError`` with advice when every try fails.
+    """
+    try:
+        return linalg.cholesky(K, lower=True, check_finite=False), 0.0
+    except linalg.LinAlgError:
+        pass
+    scale = float(np.mean(np.diag(K)))
+    if not np.isfinite(scale) or scale <= 0:
+        raise np.linalg.LinAlgError(
+            "the covariance matrix has a non-finite or non-positive diagonal "
+            f"(mean {scale}); check the hyperparameters and the data for overflow"
+        )
+    jitter = 0.0
+    for k in range(max_tries):
+        jitter = scale * 10.0 ** (k - 10)
+        try:
+            Kj = K + jitter * np.eye(K.shape[0])
+            return linalg.cholesky(Kj, lower=True, check_finite=False), jitter
+        except linalg.LinAlgError:
+            continue
+    raise np.linalg.LinAlgError(
+        f"the covariance matrix is not positive definite even with a diagonal jitter of "
+        f"{jitter:.3g}: increase noise_variance, or remove duplicated inputs with "
+        "conflicting targets"
+    )
+
+
+# --------------------------------------------------------------------------
+# optimisers (minimise f(theta) -> (value, gradient))
+# --------------------------------------------------------------------------
+def _adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, epsilon=1e-7):
+    """Adam as TensorFlow/Keras implements it, projected onto ``bounds``.
+
+    Returns the last iterate and the objective value at each step's start.
+    """
+    theta = np.array(theta0, dtype=float)
+    m = np.zeros_like(theta)
+    v = np.zeros_like(theta)
+    trace = []
+    for t in range(1, n_steps + 1):
+        value, grad = fun(theta)
+        trace.append(value)
+        m += (grad - m) * (1.0 - beta_1)
+        v += (grad * grad - v) * (1.0 - beta_2)
+        step = learning_rate * math.sqrt(1.0 - beta_2**t) / (1.0 - beta_1**t)
+        theta = np.clip(theta - step * m / (np.sqrt(v) + epsilon), bounds[:, 0], bounds[:, 1])
+    trace.append(fun(theta)[0])
+    return theta, trace, n_steps
+
+
+def _lbfgs(fun, theta0, bounds, max_iter):
+    options = {} if max_iter is None else {"maxiter": max_iter}
+    start = fun(theta0)[0]
+    result = optimize.minimize(
+        fun, theta0, method="L-BFGS-B", jac=True, bounds=bounds, options=options
+    )
+    if not result.success:
+        warnings.warn(
+            f"L-BFGS-B stopped before converging: {result.message}", RuntimeWarning, stacklevel=4
+        )
+    return result.x, [start, float(result.fun)], int(result.nit)
+
+
+# --------------------------------------------------------------------------
+# the shared model
+# --------------------------------------------------------------------------
+class _ProcessRegressor:
+    """Shared machinery of :class:`GaussianProcess` and :class:`StudentTProcess`."""
+
+    #: names of the log hyperparameters, in the order of ``theta``
+    _base_names = ("log_amplitude", "log_length_scale", "log_noise_variance")
+
+    def __init__(
+        self,
+        kernel: RBF | None = None,
+        *,
+        noise_variance: float = 1.0,
+        optimizer: str | None = "adam",
+        learning_rate: float = 0.1,
+        max_iter: int | None = None,
+        prior: str | None = "lognormal",
+        max_fit_points: int | None = 1000,
+        bounds: tuple[float, float] = (1e-5, 1e5),
+        rng=None,
+    ):
+        self.kernel = kernel
+        self.noise_variance = noise_variance
+        self.optimizer = optimizer
+        self.learning_rate = learning_rate
+        self.max_iter = max_iter
+        self.prior = prior
+        self.max_fit_points = max_fit_points
+        self.bounds = bounds
+        self.rng = rng
+        # Departure from scikit-learn's habit of validating only in ``fit``:
+        # a student who types nu=1.5 should hear about it at once.
+        self._validate_params()
+
+    # -- parameters -------------------------------------------------------
+    def _validate_params(self):
+        if self.kernel is None:
+            self.kernel = RBF()
+        if not isinstance(self.kernel, RBF):
+            raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
+        self.noise_variance = _positive("noise_variance", self.noise_variance)
+        if self.optimizer not in _OPTIMIZERS:
+            raise ValueError(
+                f"optimizer must be one of 'adam', 'lbfgs' or None, got optimizer={self.optimizer!r}"
+            )
+        self.learning_rate = _positive("learning_rate", self.learning_rate)
+        self.max_iter = _positive_int_or_none("max_iter", self.max_iter)
+        if self.prior not in _PRIORS:
+            raise ValueError(f"prior must be 'lognormal' or None, got prior={self.prior!r}")
+        self.max_fit_points = _positive_int_or_none("max_fit_points", self.max_fit_points)
+        try:
+            low, high = (float(b) for b in self.bounds)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"bounds must be a pair (low, high) with 0 < low < high, got bounds={self.bounds!r}"
+            ) from None
+        if not (0 < low < high < math.inf):
+            raise ValueError(
+                f"bounds must be a pair (low, high) with 0 < low < high, got bounds={self.bounds!r}"
+            )
+        self.bounds = (low, high)
+        if not isinstance(self.rng, np.random.Generator):
+            as_generator(self.rng)  # raises a clear error for anything else
+
+    @property
+    def hyperparameter_names(self) -> tuple[str, ...]:
+        """Names of the entries of ``theta`` (log hyperparameters)."""
+        return self._base_names + self._extra_names()
+
+    def _extra_names(self) -> tuple[str, ...]:
+        return ()
+
+    def _extra_theta(self) -> list[float]:
+        return []
+
+    def _initial_theta(self) -> np.ndarray:
+        return np.concatenate(
+            [self.kernel.theta, [math.log(self.noise_variance)], self._extra_theta()]
+        )
+
+    def _theta_bounds(self) -> np.ndarray:
+        b = np.log(self.bounds)
+        return np.tile(b, (len(self.hyperparameter_names), 1))
+
+    def _unpack(self, theta):
+        """(kernel, noise variance, extra) from log hyperparameters."""
+        theta = np.asarray(theta, dtype=float)
+        return self.kernel.clone_with_theta(theta[:2]), math.exp(theta[2]), theta[3:]
+
+    # -- the mathematics that differs between GP and TP -------------------
+    def _lml_terms(self, n, beta, log_det, extra):
+        """Log marginal likelihood from its sufficient statistics.
+
+        Returns ``(value, w, extra_gradient)`` where the gradient of the log
+        marginal likelihood with respect to a kernel hyperparameter ``t`` is
+        ``0.5 * tr((w alpha alpha^T - K^-1) dK/dt)``.
+        """
+        raise NotImplementedError
+
+    # -- objective ---------------------------------------------------------
+    def _log_prior(self, theta):
+        """LogNormal(0, 1) log density of amplitude, length scale and noise.
+
+        In log space ``t = log x`` this is ``-t - t**2 / 2 - log(2 pi) / 2``
+        per hyperparameter: the density of the positive value itself, as the
+        reference implementation sums ``prior.log_prob(value)``.
+        """
+        if self.prior is None:
+            return 0.0, np.zeros_like(theta)
+        t = theta[:3]
+        grad = np.zeros_like(theta)
+        grad[:3] = -1.0 - t
+        return float(np.sum(-t - 0.5 * t * t - 0.5 * _LOG_2PI)), grad
+
+    def _lml_from_distances(self, theta, D2, y, eval_gradient):
+        kernel, s2, extra = self._unpack(theta)
+        n = y.shape[0]
+        if eval_gradient:
+            K, dK = kernel.from_squared_distances(D2, eval_gradient=True)
+        else:
+            K = kernel.from_squared_distances(D2)
+        K[np.diag_indices_from(K)] += s2
+        L, _ = cholesky_with_jitter(K)
+        # Rasmussen & Williams Alg. 2.1, line 3: alpha = K^-1 y
+        alpha = linalg.cho_solve((L, True), y, check_finite=False)
+        beta = float(y @ alpha)
+        log_det = 2.0 * float(np.sum(np.log(np.diag(L))))
+        value, w, extra_grad = self._lml_terms(n, beta, log_det, extra)
+        if not eval_gradient:
+            return value
+        # R&W eq. 5.9, generalised: dL/dt = 0.5 tr((w alpha alpha^T - K^-1) dK/dt)
+        K_inv = linalg.cho_solve((L, True), np.eye(n), check_finite=False)
+        inner = w * np.outer(alpha, alpha) - K_inv
+        grad = np.empty(3 + len(extra))
+        grad[:2] = 0.5 * np.einsum("ij,ijk->k", inner, dK)
+        grad[2] = 0.5 * s2 * np.trace(inner)  # dK/dlog s2 = s2 I
+        grad[3:] = extra_grad
+        return value, grad
+
+    def _log_joint(self, theta, D2, y):
+        value, grad = self._lml_from_distances(theta, D2, y, eval_gradient=True)
+        prior, prior_grad = self._log_prior(theta)
+        return value + prior, grad + prior_grad
+
+    # -- public API --------------------------------------------------------
+    def fit(self, X, y):
+        """Fit the hyperparameters (unless ``optimizer=None``) and condition on the data.
+
+        Every fit starts from the constructor's hyperparameters.  The
+        hyperparameter search uses at most ``max_fit_points`` training points
+        (a random subset drawn from ``rng``); the fitted model then conditions
+        on *all* of ``X, y``.
+
+        Parameters
+        ----------
+        X : array-like of shape (n, d)
+        y : array-like of shape (n,)
+
+        Returns
+        -------
+        self
+        """
+        X, y = _check_training(X, y)
+        theta0 = self._initial_theta()
+        if self.optimizer is None:
+            theta, trace, n_iter = theta0, [], 0
+            self.fit_indices_ = np.arange(X.shape[0])
+        else:
+            bounds = self._theta_bounds()
+            outside = (theta0 < bounds[:, 0]) | (theta0 > bounds[:, 1])
+            if np.any(outside):
+                i = int(np.flatnonzero(outside)[0])
+                raise ValueError(
+                    f"the initial {self.hyperparameter_names[i][4:]}={math.exp(theta0[i]):.3g} "
+                    f"lies outside bounds={self.bounds}; widen bounds or change the initial value"
+                )
+            rng = as_generator(self.rng)
+            n = X.shape[0]
+            if self.max_fit_points is not None and n > self.max_fit_points:
+                idx = np.sort(rng.choice(n, size=self.max_fit_points, replace=False))
+            else:
+                idx = np.arange(n)
+            self.fit_indices_ = idx
+            D2 = squared_distances(X[idx])
+            y_fit = y[idx]
+
+            def negative(theta):
+                value, grad = self._log_joint(theta, D2, y_fit)
+                return -value, -grad
+
+            if self.optimizer == "adam":
+                steps = 50 if self.max_iter is None else self.max_iter
+                theta, trace, n_iter = _adam(negative, theta0, bounds, self.learning_rate, steps)
+            else:
+                theta, trace, n_iter = _lbfgs(negative, theta0, bounds, self.max_iter)
+            trace = [-v for v in trace]
+        self.theta_ = np.asarray(theta, dtype=float)
+        self.kernel_, self.noise_variance_, extra = self._unpack(self.theta_)
+        self._set_extra(extra)
+        self.n_iter_ = n_iter
+        #: log joint (log marginal likelihood + log prior) on the fit subset, per step
+        self.objective_trace_ = np.asarray(trace, dtype=float)
+        self._condition_on(X, y)
+        return self
+
+    def _set_extra(self, extra):
+        pass
+
+    def _condition_on(self, X, y):
+        """Cholesky factor and weights for the current hyperparameters."""
+        K = self.kernel_.from_squared_distances(squared_distances(X))
+        K[np.diag_indices_from(K)] += self.noise_variance_
+        try:
+            L, jitter = cholesky_with_jitter(K)
+        except np.linalg.LinAlgError as exc:
+            raise np.linalg.LinAlgError(
+                f"{type(self).__name__} could not factorise the training covariance "
+                f"(kernel_={self.kernel_!r}, noise_variance_={self.noise_variance_:.3g}): {exc}"
+            ) from None
+        self.X_train_ = X
+        self.y_train_ = y
+        self.L_ = L
+        self.jitter_ = jitter
+        # Alg. 2.1, line 3
+        self.alpha_ = linalg.cho_solve((L, True), y, check_finite=False)
+        self.beta_ = float(y @ self.alpha_)
+        log_det = 2.0 * float(np.sum(np.log(np.diag(L))))
+        self.log_marginal_likelihood_value_, _, _ = self._lml_terms(
+            y.shape[0], self.beta_, log_det, self._fitted_extra()
+        )
+        if not (np.all(np.isfinite(self.alpha_)) and np.isfinite(self.log_marginal_likelihood_value_)):
+            raise FloatingPointError(
+                f"{type(self).__name__} produced non-finite weights on this data "
+                f"(kernel_={self.kernel_!r}, noise_variance_={self.noise_variance_:.3g}); "
+                "rescale the targets or increase noise_variance"
+            )
+
+    def _fitted_extra(self):
+        return np.empty(0)
+
+    def condition(self, X, y):
+        """A copy of this fitted model conditioned on other data, hyperparameters kept.
+
+        This is how SARSP predicts: the hyperparameters come from the last
+        fit, the training points from a strategic prior drawn per decision.
+        No optimisation is run, so the call costs one Cholesky factorisation.
+
+        Returns
+        -------
+        model : same type as ``self``, fitted
+        """
+        self._check_fitted()
+        X, y = _check_training(X, y)
+        if X.shape[1] != self.X_train_.shape[1]:
+            raise ValueError(
+                f"X has {X.shape[1]} features but the model was fitted on {self.X_train_.shape[1]}"
+            )
+        other = copy.copy(self)
+        other._condition_on(X, y)
+        other.fit_indices_ = None
+        return other
+
+    def _check_fitted(self):
+        if not hasattr(self, "L_"):
+            raise NotFittedError(
+                f"This {type(self).__name__} is not fitted yet: call fit(X, y) before predicting"
+            )
+
+    def predict(self, X, return_var: bool = False, return_cov: bool = False, include_noise: bool = False):
+        """Posterior predictive mean, and optionally variance or covariance.
+
+        Parameters
+        ----------
+        X : array-like of shape (m, d)
+            Query points.
+        return_var : bool, default False
+            Also return the predictive variance at each query point
+            (paper eq. 5 for the GP, eq. 6 in Shah et al.'s form for the TP).
+        return_cov : bool, default False
+            Also return the full predictive covariance matrix.
+        include_noise : bool, default False
+            Add the observation noise: the variance of a new observation ``y*``
+            rather than of the latent function ``f*``.
+
+        Returns
+        -------
+        mean : ndarray of shape (m,)
+        var : ndarray of shape (m,), if ``return_var``
+        cov : ndarray of shape (m, m), if ``return_cov``
+        """
+        self._check_fitted()
+        X = _check_X(X, n_features=self.X_train_.shape[1])
+        K_trans = self.kernel_.from_squared_distances(squared_distances(X, self.X_train_))
+        # paper eq. 4; Alg. 2.1, line 4
+        mean = K_trans @ self.alpha_
+        if not (return_var or return_cov):
+            return mean
+        out = [mean]
+        # Alg. 2.1, line 5: v = L \ k*
+        V = linalg.solve_triangular(self.L_, K_trans.T, lower=True, check_finite=False)
+        if return_var:
+            # paper eq. 5; Alg. 2.1, line 6
+            latent = self.kernel_.diag(X) - np.einsum("ij,ij->j", V, V)
+            out.append(self._scale(np.maximum(latent, 0.0), include_noise, np.ones(len(mean))))
+        if return_cov:
+            latent = self.kernel_(X) - V.T @ V
+            out.append(self._scale(0.5 * (latent + latent.T), include_noise, np.eye(len(mean))))
+        return tuple(out)
+
+    def _scale(self, latent, include_noise, noise_shape):
+        if include_noise:
+            latent = latent + self.noise_variance_ * noise_shape
+        return latent
+
+    def log_marginal_likelihood(self, theta=None, eval_gradient: bool = False):
+        """Log marginal likelihood of the training data.
+
+        Parameters
+        ----------
+        theta : array-like, optional
+            Log hyperparameters in the order of ``hyperparameter_names``.
+            ``None`` means the fitted ones (``theta_``).
+        eval_gradient : bool, default False
+            Also return the gradient with respect to ``theta``.
+
+        Returns
+        -------
+        value : float
+        gradient : ndarray of shape (len(theta),), if ``eval_gradient``
+
+        Notes
+        -----
+        This is the likelihood alone, without the LogNormal priors the fit
+        adds; it is evaluated on all the training data, also when the fit
+        searched the hyperparameters on a subset.
+        """
+        self._check_fitted()
+        if theta is None:
+            if not eval_gradient:
+                return self.log_marginal_likelihood_value_
+            theta = self.theta_
+        theta = np.asarray(theta, dtype=float)
+        expected = len(self.hyperparameter_names)
+        if theta.shape != (expected,):
+            raise ValueError(
+                f"theta must have shape ({expected},) for {self.hyperparameter_names}, "
+                f"got shape {theta.shape}"
+            )
+        if not np.all(np.isfinite(theta)):
+            raise ValueError(f"theta must be finite, got theta={theta}")
+        return self._lml_from_distances(theta, squared_distances(self.X_train_), self.y_train_, eval_gradient)
+
+    def predictive_distribution(self, X, include_noise: bool = True):
+        """Marginal predictive distribution at each query point (scipy frozen).
+
+        Parameters
+        ----------
+        X : array-like of shape (m, d)
+        include_noise : bool, default True
+            The distribution of a new observation ``y*`` (True) or of the
+            latent function value ``f*`` (False).
+
+        Returns
+        -------
+        scipy.stats frozen distribution, vectorised over the m points:
+        normal for the GP, Student-t with ``nu + n`` degrees of freedom for
+        the TP, with the variances that ``predict`` returns.
+        """
+        mean, var = self.predict(X, return_var=True, include_noise=include_noise)
+        return self._marginal(mean, var)
+
+    def sample_y(self, X, n_samples: int = 1, rng=None, include_noise: bool = False):
+        """Draw functions from the posterior predictive.
+
+        Parameters
+        ----------
+        X : array-like of shape (m, d)
+        n_samples : int, default 1
+        rng : None, int or numpy.random.Generator
+        include_noise : bool, default False
+            Add observation noise to each draw (the reference implementation's
+            150-sample estimate draws with noise).
+
+        Returns
+        -------
+        ndarray of shape (m, n_samples)
+        """
+        n_samples = _positive_int_or_none("n_samples", n_samples)
+        if n_samples is None:
+            raise ValueError("n_samples must be a positive integer, got n_samples=None")
+        rng = as_generator(rng)
+        mean, cov = self.predict(X, return_cov=True, include_noise=include_noise)
+        L, _ = cholesky_with_jitter(cov)
+        z = L @ rng.standard_normal((len(mean), n_samples))
+        return mean[:, None] + self._sample_scale(rng, n_samples) * z
+
+    def _sample_scale(self, rng, n_samples):
+        return 1.0
+
+    def __repr__(self) -> str:
+        fitted = "fitted" if hasattr(self, "L_") else "not fitted"
+        return f"{type(self).__name__}(kernel={self.kernel!r}, noise_variance={self.noise_variance:.4g}, optimizer={self.optimizer!r}; {fitted})"
+
+
+class GaussianProcess(_ProcessRegressor):
+    """Gaussian-process regression with an RBF kernel (paper eqs. 4-5).
+
+    Parameters
+    ----------
+    kernel : RBF, optional
+        Initial kernel; default ``RBF(1.0, 1.0)``, the reference
+        implementation's initial values.
+    noise_variance : float, default 1.0
+        Initial observation-noise variance ``s2`` (> 0).
+    optimizer : {"adam", "lbfgs", None}, default "adam"
+        ``"adam"``: the paper's optimiser (``learning_rate`` 0.1, 50 steps).
+        ``"lbfgs"``: scipy's L-BFGS-B with the analytic gradient, run to
+        convergence.  ``None``: keep the given hyperparameters.
+    learning_rate : float, default 0.1
+        Adam's step size.
+    max_iter : int, optional
+        Adam steps (default 50) or L-BFGS-B's iteration cap (default scipy's).
+    prior : {"lognormal", None}, default "lognormal"
+        Add LogNormal(0, 1) log priors on amplitude, length scale and noise
+        variance to the objective (a MAP fit, as in the reference code).
+    max_fit_points : int or None, default 1000
+        Cap on the training points the hyperparameter search uses; above it a
+        random subset is drawn from ``rng``.  Each Adam step costs
+        O(points^3), so the cap keeps fits on thousands of points fast.
+        Prediction always conditions on all the points given to ``fit``.
+    bounds : (float, float), default (1e-5, 1e5)
+        Box for every positive hyperparameter during the search.
+    rng : None, int or numpy.random.Generator
+        Source of the subset drawn when ``max_fit_points`` binds.
+
+    Attributes
+    ----------
+    kernel_ : RBF
+        The fitted kernel.
+    noise_variance_ : float
+    theta_ : ndarray of shape (3,)
+        Fitted log hyperparameters, in the order of ``hyperparameter_names``.
+    X_train_, y_train_ : ndarray
+        The data the model conditions on.
+    L_ : ndarray of shape (n, n)
+        Lower Cholesky factor of ``K(X, X) + (noise_variance_ + jitter_) I``.
+    alpha_ : ndarray of shape (n,)
+        ``K^-1 y``.
+    beta_ : float
+        ``y^T K^-1 y``.
+    log_marginal_likelihood_value_ : float
+    objective_trace_ : ndarray
+        The log joint (likelihood + prior) on the fit subset during the search.
+    n_iter_ : int
+    fit_indices_ : ndarray
+        Rows of ``X`` the hyperparameter search used.
+    jitter_ : float
+        Diagonal jitter the final factorisation needed (usually 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sarsp_edu import GaussianProcess
+    >>> X = np.linspace(0, 5, 20).reshape(-1, 1)
+    >>> gp = GaussianProcess(optimizer="lbfgs", prior=None).fit(X, np.sin(X[:, 0]))
+    >>> mean, var = gp.predict(X[:3], return_var=True)
+    >>> mean.shape, bool(np.all(var >= 0))
+    ((3,), True)
+    """
+
+    def _lml_terms(self, n, beta, log_det, extra):
+        # R&W eq. 2.30
+        return -0.5 * beta - 0.5 * log_det - 0.5 * n * _LOG_2PI, 1.0, np.empty(0)
+
+    def _marginal(self, mean, var):
+        return stats.norm(loc=mean, scale=np.sqrt(var))
+
+
+class StudentTProcess(_ProcessRegressor):
+    """Student-t-process regression with an RBF kernel (Shah et al. 2014).
+
+    Takes every parameter of :class:`GaussianProcess`, and:
+
+    Parameters
+    ----------
+    nu : float, default 3.0
+        Degrees of freedom (> 2, so that the covariance is finite).  The
+        paper fixes nu = 3 (section 3.2).  As nu -> infinity the TP becomes
+        the GP.
+    fit_nu : bool, default False
+        Also learn nu, as ``log(nu - 2)``, by maximising the marginal
+        likelihood (no prior on nu).  On small data sets this tends to drive
+        nu towards infinity, i.e. back to the GP, which is why the paper
+        fixes it.
+    noise_convention : {"shah", "tfp"}, default "shah"
+        How the observation noise enters the predictive variance when
+        ``include_noise=True``.  ``"shah"``: the noise is part of the
+        process's covariance and is scaled with it,
+        ``factor * (latent + s2)`` (Shah et al. 2014; GPy).  ``"tfp"``:
+        only the latent part is scaled and the noise added unscaled,
+        ``factor * latent + s2`` (TensorFlow Probability's
+        ``StudentTProcessRegressionModel``, which the paper's reference code
+        used).  The latent variance (``include_noise=False``) and the
+        likelihood are the same in both.
+
+    Attributes
+    ----------
+    nu_ : float
+        The degrees of freedom used (fitted if ``fit_nu``).
+    variance_scale_ : float
+        ``(nu_ + beta_ - 2) / (nu_ + n - 2)``: the factor on the GP's
+        predictive variance (paper eq. 6, corrected).
+    df_ : float
+        Degrees of freedom of the predictive distribution, ``nu_ + n``.
+
+    Notes
+    -----
+    The marginal likelihood is the multivariate Student-t density with
+    ``nu`` degrees of freedom and *covariance* ``K`` (shape matrix
+    ``(nu - 2) / nu * K``), Shah et al. (2014), eq. 3:
+
+    ``-n/2 log((nu-2) pi) - 1/2 log|K| + log G((nu+n)/2) - log G(nu/2)
+    - (nu+n)/2 log(1 + beta/(nu-2))``.
+
+    The paper's eq. 6 has ``K(X*, X*)^-1`` in ``beta``; the correct factor
+    uses the training covariance: ``beta = y^T (K(X, X) + s2 I)^-1 y``.
+    """
+
+    def __init__(
+        self,
+        kernel: RBF | None = None,
+        *,
+        nu: float = 3.0,
+        fit_nu: bool = False,
+        noise_variance: float = 1.0,
+        noise_convention: str = "shah",
+        optimizer: str | None = "adam",
+        learning_rate: float = 0.1,
+        max_iter: int | None = None,
+        prior: str | None = "lognormal",
+        max_fit_points: int | None = 1000,
+        bounds: tuple[float, float] = (1e-5, 1e5),
+        rng=None,
+    ):
+        self.nu = nu
+        self.fit_nu = fit_nu
+        self.noise_convention = noise_convention
+        super().__init__(
+            kernel,
+            noise_variance=noise_variance,
+            optimizer=optimizer,
+            learning_rate=learning_rate,
+            max_iter=max_iter,
+            prior=prior,
+            max_fit_points=max_fit_points,
+            bounds=bounds,
+            rng=rng,
+        )
+
+    def _validate_params(self):
+        super()._validate_params()
+        try:
+            nu = float(self.nu)
+        except (TypeError, ValueError):
+            nu = math.nan
+        if not (math.isfinite(nu) and nu > 2):
+            raise ValueError(
+                f"nu must be a finite number > 2 (the covariance is infinite for nu <= 2), "
+                f"got nu={self.nu!r}; for nu -> infinity use GaussianProcess"
+            )
+        self.nu = nu
+        if not isinstance(self.fit_nu, (bool, np.bool_)):
+            raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
+        if self.noise_convention not in ("shah", "tfp"):
+            raise ValueError(
+                f"noise_convention must be 'shah' or 'tfp', got noise_convention={self.noise_convention!r}"
+            )
+
+    def _extra_names(self):
+        return ("log_nu_minus_2",) if self.fit_nu else ()
+
+    def _extra_theta(self):
+        return [math.log(self.nu - 2.0)] if self.fit_nu else []
+
+    def _theta_bounds(self):
+        b = super()._theta_bounds()
+        if self.fit_nu:
+            # nu - 2 in [1e-3, 1e8]: from very heavy tails to practically Gaussian
+            b[3] = np.log([1e-3, 1e8])
+        return b
+
+    def _nu_from(self, extra):
+        return 2.0 + math.exp(extra[0]) if len(extra) else self.nu
+
+    def _set_extra(self, extra):
+        self.nu_ = self._nu_from(extra)
+
+    def _fitted_extra(self):
+        return np.array([math.log(self.nu_ - 2.0)]) if self.fit_nu else np.empty(0)
+
+    def _lml_terms(self, n, beta, log_det, extra):
+        nu = self._nu_from(extra)
+        # Shah et al. 2014, eq. 3 (covariance parameterisation)
+        log1p_term = math.log1p(beta / (nu - 2.0))
+        value = (
+            -0.5 * n * math.log((nu - 2.0) * math.pi)
+            - 0.5 * log_det
+            + special.gammaln(0.5 * (nu + n))
+            - special.gammaln(0.5 * nu)
+            - 0.5 * (nu + n) * log1p_term
+        )
+        # d/dK of -(nu+n)/2 log(1 + beta/(nu-2)) gives the weight on alpha alpha^T
+        w = (nu + n) / (nu - 2.0 + beta)
+        if len(extra):
+            dnu = (
+                -0.5 * n / (nu - 2.0)
+                + 0.5 * special.digamma(0.5 * (nu + n))
+                - 0.5 * special.digamma(0.5 * nu)
+                - 0.5 * log1p_term
+                + 0.5 * (nu + n) * beta / ((nu - 2.0) * (nu - 2.0 + beta))
+            )
+            extra_grad = np.array([dnu * (nu - 2.0)])  # chain rule: nu = 2 + exp(t)
+        else:
+            extra_grad = np.empty(0)
+        return float(value), w, extra_grad
+
+    def _condition_on(self, X, y):
+        if not hasattr(self, "nu_"):
+            self.nu_ = self.nu
+        super()._condition_on(X, y)
+        n = y.shape[0]
+        # paper eq. 6 with Shah et al.'s beta (training covariance)
+        self.variance_scale_ = (self.nu_ + self.beta_ - 2.0) / (self.nu_ + n - 2.0)
+        self.df_ = self.nu_ + n
+
+    def _scale(self, latent, include_noise, noise_shape):
+        factor = self.variance_scale_
+        if not include_noise:
+            return factor * latent
+        if self.noise_convention == "shah":
+            return factor * (latent + self.noise_variance_ * noise_shape)
+        return factor * latent + self.noise_variance_ * noise_shape
+
+    def _marginal(self, mean, var):
+        df = self.df_
+        # a Student-t with df dof and scale s has variance s^2 df / (df - 2)
+        return stats.t(df=df, loc=mean, scale=np.sqrt(var * (df - 2.0) / df))
+
+    def _sample_scale(self, rng, n_samples):
+        # y = mean + sqrt((df - 2) / W) z, W ~ chi2(df), z ~ N(0, cov): a
+        # multivariate t with covariance cov (Shah et al.'s parameterisation)
+        df = self.df_
+        return np.sqrt((df - 2.0) / rng.chisquare(df, size=n_samples))[None, :]
+
+    def __repr__(self) -> str:
+        return super().__repr__().replace("(kernel=", f"(nu={self.nu:.4g}, kernel=", 1)

@@ -1,0 +1,77 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+from scipy.optimize import approx_fprime
+
+from sarsp_edu import RBF
+
+
+def test_formula_by_hand():
+    k = RBF(amplitude=2.0, length_scale=0.5)
+    x, y = np.array([[0.0, 1.0]]), np.array([[1.0, 2.0]])
+    expected = 4.0 * np.exp(-2.0 / (2 * 0.25))
+    assert k(x, y)[0, 0] == pytest.approx(expected, rel=1e-14)
+
+
+def test_matches_scikit_learn():
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel
+
+    rng = np.random.default_rng(0)
+    X, Y = rng.normal(size=(7, 3)), rng.normal(size=(4, 3))
+    ours = RBF(amplitude=1.7, length_scale=0.8)
+    theirs = ConstantKernel(1.7**2) * SkRBF(0.8)
+    np.testing.assert_allclose(ours(X, Y), theirs(X, Y), rtol=1e-12)
+    np.testing.assert_allclose(ours.diag(X), theirs.diag(X), rtol=1e-12)
+
+
+def test_gradient_matches_finite_differences():
+    rng = np.random.default_rng(1)
+    X = rng.normal(size=(6, 2))
+    kernel = RBF(amplitude=1.3, length_scale=0.7)
+    _, grad = kernel(X, eval_gradient=True)
+    for j in range(2):
+        for a, b in [(0, 1), (2, 5), (3, 3)]:
+
+            def entry(theta):
+                return kernel.clone_with_theta(theta)(X)[a, b]
+
+            fd = approx_fprime(kernel.theta, entry, 1e-7)
+            assert grad[a, b, j] == pytest.approx(fd[j], rel=1e-5, abs=1e-8)
+
+
+def test_theta_round_trip():
+    kernel = RBF(amplitude=3.0, length_scale=0.2)
+    clone = kernel.clone_with_theta(kernel.theta)
+    assert clone.amplitude == pytest.approx(3.0)
+    assert clone.length_scale == pytest.approx(0.2)
+
+
+@pytest.mark.parametrize("name", ["amplitude", "length_scale"])
+@pytest.mark.parametrize("value", [0.0, -1.0, np.nan, np.inf, "big"])
+def test_bad_hyperparameters_are_named(name, value):
+    with pytest.raises(ValueError, match=name):
+        RBF(**{name: value})
+
+
+def test_feature_mismatch():
+    with pytest.raises(ValueError, match="same number of features"):
+        RBF()(np.zeros((2, 3)), np.zeros((2, 2)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    X=arrays(np.float64, st.tuples(st.integers(1, 12), st.integers(1, 4)),
+             elements=st.floats(-50, 50)),
+    amplitude=st.floats(0.05, 20),
+    length_scale=st.floats(0.05, 20),
+)
+def test_kernel_matrix_symmetric_psd(X, amplitude, length_scale):
+    K = RBF(amplitude, length_scale)(X)
+    np.testing.assert_array_equal(K, K.T)
+    np.testing.assert_allclose(np.diag(K), amplitude**2, rtol=1e-12)
+    eigenvalues = np.linalg.eigvalsh(K)
+    assert eigenvalues.min() >= -1e-9 * amplitude**2 * len(X)

@@ -1,0 +1,407 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import stats
+from scipy.optimize import approx_fprime
+
+from sarsp_edu import RBF, GaussianProcess, NotFittedError, StudentTProcess
+from tests.conftest import make_data
+
+HYPER = dict(amplitude=1.3, length_scale=1.7, noise_variance=0.05)
+
+
+def fixed(model_cls, **kwargs):
+    """A model with the HYPER hyperparameters and no optimisation."""
+    params = dict(kernel=RBF(HYPER["amplitude"], HYPER["length_scale"]),
+                  noise_variance=HYPER["noise_variance"], optimizer=None)
+    params.update(kwargs)
+    return model_cls(**params)
+
+
+def sklearn_gpr(X, y, noisy_kernel: bool):
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+
+    latent = ConstantKernel(HYPER["amplitude"] ** 2) * SkRBF(HYPER["length_scale"])
+    if noisy_kernel:  # noise in the kernel: predict's variance includes it
+        kernel, alpha = latent + WhiteKernel(HYPER["noise_variance"]), 0.0
+    else:  # noise as alpha: predict's variance is the latent one
+        kernel, alpha = latent, HYPER["noise_variance"]
+    return GaussianProcessRegressor(kernel, alpha=alpha, optimizer=None).fit(X, y)
+
+
+# --------------------------------------------------------------------------
+# the GP against scikit-learn
+# --------------------------------------------------------------------------
+def test_gp_matches_scikit_learn(dataset):
+    X, y = dataset
+    Xq = make_data(99, n=8, d=X.shape[1])[0]
+    gp = fixed(GaussianProcess).fit(X, y)
+    mean, var = gp.predict(Xq, return_var=True)
+    _, var_noisy = gp.predict(Xq, return_var=True, include_noise=True)
+    _, cov = gp.predict(Xq, return_cov=True)
+
+    sk_latent = sklearn_gpr(X, y, noisy_kernel=False)
+    sk_mean, sk_std = sk_latent.predict(Xq, return_std=True)
+    _, sk_cov = sk_latent.predict(Xq, return_cov=True)
+    np.testing.assert_allclose(mean, sk_mean, rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(var, sk_std**2, rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(cov, sk_cov, rtol=1e-8, atol=1e-12)
+
+    sk_noisy = sklearn_gpr(X, y, noisy_kernel=True)
+    _, sk_std_noisy = sk_noisy.predict(Xq, return_std=True)
+    np.testing.assert_allclose(var_noisy, sk_std_noisy**2, rtol=1e-8)
+
+    assert gp.log_marginal_likelihood() == pytest.approx(sk_noisy.log_marginal_likelihood_value_, rel=1e-8)
+    assert gp.log_marginal_likelihood() == pytest.approx(sk_latent.log_marginal_likelihood_value_, rel=1e-8)
+
+
+def test_gp_gradient_matches_scikit_learn(dataset):
+    """scikit-learn's theta holds log(amplitude^2): our d/dlog a is twice its d/dlog a^2."""
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+
+    X, y = dataset
+    gp = fixed(GaussianProcess).fit(X, y)
+    sk = GaussianProcessRegressor(
+        ConstantKernel(1.0) * SkRBF(1.0) + WhiteKernel(1.0), alpha=0.0, optimizer=None
+    ).fit(X, y)
+    theta = gp.theta_
+    sk_theta = np.array([2 * theta[0], theta[1], theta[2]])
+    value, grad = gp.log_marginal_likelihood(theta, eval_gradient=True)
+    sk_value, sk_grad = sk.log_marginal_likelihood(sk_theta, eval_gradient=True)
+    assert value == pytest.approx(sk_value, rel=1e-8)
+    np.testing.assert_allclose(grad, sk_grad * np.array([2.0, 1.0, 1.0]), rtol=1e-7, atol=1e-9)
+
+
+# --------------------------------------------------------------------------
+# the TP against scipy and Shah et al. (2014)
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize("nu", [2.5, 3.0, 5.0, 30.0])
+def test_tp_likelihood_is_scipy_multivariate_t(dataset, nu):
+    X, y = dataset
+    tp = fixed(StudentTProcess, nu=nu).fit(X, y)
+    K = RBF(HYPER["amplitude"], HYPER["length_scale"])(X) + HYPER["noise_variance"] * np.eye(len(X))
+    expected = stats.multivariate_t(loc=np.zeros(len(X)), shape=(nu - 2) / nu * K, df=nu).logpdf(y)
+    assert tp.log_marginal_likelihood() == pytest.approx(expected, rel=1e-9)
+
+
+@pytest.mark.parametrize("convention", ["shah", "tfp"])
+def test_tp_variance_is_scaled_gp_variance(dataset, convention):
+    X, y = dataset
+    Xq = make_data(7, n=6, d=X.shape[1])[0]
+    nu = 3.0
+    gp = fixed(GaussianProcess).fit(X, y)
+    tp = fixed(StudentTProcess, nu=nu, noise_convention=convention).fit(X, y)
+    n = len(y)
+    beta = y @ np.linalg.solve(
+        RBF(HYPER["amplitude"], HYPER["length_scale"])(X) + HYPER["noise_variance"] * np.eye(n), y
+    )
+    factor = (nu + beta - 2) / (nu + n - 2)  # Shah et al. 2014, eq. 7 (paper eq. 6, corrected)
+    assert tp.variance_scale_ == pytest.approx(factor, rel=1e-10)
+    assert tp.df_ == nu + n
+
+    gp_mean, gp_var = gp.predict(Xq, return_var=True)
+    tp_mean, tp_var = tp.predict(Xq, return_var=True)
+    np.testing.assert_allclose(tp_mean, gp_mean, rtol=1e-12)  # paper eq. 4: the same mean
+    np.testing.assert_allclose(tp_var, factor * gp_var, rtol=1e-10)
+
+    _, tp_noisy = tp.predict(Xq, return_var=True, include_noise=True)
+    s2 = HYPER["noise_variance"]
+    expected = factor * (gp_var + s2) if convention == "shah" else factor * gp_var + s2
+    np.testing.assert_allclose(tp_noisy, expected, rtol=1e-10)
+
+
+def test_tp_tends_to_gp_as_nu_grows(dataset):
+    X, y = dataset
+    Xq = make_data(8, n=5, d=X.shape[1])[0]
+    gp = fixed(GaussianProcess).fit(X, y)
+    _, gp_var = gp.predict(Xq, return_var=True)
+    gaps = []
+    for nu in [3.0, 30.0, 3e3, 3e5, 3e7]:
+        tp = fixed(StudentTProcess, nu=nu).fit(X, y)
+        _, tp_var = tp.predict(Xq, return_var=True)
+        gaps.append((abs(tp.log_marginal_likelihood() - gp.log_marginal_likelihood()),
+                     np.max(np.abs(tp_var - gp_var))))
+    lml_gaps, var_gaps = np.array(gaps).T
+    assert np.all(np.diff(lml_gaps) < 0) and np.all(np.diff(var_gaps) < 0)
+    assert lml_gaps[-1] < 1e-4 and var_gaps[-1] < 1e-5 * gp_var.max()
+
+
+def test_predictive_distributions(dataset):
+    X, y = dataset
+    Xq = make_data(5, n=4, d=X.shape[1])[0]
+    gp = fixed(GaussianProcess).fit(X, y)
+    tp = fixed(StudentTProcess, nu=3.0).fit(X, y)
+    for model in (gp, tp):
+        mean, var = model.predict(Xq, return_var=True, include_noise=True)
+        dist = model.predictive_distribution(Xq)
+        np.testing.assert_allclose(dist.mean(), mean, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(dist.var(), var, rtol=1e-10)
+    assert tp.predictive_distribution(Xq).kwds["df"] == 3.0 + len(y)
+
+
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_samples_have_the_predicted_moments(model_cls):
+    X, y = make_data(3, n=20, d=2)
+    Xq = make_data(4, n=3, d=2)[0]
+    model = fixed(model_cls).fit(X, y)
+    mean, cov = model.predict(Xq, return_cov=True, include_noise=True)
+    draws = model.sample_y(Xq, n_samples=40_000, rng=0, include_noise=True)
+    assert draws.shape == (3, 40_000)
+    se = np.sqrt(np.diag(cov) / 40_000)
+    np.testing.assert_array_less(np.abs(draws.mean(axis=1) - mean), 5 * se)
+    np.testing.assert_allclose(np.cov(draws), cov, rtol=0.08, atol=1e-3)
+    np.testing.assert_array_equal(draws, model.sample_y(Xq, 40_000, rng=0, include_noise=True))
+
+
+def test_tp_samples_are_student_t():
+    X, y = make_data(3, n=4, d=1)  # few points: df = nu + n = 7, visibly heavy tails
+    tp = fixed(StudentTProcess, nu=3.0).fit(X, y)
+    Xq = np.array([[0.3]])
+    draws = tp.sample_y(Xq, n_samples=20_000, rng=1, include_noise=True)[0]
+    dist = tp.predictive_distribution(Xq)
+    ks = stats.kstest(draws, lambda v: dist.cdf(v))
+    assert ks.pvalue > 1e-3
+    gauss = stats.norm(dist.mean(), dist.std())
+    assert stats.kstest(draws, lambda v: gauss.cdf(v)).statistic > ks.statistic
+
+
+# --------------------------------------------------------------------------
+# gradients and optimisation
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "model",
+    [fixed(GaussianProcess), fixed(StudentTProcess, nu=3.0), fixed(StudentTProcess, nu=4.0, fit_nu=True)],
+    ids=["gp", "tp", "tp-fit-nu"],
+)
+def test_gradients_match_finite_differences(dataset, model):
+    X, y = dataset
+    model.fit(X, y)
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        theta = model.theta_ + rng.normal(scale=0.3, size=model.theta_.shape)
+        _, grad = model.log_marginal_likelihood(theta, eval_gradient=True)
+        fd = approx_fprime(theta, lambda t: model.log_marginal_likelihood(t), 1e-6)
+        np.testing.assert_allclose(grad, fd, rtol=1e-4, atol=1e-4 * max(1.0, np.abs(fd).max()))
+
+
+def test_prior_gradient_matches_finite_differences():
+    X, y = make_data(0, n=15, d=2)
+    from sarsp_edu.kernels import squared_distances
+
+    model = StudentTProcess(optimizer=None).fit(X, y)
+    D2 = squared_distances(X)
+    theta = np.array([0.3, -0.2, -1.0])
+    _, grad = model._log_joint(theta, D2, y)
+    fd = approx_fprime(theta, lambda t: model._log_joint(t, D2, y)[0], 1e-6)
+    np.testing.assert_allclose(grad, fd, rtol=1e-4, atol=1e-5)
+
+
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+@pytest.mark.parametrize("optimizer", ["adam", "lbfgs"])
+def test_optimisers_raise_the_objective(model_cls, optimizer):
+    X, y = make_data(1, n=60, d=5)
+    model = model_cls(optimizer=optimizer).fit(X, y)
+    trace = model.objective_trace_
+    assert trace[-1] > trace[0] + 1.0
+    assert model.log_marginal_likelihood() > model_cls(optimizer=None).fit(X, y).log_marginal_likelihood()
+    if optimizer == "adam":
+        assert model.n_iter_ == 50 and len(trace) == 51  # the paper's 50 steps
+
+
+def test_lbfgs_reaches_scikit_learns_optimum():
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+
+    X, y = make_data(2, n=80, d=5)
+    ours = GaussianProcess(optimizer="lbfgs", prior=None).fit(X, y)
+    sk = GaussianProcessRegressor(
+        ConstantKernel(1.0, (1e-10, 1e10)) * SkRBF(1.0, (1e-5, 1e5)) + WhiteKernel(1.0, (1e-5, 1e5)),
+        alpha=0.0,
+    ).fit(X, y)
+    assert ours.log_marginal_likelihood() >= sk.log_marginal_likelihood_value_ - 1e-4
+
+
+def test_every_fit_starts_from_the_constructor_values():
+    X, y = make_data(1, n=40, d=3)
+    model = GaussianProcess()
+    first = model.fit(X, y).theta_.copy()
+    second = model.fit(X, y).theta_
+    np.testing.assert_array_equal(first, second)
+    assert model.kernel == RBF(1.0, 1.0) and model.noise_variance == 1.0
+
+
+def test_fixed_seed_is_deterministic_with_a_subset():
+    X, y = make_data(4, n=300, d=5)
+    a = StudentTProcess(max_fit_points=100, rng=7).fit(X, y)
+    b = StudentTProcess(max_fit_points=100, rng=7).fit(X, y)
+    c = StudentTProcess(max_fit_points=100, rng=8).fit(X, y)
+    assert len(a.fit_indices_) == 100
+    np.testing.assert_array_equal(a.fit_indices_, b.fit_indices_)
+    np.testing.assert_array_equal(a.theta_, b.theta_)
+    assert not np.array_equal(a.fit_indices_, c.fit_indices_)
+    assert a.X_train_.shape == (300, 5)  # prediction conditions on every point
+
+
+def test_fit_nu_moves_nu():
+    X, y = make_data(5, n=60, d=2)
+    tp = StudentTProcess(nu=3.0, fit_nu=True, optimizer="lbfgs").fit(X, y)
+    assert tp.hyperparameter_names[-1] == "log_nu_minus_2"
+    assert tp.nu_ != 3.0 and tp.nu_ > 2.0
+    assert tp.log_marginal_likelihood() >= StudentTProcess(nu=3.0, optimizer="lbfgs").fit(X, y).log_marginal_likelihood() - 1e-6
+
+
+def test_condition_equals_fit_with_kept_hyperparameters():
+    X, y = make_data(6, n=50, d=5)
+    tp = StudentTProcess(optimizer="adam").fit(X, y)
+    Xs, ys = X[:20], y[:20] + 1.0
+    conditioned = tp.condition(Xs, ys)
+    refit = StudentTProcess(tp.kernel_, nu=tp.nu_, noise_variance=tp.noise_variance_, optimizer=None).fit(Xs, ys)
+    Xq = X[30:34]
+    np.testing.assert_allclose(conditioned.predict(Xq, return_var=True), refit.predict(Xq, return_var=True), rtol=1e-12)
+    assert tp.X_train_.shape == (50, 5)  # the original is untouched
+
+
+# --------------------------------------------------------------------------
+# numerics
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_outliers_times_80_fit_and_predict_finitely(model_cls):
+    """The paper's worst outliers: inputs and targets multiplied by m = 80."""
+    X, y = make_data(9, n=400, d=5)
+    X, y = X.copy(), y * 30.0
+    rows = np.random.default_rng(0).choice(400, size=160, replace=False)  # p = 0.4
+    X[rows] *= 80
+    y[rows] *= 80
+    assert np.abs(y).max() > 1000
+    model = model_cls().fit(X, y)
+    mean, var = model.predict(X[:50], return_var=True, include_noise=True)
+    assert np.all(np.isfinite(mean)) and np.all(np.isfinite(var)) and np.all(var > 0)
+    assert np.isfinite(model.log_marginal_likelihood())
+
+
+def test_duplicated_inputs_with_tiny_noise_get_jitter():
+    X = np.zeros((5, 2))
+    y = np.arange(5.0)
+    gp = GaussianProcess(noise_variance=1e-160, optimizer=None).fit(X, y)
+    assert gp.jitter_ > 0
+    assert np.all(np.isfinite(gp.predict(X, return_var=True)[1]))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n=st.integers(1, 25),
+    amplitude=st.floats(0.1, 10),
+    length_scale=st.floats(0.1, 10),
+    noise=st.floats(1e-4, 10),
+    nu=st.floats(2.05, 100),
+)
+def test_variances_are_never_negative(seed, n, amplitude, length_scale, noise, nu):
+    X, y = make_data(seed, n=n, d=3)
+    Xq = np.vstack([X[: min(n, 4)], make_data(seed + 1, n=4, d=3)[0]])
+    for model in (
+        GaussianProcess(RBF(amplitude, length_scale), noise_variance=noise, optimizer=None),
+        StudentTProcess(RBF(amplitude, length_scale), nu=nu, noise_variance=noise, optimizer=None),
+    ):
+        model.fit(X, y)
+        _, var = model.predict(Xq, return_var=True)
+        _, cov = model.predict(Xq, return_cov=True)
+        assert np.all(var >= 0)
+        assert np.linalg.eigvalsh(cov).min() >= -1e-8 * max(1.0, np.abs(cov).max())
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 20))
+def test_near_interpolation_with_tiny_noise(seed, n):
+    rng = np.random.default_rng(seed)
+    X = rng.permutation(np.linspace(-5, 5, n)).reshape(-1, 1)  # distinct inputs
+    y = rng.normal(size=n)
+    kernel = RBF(1.0, 0.25)  # shorter than the spacing: K is well conditioned
+    for model in (GaussianProcess(kernel, noise_variance=1e-8, optimizer=None),
+                  StudentTProcess(kernel, noise_variance=1e-8, optimizer=None)):
+        mean, var = model.fit(X, y).predict(X, return_var=True)
+        np.testing.assert_allclose(mean, y, atol=1e-4)
+        assert np.all(var < 1e-4 * max(1.0, model._scale(1.0, False, 1.0)))
+
+
+# --------------------------------------------------------------------------
+# bad input
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize("nu", [2.0, 1.5, -3, np.inf, np.nan, "three"])
+def test_nu_must_exceed_two(nu):
+    with pytest.raises(ValueError, match=r"nu must be a finite number > 2.*got nu="):
+        StudentTProcess(nu=nu)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(noise_variance=0.0), "noise_variance"),
+        (dict(noise_variance=-1.0), "noise_variance"),
+        (dict(noise_variance=np.nan), "noise_variance"),
+        (dict(optimizer="sgd"), "optimizer"),
+        (dict(learning_rate=0), "learning_rate"),
+        (dict(max_iter=0), "max_iter"),
+        (dict(max_fit_points=2.5), "max_fit_points"),
+        (dict(prior="flat"), "prior"),
+        (dict(bounds=(1.0, 0.5)), "bounds"),
+        (dict(kernel="rbf"), "kernel"),
+        (dict(rng="seed"), "rng"),
+    ],
+)
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_bad_parameters_are_named(model_cls, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        model_cls(**kwargs)
+
+
+def test_tp_specific_parameters():
+    with pytest.raises(ValueError, match="noise_convention"):
+        StudentTProcess(noise_convention="gpy")
+    with pytest.raises(ValueError, match="fit_nu"):
+        StudentTProcess(fit_nu="yes")
+
+
+@pytest.mark.parametrize(
+    "X, y, match",
+    [
+        (np.zeros(5), np.zeros(5), r"2-D array.*reshape\(-1, 1\)"),
+        (np.zeros((2, 2, 2)), np.zeros(2), "2-D array"),
+        (np.zeros((0, 3)), np.zeros(0), "at least one sample"),
+        (np.zeros((4, 2)), np.zeros(3), "same number of samples"),
+        (np.zeros((4, 2)), np.zeros((4, 2)), "y must be a 1-D"),
+        (np.array([[0.0], [np.nan]]), np.zeros(2), "X must be finite.*row 1"),
+        (np.array([[0.0], [np.inf]]), np.zeros(2), "X must be finite"),
+        (np.zeros((2, 1)), np.array([0.0, np.nan]), r"y must be finite, got y\[1\]=nan"),
+    ],
+)
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_bad_data_is_named(model_cls, X, y, match):
+    with pytest.raises(ValueError, match=match):
+        model_cls(optimizer=None).fit(X, y)
+
+
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_predict_before_fit_says_so(model_cls):
+    with pytest.raises(NotFittedError, match="not fitted yet: call fit"):
+        model_cls().predict(np.zeros((1, 2)))
+    with pytest.raises(NotFittedError):
+        model_cls().log_marginal_likelihood()
+
+
+def test_predict_with_wrong_number_of_features():
+    gp = GaussianProcess(optimizer=None).fit(np.zeros((3, 2)), np.zeros(3))
+    with pytest.raises(ValueError, match="3 features but the model was fitted on 2"):
+        gp.predict(np.zeros((1, 3)))
+    with pytest.raises(ValueError, match=r"theta must have shape \(3,\)"):
+        gp.log_marginal_likelihood(np.zeros(4))
+
+
+def test_initial_value_outside_bounds():
+    with pytest.raises(ValueError, match="noise_variance=1e-08 lies outside bounds"):
+        GaussianProcess(noise_variance=1e-8).fit(np.zeros((3, 1)), np.zeros(3))
