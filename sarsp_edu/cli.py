@@ -10,7 +10,7 @@ import sys
 from . import __version__
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
-_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets")
+_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium")
 
 
 def _info(args) -> int:

@@ -1,0 +1,563 @@
+"""The safe-navigation gridworld of the paper (sections 2.4, 5.4, 5.5), with its covariate shift.
+
+The agent walks an ``n x n`` grid from a random start to a random goal while
+avoiding unsafe cells.  After the offline phase, ``shift`` moves some of the
+unsafe cells: the covariate shift of the paper.  The module also builds the
+model inputs both SARSP models use, so that the agent and the offline data
+never duplicate that logic.
+
+Coordinates are ``(x, y)`` with ``x`` the column and ``y`` the row; ``y``
+grows downwards (``DOWN`` is ``(0, +1)``), as in the reference code.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+
+from .processes import as_generator
+
+__all__ = [
+    "SafeGridWorld",
+    "GridLayout",
+    "RIGHT",
+    "DOWN",
+    "LEFT",
+    "UP",
+    "ACTIONS",
+    "ACTION_NAMES",
+    "MOVES",
+    "OBSERVATION_FIELDS",
+    "cost_inputs",
+    "reward_inputs",
+]
+
+#: action constants, numbered as in the reference implementation
+RIGHT, DOWN, LEFT, UP = 0, 1, 2, 3
+ACTIONS = np.array([RIGHT, DOWN, LEFT, UP])
+ACTION_NAMES = ("right", "down", "left", "up")
+#: (dx, dy) of each action
+MOVES = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]])
+
+#: the entries of an observation, in order (the reference implementation's)
+OBSERVATION_FIELDS = (
+    "agent_x",
+    "agent_y",
+    "goal_x",
+    "goal_y",
+    "goal_l1_distance",
+    "unsafe_x",
+    "unsafe_y",
+    "unsafe_distance",
+)
+_AGENT, _GOAL, _UNSAFE = slice(0, 2), slice(2, 4), slice(5, 7)
+
+_PLACEMENTS = ("full", "reference")
+_PLACEMENT_ATTEMPTS = 200
+
+
+def _model_inputs(observation, actions, position_columns: slice) -> np.ndarray:
+    observation = np.asarray(observation, dtype=float)
+    actions = ACTIONS if actions is None else np.atleast_1d(np.asarray(actions, dtype=float))
+    out = np.empty((actions.shape[0], 5))
+    out[:, 0] = actions
+    out[:, 1:3] = observation[_AGENT]
+    out[:, 3:5] = observation[position_columns]
+    return out
+
+
+def cost_inputs(observation, actions=None) -> np.ndarray:
+    """Cost-model inputs ``(action, agent x, agent y, nearest-unsafe x, nearest-unsafe y)``.
+
+    The reference implementation's cost model: its target is the distance to
+    the nearest unsafe state *after* the step.
+
+    Parameters
+    ----------
+    observation : array-like of shape (8,)
+        An observation of :class:`SafeGridWorld`.
+    actions : int or array-like of ints, optional
+        Default: all four actions.
+
+    Returns
+    -------
+    ndarray of shape (n_actions, 5)
+    """
+    return _model_inputs(observation, actions, _UNSAFE)
+
+
+def reward_inputs(observation, actions=None) -> np.ndarray:
+    """Reward-model inputs ``(action, agent x, agent y, goal x, goal y)``.
+
+    The target is the reward after the step (minus the L2 distance to the goal).
+
+    Returns
+    -------
+    ndarray of shape (n_actions, 5)
+    """
+    return _model_inputs(observation, actions, _GOAL)
+
+
+@dataclass(frozen=True)
+class GridLayout:
+    """A snapshot of a world, for drawing (see :func:`sarsp_edu.plotting.plot_gridworld`).
+
+    Attributes
+    ----------
+    size : int
+    unsafe_states : ndarray of shape (n_unsafe, 2)
+    start, goal, agent : tuple of int or None
+    moved : ndarray of int
+        Indices (into ``unsafe_states``) of the states moved by the last shift.
+    moved_from : ndarray of shape (len(moved), 2)
+        Where those states were before the shift.
+    d : float
+        The safety threshold.
+    """
+
+    size: int
+    unsafe_states: np.ndarray
+    start: tuple | None
+    goal: tuple | None
+    agent: tuple | None
+    moved: np.ndarray
+    moved_from: np.ndarray
+    d: float = 1.0
+
+
+class SafeGridWorld(gym.Env):
+    """Navigate an ``n x n`` grid to a goal while avoiding unsafe states.
+
+    The environment of the paper's experiments (sections 5.4-5.5), following
+    the reference implementation rule by rule.
+
+    ## Action Space
+    ``Discrete(4)``: ``RIGHT = 0`` (+1, 0), ``DOWN = 1`` (0, +1), ``LEFT = 2``
+    (-1, 0), ``UP = 3`` (0, -1).  A move off the grid is clipped: the agent
+    stays where it is.
+
+    ## Observation Space
+    ``Box`` of shape (8,): agent x, y; goal x, y; L1 distance to the goal;
+    nearest unsafe state x, y; Euclidean distance to it
+    (``OBSERVATION_FIELDS``).
+
+    ## Starting State
+    Start and goal are drawn uniformly at every reset; the start is never
+    unsafe and never the goal, the goal is never unsafe.  Unsafe states are
+    placed once, at construction, and move only through :meth:`shift`.  No
+    unsafe state is on, or 4-adjacent to, another, and when they are placed
+    they avoid the start and goal of that moment.
+
+    ## Rewards
+    Minus the Euclidean distance from the agent's new cell to the goal.
+
+    ## Cost
+    The state-cost signal is the Euclidean distance from the agent's cell to
+    the nearest unsafe state (0 inside one).  A step violates the constraint,
+    cost ``c_t = 1``, when that distance is below ``d``, i.e. the agent is
+    inside an unsafe state.  Unsafe states are not terminal.
+
+    ## Episode End
+    Terminated at the goal; truncated after ``max_steps`` steps (default
+    ``size * size``, the paper's ``T_max = n * n``).
+
+    ## Information
+    ``step`` returns ``info`` with ``"distance_to_unsafe"`` (the cost signal),
+    ``"cost"`` (1 for a violation, else 0), ``"task_completed"`` and
+    ``"steps"``; ``reset`` returns ``"distance_to_unsafe"``, ``"start"`` and
+    ``"goal"``.
+
+    ## Arguments
+    size : int, default 10
+        Grid side ``n`` (>= 2).
+    n_unsafe : int, default 15
+        Number of unsafe states.
+    d : float, default 1.0
+        Safety threshold on the distance to the nearest unsafe state (> 0).
+    max_steps : int, optional
+        Steps before truncation; default ``size * size``.
+    placement : {"full", "reference"}, default "full"
+        Where start, goal and unsafe states may be drawn.  ``"full"``: the
+        whole grid, as the paper describes it.  ``"reference"``: never the last
+        row or column, as the reference code's ``randint(0, n - 1)`` does (an
+        off-by-one).  The agent can walk everywhere in both.
+    render_mode : {"ansi", "rgb_array"}, optional
+    seed : int or numpy.random.Generator, optional
+        Seeds the environment's generator, which places the unsafe states and
+        draws starts and goals.  ``reset(seed=...)`` reseeds it later (the
+        unsafe states stay where they are).
+
+    Examples
+    --------
+    >>> from sarsp_edu import SafeGridWorld, RIGHT
+    >>> env = SafeGridWorld(seed=0)
+    >>> observation, info = env.reset(seed=1)
+    >>> observation.shape, env.unsafe_states.shape
+    ((8,), (15, 2))
+    >>> observation, reward, terminated, truncated, info = env.step(RIGHT)
+    >>> sorted(info)
+    ['cost', 'distance_to_unsafe', 'steps', 'task_completed']
+    """
+
+    metadata = {"render_modes": ["ansi", "rgb_array"], "render_fps": 4}
+
+    def __init__(
+        self,
+        size: int = 10,
+        n_unsafe: int = 15,
+        d: float = 1.0,
+        max_steps: int | None = None,
+        *,
+        placement: str = "full",
+        render_mode: str | None = None,
+        seed=None,
+    ):
+        if isinstance(size, bool) or not isinstance(size, numbers.Integral) or size < 2:
+            raise ValueError(f"size must be an integer >= 2, got size={size!r}")
+        self.size = int(size)
+        if placement not in _PLACEMENTS:
+            raise ValueError(f"placement must be 'full' or 'reference', got placement={placement!r}")
+        self.placement = placement
+        span = self._span()
+        if span < 2:
+            raise ValueError(
+                f"placement='reference' needs size >= 3 (it never uses the last row and column), got size={size}"
+            )
+        capacity = math.ceil(span * span / 2)  # a checkerboard: the densest spacing allowed
+        if (
+            isinstance(n_unsafe, bool)
+            or not isinstance(n_unsafe, numbers.Integral)
+            or n_unsafe < 1
+            or n_unsafe > capacity
+        ):
+            raise ValueError(
+                f"n_unsafe must be an integer from 1 to {capacity} (no two unsafe states may touch "
+                f"on a {span}x{span} placement area), got n_unsafe={n_unsafe!r}"
+            )
+        self.n_unsafe = int(n_unsafe)
+        try:
+            d_value = float(d)
+        except (TypeError, ValueError):
+            d_value = math.nan
+        if not (math.isfinite(d_value) and d_value > 0):
+            raise ValueError(f"d must be a positive finite number, got d={d!r}")
+        self.d = d_value
+        if max_steps is None:
+            max_steps = self.size * self.size
+        if isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral) or max_steps < 1:
+            raise ValueError(f"max_steps must be a positive integer or None, got max_steps={max_steps!r}")
+        self.max_steps = int(max_steps)
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']} or None, got render_mode={render_mode!r}"
+            )
+        self.render_mode = render_mode
+
+        self.action_space = spaces.Discrete(4)
+        far = float(self.size - 1)
+        self.observation_space = spaces.Box(
+            low=np.zeros(8),
+            high=np.array([far, far, far, far, 2 * far, far, far, math.sqrt(2) * far]),
+            dtype=np.float64,
+        )
+
+        if isinstance(seed, np.random.Generator):
+            self._np_random, self._np_random_seed = seed, -1
+        else:
+            self._np_random, self._np_random_seed = seeding.np_random(seed)
+        # The start and goal "of that moment" that the first placement avoids.
+        self._start, self._goal = self._draw_start_goal(np.empty((0, 2), dtype=int))
+        self._agent = self._start
+        self._unsafe = self._place(self.n_unsafe, np.empty((0, 2), dtype=int), [self._start, self._goal])
+        self._moved = np.empty(0, dtype=int)
+        self._moved_from = np.empty((0, 2), dtype=int)
+        self._steps = 0
+        self._done = True  # step() needs a reset() first
+
+    # -- read-only state ---------------------------------------------------
+    @property
+    def unsafe_states(self) -> np.ndarray:
+        """Unsafe cells, ndarray of shape (n_unsafe, 2) of (x, y) (a read-only copy)."""
+        out = self._unsafe.copy()
+        out.flags.writeable = False
+        return out
+
+    @property
+    def agent_position(self) -> tuple[int, int]:
+        return self._agent
+
+    @property
+    def goal(self) -> tuple[int, int]:
+        return self._goal
+
+    @property
+    def start(self) -> tuple[int, int]:
+        return self._start
+
+    @property
+    def moved_indices(self) -> np.ndarray:
+        """Indices of the unsafe states moved by the last :meth:`shift`."""
+        return self._moved.copy()
+
+    # -- geometry -------------------------------------------------------------
+    def _span(self) -> int:
+        """Number of rows/columns where objects may be placed."""
+        return self.size if self.placement == "full" else self.size - 1
+
+    def nearest_unsafe(self, position) -> tuple[np.ndarray, float]:
+        """The nearest unsafe state to ``position`` and its Euclidean distance.
+
+        Ties go to the state listed first in ``unsafe_states``.
+        """
+        diff = self._unsafe - np.asarray(position)
+        d2 = np.einsum("ij,ij->i", diff, diff)
+        i = int(np.argmin(d2))
+        return self._unsafe[i].copy(), math.sqrt(d2[i])
+
+    def distance_map(self) -> np.ndarray:
+        """Distance to the nearest unsafe state for every cell, ndarray of shape (size, size) indexed [y, x]."""
+        ys, xs = np.mgrid[0 : self.size, 0 : self.size]
+        cells = np.stack([xs.ravel(), ys.ravel()], axis=1)
+        diff = cells[:, None, :] - self._unsafe[None, :, :]
+        return np.sqrt((diff**2).sum(-1).min(axis=1)).reshape(self.size, self.size)
+
+    def _observation(self) -> np.ndarray:
+        unsafe, distance = self.nearest_unsafe(self._agent)
+        ax, ay = self._agent
+        gx, gy = self._goal
+        return np.array(
+            [ax, ay, gx, gy, abs(ax - gx) + abs(ay - gy), unsafe[0], unsafe[1], distance], dtype=np.float64
+        )
+
+    # -- placement ------------------------------------------------------------
+    def _draw_start_goal(self, unsafe: np.ndarray):
+        span = self._span()
+        free = np.ones((span, span), dtype=bool)  # [x, y]
+        inside = unsafe[(unsafe < span).all(axis=1)]
+        free[inside[:, 0], inside[:, 1]] = False
+        cells = np.argwhere(free)
+        if len(cells) < 2:
+            raise RuntimeError("fewer than two safe cells are left for the start and the goal")
+        i, j = self.np_random.choice(len(cells), size=2, replace=False)
+        return tuple(int(v) for v in cells[i]), tuple(int(v) for v in cells[j])
+
+    def _place(self, n: int, keep: np.ndarray, avoid, rng=None, exclude=()) -> np.ndarray:
+        """Draw ``n`` unsafe cells, none on or 4-adjacent to ``keep`` or to each other.
+
+        ``avoid`` (start, goal, agent) and ``exclude`` (the cells states are
+        moving away from) are forbidden but do not block their neighbours.
+        Greedy uniform placement, retried when it paints itself into a corner.
+        """
+        rng = self.np_random if rng is None else rng
+        span = self._span()
+        base = np.zeros((span + 2, span + 2), dtype=bool)  # padded [x + 1, y + 1]
+
+        def block(grid, cell):
+            x, y = int(cell[0]) + 1, int(cell[1]) + 1
+            grid[x, y] = True
+            grid[x - 1, y] = grid[x + 1, y] = grid[x, y - 1] = grid[x, y + 1] = True
+
+        for cell in keep:
+            block(base, cell)
+        for cell in list(avoid) + list(exclude):
+            if cell is not None and 0 <= cell[0] < span and 0 <= cell[1] < span:
+                base[int(cell[0]) + 1, int(cell[1]) + 1] = True
+        for _ in range(_PLACEMENT_ATTEMPTS):
+            grid = base.copy()
+            placed = []
+            for _ in range(n):
+                free = np.argwhere(~grid[1:-1, 1:-1])
+                if len(free) == 0:
+                    break
+                cell = free[rng.integers(len(free))]
+                placed.append(cell)
+                block(grid, cell)
+            if len(placed) == n:
+                return np.array(placed, dtype=int).reshape(n, 2)
+        raise ValueError(
+            f"could not place {n} unsafe states apart from {len(keep)} others on the "
+            f"{span}x{span} placement area after {_PLACEMENT_ATTEMPTS} attempts: "
+            "use fewer unsafe states (or switch states), or a larger grid"
+        )
+
+    # -- the Gymnasium API ----------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        """Start an episode: a new start and goal, the unsafe states kept.
+
+        Parameters
+        ----------
+        seed : int, optional
+            Reseeds the generator that draws starts and goals.
+        options : dict, optional
+            ``{"start": (x, y), "goal": (x, y)}`` to fix either (both must be
+            safe, on the grid, and distinct); used to pair runs.
+        """
+        super().reset(seed=seed)
+        options = dict(options or {})
+        unknown = set(options) - {"start", "goal"}
+        if unknown:
+            raise ValueError(f"options may hold 'start' and 'goal' only, got {sorted(unknown)}")
+        drawn_start, drawn_goal = self._draw_start_goal(self._unsafe)
+        start, goal = drawn_start, drawn_goal
+        if "start" in options:
+            start = self._checked_cell("start", options["start"])
+            if "goal" not in options and goal == start:
+                goal = drawn_start  # the two drawn cells differ, so this one is free
+        if "goal" in options:
+            goal = self._checked_cell("goal", options["goal"])
+            if "start" not in options and start == goal:
+                start = drawn_goal
+        if start == goal:
+            raise ValueError(f"start and goal must differ, got both {start}")
+        self._start, self._goal, self._agent = start, goal, start
+        self._steps = 0
+        self._done = False
+        observation = self._observation()
+        info = {"distance_to_unsafe": float(observation[7]), "start": start, "goal": goal}
+        return observation, info
+
+    def _checked_cell(self, name, cell):
+        try:
+            x, y = (int(v) for v in cell)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a pair of integers (x, y), got {name}={cell!r}") from None
+        if not (0 <= x < self.size and 0 <= y < self.size):
+            raise ValueError(f"{name} must lie on the grid, 0 <= x, y < {self.size}, got {name}={cell!r}")
+        if np.any(np.all(self._unsafe == (x, y), axis=1)):
+            raise ValueError(f"{name} must not be an unsafe state, got {name}={cell!r}")
+        return (x, y)
+
+    def step(self, action):
+        """Move one cell; returns ``(observation, reward, terminated, truncated, info)``."""
+        if isinstance(action, (bool, np.bool_)) or not isinstance(action, (numbers.Integral, np.integer)) or not 0 <= action < 4:
+            raise ValueError(
+                f"action must be an integer in 0..3 (RIGHT, DOWN, LEFT, UP), got action={action!r}"
+            )
+        if self._done:
+            raise RuntimeError("the episode has ended (or not begun): call reset() before step()")
+        dx, dy = MOVES[int(action)]
+        x = min(max(self._agent[0] + int(dx), 0), self.size - 1)
+        y = min(max(self._agent[1] + int(dy), 0), self.size - 1)
+        self._agent = (x, y)
+        self._steps += 1
+        observation = self._observation()
+        distance = float(observation[7])
+        reward = -math.hypot(x - self._goal[0], y - self._goal[1])
+        terminated = self._agent == self._goal
+        truncated = not terminated and self._steps >= self.max_steps
+        self._done = terminated or truncated
+        info = {
+            "distance_to_unsafe": distance,
+            "cost": int(distance < self.d),
+            "task_completed": terminated,
+            "steps": self._steps,
+        }
+        return observation, reward, terminated, truncated, info
+
+    # -- the covariate shift -----------------------------------------------
+    def shift(self, n_switch_states: int, rng=None) -> np.ndarray:
+        """Move ``n_switch_states`` unsafe states, chosen at random, to new cells.
+
+        The covariate shift of paper section 5.4 (``nss``): the moved states
+        land on cells that obey the spacing rules with respect to the states
+        that stay and to each other, avoid the current start, goal and agent,
+        and differ from the cells they leave.  The other states do not move.
+
+        Parameters
+        ----------
+        n_switch_states : int
+            From 0 to ``n_unsafe``.
+        rng : None, int or numpy.random.Generator
+            Default: the environment's own generator.
+
+        Returns
+        -------
+        ndarray of int
+            The indices of the moved states (also in ``moved_indices``).
+        """
+        if (
+            isinstance(n_switch_states, bool)
+            or not isinstance(n_switch_states, numbers.Integral)
+            or not 0 <= n_switch_states <= self.n_unsafe
+        ):
+            raise ValueError(
+                f"n_switch_states must be an integer from 0 to n_unsafe={self.n_unsafe}, "
+                f"got n_switch_states={n_switch_states!r}"
+            )
+        rng = self.np_random if rng is None else as_generator(rng)
+        moved = np.sort(rng.choice(self.n_unsafe, size=int(n_switch_states), replace=False))
+        stay = np.setdiff1d(np.arange(self.n_unsafe), moved)
+        old = self._unsafe[moved]
+        new = self._place(
+            len(moved), self._unsafe[stay], [self._start, self._goal, self._agent], rng=rng, exclude=old
+        )
+        unsafe = self._unsafe.copy()
+        unsafe[moved] = new
+        self._unsafe = unsafe
+        self._moved, self._moved_from = moved, old
+        return moved.copy()
+
+    # -- drawing -------------------------------------------------------------
+    def layout(self) -> GridLayout:
+        """A snapshot of the world for :func:`sarsp_edu.plotting.plot_gridworld`."""
+        return GridLayout(
+            size=self.size,
+            unsafe_states=self._unsafe.copy(),
+            start=self._start,
+            goal=self._goal,
+            agent=self._agent,
+            moved=self._moved.copy(),
+            moved_from=self._moved_from.copy(),
+            d=self.d,
+        )
+
+    def render(self):
+        """A text grid (``"ansi"``) or an RGB image (``"rgb_array"``)."""
+        if self.render_mode is None:
+            gym.logger.warn("render() called without render_mode; pass render_mode='ansi' or 'rgb_array'")
+            return None
+        if self.render_mode == "ansi":
+            return self._render_text()
+        return self._render_rgb()
+
+    def _render_text(self) -> str:
+        rows = [["." for _ in range(self.size)] for _ in range(self.size)]
+        for x, y in self._unsafe:
+            rows[y][x] = "X"
+        gx, gy = self._goal
+        rows[gy][gx] = "G"
+        ax, ay = self._agent
+        rows[ay][ax] = "!" if rows[ay][ax] == "X" else ("*" if (ax, ay) == self._goal else "A")
+        legend = "A agent  G goal  X unsafe  ! agent in an unsafe state  * agent at the goal"
+        return "\n".join(" ".join(row) for row in rows) + "\n" + legend + "\n"
+
+    def _render_rgb(self, cell: int = 24) -> np.ndarray:
+        colours = {
+            "empty": (245, 245, 245),
+            "unsafe": (214, 39, 40),
+            "goal": (44, 160, 44),
+            "agent": (31, 119, 180),
+            "line": (200, 200, 200),
+        }
+        image = np.empty((self.size * cell, self.size * cell, 3), dtype=np.uint8)
+        image[:] = colours["empty"]
+
+        def paint(x, y, colour, margin=0):
+            image[y * cell + margin : (y + 1) * cell - margin, x * cell + margin : (x + 1) * cell - margin] = colour
+
+        for x, y in self._unsafe:
+            paint(x, y, colours["unsafe"])
+        paint(*self._goal, colours["goal"])
+        paint(*self._agent, colours["agent"], margin=cell // 5)
+        image[::cell, :] = colours["line"]
+        image[:, ::cell] = colours["line"]
+        return image
+
+
+gym.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.gridworld:SafeGridWorld")

@@ -1,0 +1,284 @@
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+from sarsp_edu import DOWN, LEFT, RIGHT, UP, SafeGridWorld, cost_inputs, reward_inputs
+from sarsp_edu.gridworld import MOVES, OBSERVATION_FIELDS
+
+
+def touching(a, b):
+    return abs(a[0] - b[0]) + abs(a[1] - b[1]) <= 1
+
+
+def assert_spaced(cells):
+    cells = [tuple(c) for c in cells]
+    for i in range(len(cells)):
+        for j in range(i + 1, len(cells)):
+            assert not touching(cells[i], cells[j]), f"{cells[i]} and {cells[j]} touch"
+
+
+@pytest.mark.parametrize("render_mode", ["ansi", "rgb_array"])
+def test_gymnasium_check_env(render_mode):
+    # made through gymnasium so that it has a spec and every render mode is checked
+    check_env(gym.make("sarsp_edu/SafeGridWorld-v0", seed=0, render_mode=render_mode).unwrapped)
+
+
+def test_registered_with_gymnasium():
+    env = gym.make("sarsp_edu/SafeGridWorld-v0", size=6, n_unsafe=4, seed=0)
+    observation, _ = env.reset(seed=0)
+    assert observation.shape == (8,)
+    assert env.unwrapped.size == 6
+
+
+def test_defaults_are_the_papers():
+    env = SafeGridWorld()
+    assert (env.size, env.n_unsafe, env.d, env.max_steps) == (10, 15, 1.0, 100)
+    assert (RIGHT, DOWN, LEFT, UP) == (0, 1, 2, 3)
+    np.testing.assert_array_equal(MOVES, [[1, 0], [0, 1], [-1, 0], [0, -1]])
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_unsafe_states_are_spaced_and_avoid_start_and_goal(seed):
+    env = SafeGridWorld(seed=seed)
+    unsafe = env.unsafe_states
+    assert unsafe.shape == (15, 2)
+    assert len({tuple(c) for c in unsafe}) == 15
+    assert_spaced(unsafe)
+    assert env.start not in map(tuple, unsafe) and env.goal not in map(tuple, unsafe)
+    for _ in range(10):
+        env.reset()
+        assert env.start != env.goal
+        cells = set(map(tuple, unsafe))
+        assert env.start not in cells and env.goal not in cells
+        np.testing.assert_array_equal(env.unsafe_states, unsafe)  # a reset keeps them
+
+
+def test_placement_reference_never_uses_the_last_row_or_column():
+    for seed in range(20):
+        env = SafeGridWorld(seed=seed, placement="reference")
+        env.reset()
+        assert env.unsafe_states.max() <= 8
+        assert max(env.start + env.goal) <= 8
+        env.shift(10, rng=seed)
+        assert env.unsafe_states.max() <= 8
+
+
+def test_placement_full_uses_the_whole_grid():
+    seen = np.concatenate([SafeGridWorld(seed=s).unsafe_states for s in range(30)])
+    assert seen.max() == 9 and seen.min() == 0
+
+
+def test_moves_and_clipping():
+    env = SafeGridWorld(size=5, n_unsafe=1, seed=0)
+    # put the single unsafe state out of the way and start in the corner (0, 0)
+    env._unsafe = np.array([[4, 4]])
+    env.reset(options={"start": (0, 0), "goal": (3, 3)})
+    env.step(LEFT)
+    assert env.agent_position == (0, 0)  # clipped
+    env.step(UP)
+    assert env.agent_position == (0, 0)  # clipped
+    env.step(RIGHT)
+    assert env.agent_position == (1, 0)
+    env.step(DOWN)
+    assert env.agent_position == (1, 1)
+    env.step(LEFT)
+    assert env.agent_position == (0, 1)
+    env.step(UP)
+    assert env.agent_position == (0, 0)
+
+
+def test_reward_cost_signal_and_violation():
+    env = SafeGridWorld(size=6, n_unsafe=2, seed=0)
+    env._unsafe = np.array([[2, 0], [5, 5]])
+    observation, info = env.reset(options={"start": (0, 0), "goal": (0, 4)})
+    assert info["distance_to_unsafe"] == pytest.approx(2.0)
+    observation, reward, terminated, truncated, info = env.step(RIGHT)  # to (1, 0)
+    assert reward == pytest.approx(-math.hypot(1, 4))  # minus the L2 distance to the goal
+    assert info["distance_to_unsafe"] == pytest.approx(1.0)
+    assert info["cost"] == 0  # distance 1 is not below d = 1
+    observation, reward, terminated, truncated, info = env.step(RIGHT)  # into (2, 0)
+    assert info["distance_to_unsafe"] == 0.0 and info["cost"] == 1
+    assert not terminated  # unsafe states are not terminal
+    assert dict(zip(OBSERVATION_FIELDS, observation)) == {
+        "agent_x": 2, "agent_y": 0, "goal_x": 0, "goal_y": 4, "goal_l1_distance": 6,
+        "unsafe_x": 2, "unsafe_y": 0, "unsafe_distance": 0.0,
+    }
+
+
+def test_threshold_d_sets_the_violation():
+    env = SafeGridWorld(size=6, n_unsafe=1, d=1.5, seed=0)
+    env._unsafe = np.array([[2, 0]])
+    env.reset(options={"start": (0, 0), "goal": (0, 4)})
+    _, _, _, _, info = env.step(RIGHT)  # distance 1 < 1.5
+    assert info["cost"] == 1
+
+
+def test_termination_at_the_goal_and_truncation():
+    env = SafeGridWorld(size=6, n_unsafe=1, seed=0)
+    env._unsafe = np.array([[5, 5]])
+    env.reset(options={"start": (0, 0), "goal": (1, 0)})
+    _, reward, terminated, truncated, info = env.step(RIGHT)
+    assert terminated and not truncated and info["task_completed"] and reward == 0.0
+    with pytest.raises(RuntimeError, match="call reset"):
+        env.step(RIGHT)
+
+    short = SafeGridWorld(size=6, n_unsafe=1, max_steps=3, seed=0)
+    short._unsafe = np.array([[5, 5]])
+    short.reset(options={"start": (0, 0), "goal": (4, 4)})
+    flags = [short.step(LEFT)[2:4] for _ in range(3)]
+    assert flags == [(False, False), (False, False), (False, True)]
+    assert SafeGridWorld(size=7).max_steps == 49  # T_max = n * n
+
+
+def test_same_seed_same_world_and_episodes():
+    def trace(seed):
+        env = SafeGridWorld(seed=seed)
+        out = [env.unsafe_states.tolist()]
+        for _ in range(5):
+            observation, _ = env.reset()
+            out.append(observation.tolist())
+        return out
+
+    assert trace(4) == trace(4)
+    assert trace(4) != trace(5)
+    a = SafeGridWorld(seed=1)
+    np.testing.assert_array_equal(a.reset(seed=9)[0], a.reset(seed=9)[0])
+
+
+@pytest.mark.parametrize("nss", [0, 2, 6, 10, 15])
+def test_shift_moves_exactly_nss_states(nss):
+    env = SafeGridWorld(seed=11)
+    env.reset(seed=0)
+    before = env.unsafe_states
+    moved = env.shift(nss, rng=3)
+    after = env.unsafe_states
+    assert len(moved) == nss and len(set(moved.tolist())) == nss
+    stay = np.setdiff1d(np.arange(15), moved)
+    np.testing.assert_array_equal(after[stay], before[stay])
+    old_cells = set(map(tuple, before[moved]))
+    for i in moved:
+        assert tuple(after[i]) not in old_cells  # a moved state really moved
+    assert_spaced(after)
+    assert env.start not in map(tuple, after) and env.goal not in map(tuple, after)
+    assert env.agent_position not in map(tuple, after)
+    layout = env.layout()
+    np.testing.assert_array_equal(layout.moved, moved)
+    np.testing.assert_array_equal(layout.moved_from, before[moved])
+
+
+def test_shift_is_reproducible_from_its_rng():
+    a, b = SafeGridWorld(seed=2), SafeGridWorld(seed=2)
+    a.shift(8, rng=5)
+    b.shift(8, rng=5)
+    np.testing.assert_array_equal(a.unsafe_states, b.unsafe_states)
+
+
+def test_model_inputs():
+    observation = np.array([3, 4, 7, 8, 8, 5, 4, 2.0])
+    np.testing.assert_array_equal(
+        cost_inputs(observation),
+        [[0, 3, 4, 5, 4], [1, 3, 4, 5, 4], [2, 3, 4, 5, 4], [3, 3, 4, 5, 4]],
+    )
+    np.testing.assert_array_equal(reward_inputs(observation, 2), [[2, 3, 4, 7, 8]])
+
+
+def test_render_modes():
+    env = SafeGridWorld(seed=0, render_mode="ansi")
+    env.reset(seed=0)
+    text = env.render()
+    grid = text.splitlines()[:10]
+    assert sum(row.split().count("X") for row in grid) == 15
+    assert sum(row.split().count("G") for row in grid) == 1
+    image = SafeGridWorld(seed=0, render_mode="rgb_array")
+    image.reset(seed=0)
+    frame = image.render()
+    assert frame.shape == (240, 240, 3) and frame.dtype == np.uint8
+
+
+def test_distance_map_matches_the_cost_signal():
+    env = SafeGridWorld(seed=6)
+    dmap = env.distance_map()
+    for x, y in [(0, 0), (3, 7), (9, 9)]:
+        assert dmap[y, x] == pytest.approx(env.nearest_unsafe((x, y))[1])
+    for x, y in env.unsafe_states:
+        assert dmap[y, x] == 0
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(size=1), "size must be an integer >= 2"),
+        (dict(size=2.5), "size"),
+        (dict(n_unsafe=0), "n_unsafe must be an integer from 1 to 50"),
+        (dict(n_unsafe=51), r"n_unsafe must be an integer from 1 to 50.*got n_unsafe=51"),
+        (dict(size=4, n_unsafe=9), "from 1 to 8"),
+        (dict(d=0), "d must be a positive finite number"),
+        (dict(d=-1.0), "d must be"),
+        (dict(max_steps=0), "max_steps"),
+        (dict(placement="edge"), "placement"),
+        (dict(render_mode="human"), "render_mode"),
+    ],
+)
+def test_bad_arguments_are_named(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        SafeGridWorld(**kwargs)
+
+
+def test_crowded_grid_that_cannot_be_filled():
+    # 8 is the checkerboard bound on 4x4, but start and goal make it unreachable
+    with pytest.raises(ValueError, match="could not place 8 unsafe states"):
+        SafeGridWorld(size=4, n_unsafe=8, seed=0)
+
+
+@pytest.mark.parametrize("action", [-1, 4, 1.0, "up", None, True])
+def test_bad_actions_are_named(action):
+    env = SafeGridWorld(seed=0)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="action must be an integer in 0..3"):
+        env.step(action)
+
+
+def test_numpy_integer_actions_work():
+    env = SafeGridWorld(seed=0)
+    env.reset(seed=0)
+    env.step(np.int64(2))
+
+
+@pytest.mark.parametrize("nss", [-1, 16, 2.0])
+def test_bad_switch_states(nss):
+    with pytest.raises(ValueError, match="n_switch_states must be an integer from 0 to n_unsafe=15"):
+        SafeGridWorld(seed=0).shift(nss)
+
+
+def test_shift_that_cannot_be_placed():
+    env = SafeGridWorld(size=4, n_unsafe=7, seed=2)  # 7 of at most 8 on a 4x4
+    with pytest.raises(ValueError, match="could not place 7 unsafe states"):
+        env.shift(7, rng=0)
+
+
+def test_reset_options_are_checked():
+    env = SafeGridWorld(seed=0)
+    unsafe = tuple(int(v) for v in env.unsafe_states[0])
+    with pytest.raises(ValueError, match="start must not be an unsafe state"):
+        env.reset(options={"start": unsafe})
+    with pytest.raises(ValueError, match="goal must lie on the grid"):
+        env.reset(options={"goal": (10, 0)})
+    with pytest.raises(ValueError, match="start and goal must differ"):
+        free = next((x, y) for x in range(10) for y in range(10) if (x, y) not in map(tuple, env.unsafe_states))
+        env.reset(options={"start": free, "goal": free})
+    with pytest.raises(ValueError, match="options may hold"):
+        env.reset(options={"agent": (0, 0)})
+    for seed in range(30):  # a fixed start never collides with the drawn goal
+        env.reset(seed=seed, options={"start": free})
+        assert env.start == free != env.goal
+
+
+def test_unsafe_states_are_read_only():
+    env = SafeGridWorld(seed=0)
+    with pytest.raises(ValueError):
+        env.unsafe_states[0, 0] = 5
