@@ -5,7 +5,20 @@ Distribution Shift and Outliers with the Student-t's Process".
 
 from __future__ import annotations
 
+from .gridworld import (
+    ACTION_NAMES,
+    DOWN,
+    LEFT,
+    RIGHT,
+    UP,
+    GridLayout,
+    SafeGridWorld,
+    cost_inputs,
+    reward_inputs,
+)
 from .kernels import RBF
+from .offline import ObservationBuffer, OfflineData, collect_offline_data, inject_outliers
+from .plotting import plot_gridworld
 from .processes import GaussianProcess, NotFittedError, StudentTProcess
 
 __version__ = "0.1.0"
@@ -15,5 +28,19 @@ __all__ = [
     "GaussianProcess",
     "StudentTProcess",
     "NotFittedError",
+    "SafeGridWorld",
+    "GridLayout",
+    "RIGHT",
+    "DOWN",
+    "LEFT",
+    "UP",
+    "ACTION_NAMES",
+    "cost_inputs",
+    "reward_inputs",
+    "ObservationBuffer",
+    "OfflineData",
+    "collect_offline_data",
+    "inject_outliers",
+    "plot_gridworld",
     "__version__",
 ]

@@ -1,0 +1,326 @@
+"""Offline data: a uniform random policy's transitions, and injected outliers.
+
+Paper sections 5.2-5.3.  Before deployment the agent learns from 100
+episodes of a uniform random policy.  Each transition feeds two training sets:
+
+- the cost model's, inputs ``(action, x, y, nearest-unsafe x, y)`` and target
+  the distance to the nearest unsafe state after the step, at most 12 copies
+  of one input;
+- the reward model's, inputs ``(action, x, y, goal x, y)`` and target the
+  reward after the step, at most 1 copy of one input.
+
+Outliers (section 5.3): ``k = round(p * N)`` rows drawn uniformly without
+replacement (``N`` = the smaller buffer's size), whose inputs *and* targets
+are multiplied by ``m``; the same rows in both buffers.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .gridworld import cost_inputs, reward_inputs
+from .processes import as_generator
+
+__all__ = ["ObservationBuffer", "OfflineData", "collect_offline_data", "inject_outliers"]
+
+#: the reference implementation's duplicate caps
+COST_DUPLICATES = 12
+REWARD_DUPLICATES = 1
+
+
+class ObservationBuffer:
+    """A growing training set ``(X, y)`` that caps how often one input may appear.
+
+    Parameters
+    ----------
+    n_features : int
+    max_duplicates : int or None
+        At most this many rows may share one input (``None``: no cap).
+
+    Notes
+    -----
+    Inputs are matched exactly (the grid's inputs are whole numbers).  An
+    index from input to rows makes ``add``, ``count`` and ``overwrite`` O(1)
+    per call, which the agent's online update relies on.
+
+    Examples
+    --------
+    >>> buffer = ObservationBuffer(2, max_duplicates=1)
+    >>> buffer.add([0, 1], 3.0), buffer.add([0, 1], 4.0), len(buffer)
+    (True, False, 1)
+    >>> buffer.overwrite([0, 1], 5.0), float(buffer.y[0])
+    (1, 5.0)
+    """
+
+    def __init__(self, n_features: int, max_duplicates: int | None = None, capacity: int = 1024):
+        if isinstance(n_features, bool) or not isinstance(n_features, numbers.Integral) or n_features < 1:
+            raise ValueError(f"n_features must be a positive integer, got n_features={n_features!r}")
+        if max_duplicates is not None and (
+            isinstance(max_duplicates, bool) or not isinstance(max_duplicates, numbers.Integral) or max_duplicates < 1
+        ):
+            raise ValueError(f"max_duplicates must be a positive integer or None, got max_duplicates={max_duplicates!r}")
+        self.n_features = int(n_features)
+        self.max_duplicates = None if max_duplicates is None else int(max_duplicates)
+        self._X = np.empty((max(int(capacity), 1), self.n_features))
+        self._y = np.empty(max(int(capacity), 1))
+        self._n = 0
+        self._rows: dict[bytes, list[int]] = {}
+
+    def __len__(self) -> int:
+        return self._n
+
+    @property
+    def X(self) -> np.ndarray:
+        """Inputs, ndarray of shape (n, n_features) (a read-only view)."""
+        view = self._X[: self._n]
+        view.flags.writeable = False
+        return view
+
+    @property
+    def y(self) -> np.ndarray:
+        """Targets, ndarray of shape (n,) (a read-only view)."""
+        view = self._y[: self._n]
+        view.flags.writeable = False
+        return view
+
+    def _key(self, x) -> bytes:
+        x = np.asarray(x, dtype=float).reshape(-1)
+        if x.shape[0] != self.n_features:
+            raise ValueError(f"x must have {self.n_features} features, got {x.shape[0]}")
+        return (x + 0.0).tobytes()  # + 0.0 folds -0.0 into 0.0
+
+    def rows_of(self, x) -> np.ndarray:
+        """Indices of the rows whose input equals ``x``."""
+        return np.array(self._rows.get(self._key(x), []), dtype=int)
+
+    def count(self, x) -> int:
+        """How many rows hold input ``x``."""
+        return len(self._rows.get(self._key(x), ()))
+
+    def add(self, x, target: float) -> bool:
+        """Append ``(x, target)`` unless ``x`` already fills its duplicate cap.
+
+        Returns
+        -------
+        bool
+            Whether the row was added.
+        """
+        key = self._key(x)
+        rows = self._rows.setdefault(key, [])
+        if self.max_duplicates is not None and len(rows) >= self.max_duplicates:
+            return False
+        if self._n == self._X.shape[0]:
+            self._X = np.concatenate([self._X, np.empty_like(self._X)])
+            self._y = np.concatenate([self._y, np.empty_like(self._y)])
+        self._X[self._n] = np.frombuffer(key)
+        self._y[self._n] = float(target)
+        rows.append(self._n)
+        self._n += 1
+        return True
+
+    def overwrite(self, x, target: float) -> int:
+        """Set the target of every row with input ``x``; returns how many rows changed.
+
+        Algorithm 1's corrective update: the observed cost replaces what the
+        offline data said about this state-action pair.
+        """
+        rows = self._rows.get(self._key(x), [])
+        self._y[rows] = float(target)
+        return len(rows)
+
+    def update(self, x, target: float) -> str:
+        """Overwrite the rows with input ``x``, or add one if there is none.
+
+        Returns ``"overwritten"`` or ``"added"``.  (A new input is always
+        under its cap, so the add cannot be refused.)
+        """
+        if self.overwrite(x, target):
+            return "overwritten"
+        self.add(x, target)
+        return "added"
+
+    def copy(self) -> "ObservationBuffer":
+        other = ObservationBuffer(self.n_features, self.max_duplicates, capacity=max(self._n, 1))
+        other._X[: self._n] = self._X[: self._n]
+        other._y[: self._n] = self._y[: self._n]
+        other._n = self._n
+        other._rows = {k: list(v) for k, v in self._rows.items()}
+        return other
+
+    def scaled(self, rows, factor: float) -> "ObservationBuffer":
+        """A copy whose ``rows`` have inputs and targets multiplied by ``factor``."""
+        other = self.copy()
+        rows = np.asarray(rows, dtype=int)
+        other._X[rows] *= factor
+        other._y[rows] *= factor
+        other._reindex()
+        return other
+
+    def _reindex(self):
+        self._rows = {}
+        for i in range(self._n):
+            self._rows.setdefault((self._X[i] + 0.0).tobytes(), []).append(i)
+
+    def __repr__(self) -> str:
+        return f"ObservationBuffer(n={self._n}, n_features={self.n_features}, max_duplicates={self.max_duplicates})"
+
+
+@dataclass
+class OfflineData:
+    """The two training sets of the offline phase.
+
+    Attributes
+    ----------
+    cost : ObservationBuffer
+        Inputs ``(action, x, y, nearest-unsafe x, y)``, target the distance to
+        the nearest unsafe state after the step.
+    reward : ObservationBuffer
+        Inputs ``(action, x, y, goal x, y)``, target the reward after the step.
+    episodes : int
+    transitions : int
+        Transitions collected, before the duplicate caps.
+    visits : ndarray of shape (size, size)
+        How often the random policy stood on each cell, indexed [y, x].
+    outlier_indices : ndarray of int
+        Rows changed by :func:`inject_outliers` (empty for clean data).
+    outlier_magnitude, outlier_proportion : float or None
+    outliers_in : tuple of str
+        Which buffers hold the outliers: ``"cost"``, ``"reward"``.
+    """
+
+    cost: ObservationBuffer
+    reward: ObservationBuffer
+    episodes: int
+    transitions: int
+    visits: np.ndarray
+    outlier_indices: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
+    outlier_magnitude: float | None = None
+    outlier_proportion: float | None = None
+    outliers_in: tuple = ()
+
+    def copy(self) -> "OfflineData":
+        return replace(
+            self,
+            cost=self.cost.copy(),
+            reward=self.reward.copy(),
+            visits=self.visits.copy(),
+            outlier_indices=self.outlier_indices.copy(),
+        )
+
+
+def collect_offline_data(
+    env,
+    episodes: int = 100,
+    rng=None,
+    *,
+    cost_duplicates: int | None = COST_DUPLICATES,
+    reward_duplicates: int | None = REWARD_DUPLICATES,
+) -> OfflineData:
+    """Run a uniform random policy and keep its transitions (paper section 5.2).
+
+    Parameters
+    ----------
+    env : SafeGridWorld
+        The world before the shift.  Its episodes are reset with seeds drawn
+        from ``rng``, so the data depend only on the world and ``rng``.
+    episodes : int, default 100
+    rng : None, int or numpy.random.Generator
+        Chooses the actions and seeds the resets.
+    cost_duplicates, reward_duplicates : int or None, default 12 and 1
+        The duplicate caps of the two buffers (the reference implementation's).
+
+    Returns
+    -------
+    OfflineData
+    """
+    if isinstance(episodes, bool) or not isinstance(episodes, numbers.Integral) or episodes < 1:
+        raise ValueError(f"episodes must be a positive integer, got episodes={episodes!r}")
+    rng = as_generator(rng)
+    env = getattr(env, "unwrapped", env)
+    cost = ObservationBuffer(5, cost_duplicates, capacity=8192)
+    reward = ObservationBuffer(5, reward_duplicates, capacity=8192)
+    visits = np.zeros((env.size, env.size), dtype=int)
+    transitions = 0
+    for _ in range(int(episodes)):
+        observation, _ = env.reset(seed=int(rng.integers(2**31 - 1)))
+        done = False
+        while not done:
+            action = int(rng.integers(4))
+            x_cost = cost_inputs(observation, action)[0]
+            x_reward = reward_inputs(observation, action)[0]
+            visits[int(observation[1]), int(observation[0])] += 1
+            observation, r, terminated, truncated, info = env.step(action)
+            cost.add(x_cost, info["distance_to_unsafe"])
+            reward.add(x_reward, r)
+            transitions += 1
+            done = terminated or truncated
+    return OfflineData(cost=cost, reward=reward, episodes=int(episodes), transitions=transitions, visits=visits)
+
+
+def inject_outliers(
+    data: OfflineData,
+    magnitude: float,
+    proportion: float,
+    rng=None,
+    cost: bool = True,
+    reward: bool = True,
+) -> OfflineData:
+    """Multiply the inputs and targets of ``round(p * N)`` random rows by ``m`` (paper section 5.3).
+
+    Parameters
+    ----------
+    data : OfflineData
+        Clean data; it is not changed.
+    magnitude : float
+        ``m`` (> 0); the paper uses 40, 60 and 80.
+    proportion : float
+        ``p`` in [0, 1]; the paper uses 0.2, 0.3 and 0.4.
+    rng : None, int or numpy.random.Generator
+    cost, reward : bool, default True
+        Which buffers get the outliers (the paper: both).  The same row
+        indices are used in each.
+
+    Returns
+    -------
+    OfflineData
+        A new object; ``outlier_indices`` lists the changed rows.
+
+    Notes
+    -----
+    ``N`` is the size of the smaller buffer, so every drawn index exists in
+    both.  ``round`` is Python's (halves go to the even number).
+    """
+    try:
+        m = float(magnitude)
+    except (TypeError, ValueError):
+        m = math.nan
+    if not (math.isfinite(m) and m > 0):
+        raise ValueError(f"magnitude must be a positive finite number, got magnitude={magnitude!r}")
+    try:
+        p = float(proportion)
+    except (TypeError, ValueError):
+        p = math.nan
+    if not (0.0 <= p <= 1.0):
+        raise ValueError(f"proportion must lie in [0, 1], got proportion={proportion!r}")
+    if not (cost or reward):
+        raise ValueError("at least one of cost and reward must be True, got cost=False, reward=False")
+    if len(data.outlier_indices):
+        raise ValueError("data already holds outliers: inject them into the clean data once")
+    rng = as_generator(rng)
+    N = min(len(data.cost), len(data.reward))
+    k = int(round(p * N))
+    rows = np.sort(rng.choice(N, size=k, replace=False))
+    out = data.copy()
+    if cost:
+        out.cost = data.cost.scaled(rows, m)
+    if reward:
+        out.reward = data.reward.scaled(rows, m)
+    out.outlier_indices = rows
+    out.outlier_magnitude = m
+    out.outlier_proportion = p
+    out.outliers_in = tuple(name for name, flag in (("cost", cost), ("reward", reward)) if flag)
+    return out
