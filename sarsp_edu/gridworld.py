@@ -21,6 +21,7 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import seeding
 
+from ._validation import check_choice, check_int, check_positive
 from .processes import as_generator
 
 __all__ = [
@@ -218,12 +219,8 @@ class SafeGridWorld(gym.Env):
         render_mode: str | None = None,
         seed=None,
     ):
-        if isinstance(size, bool) or not isinstance(size, numbers.Integral) or size < 2:
-            raise ValueError(f"size must be an integer >= 2, got size={size!r}")
-        self.size = int(size)
-        if placement not in _PLACEMENTS:
-            raise ValueError(f"placement must be 'full' or 'reference', got placement={placement!r}")
-        self.placement = placement
+        self.size = check_int("size", size, 2)
+        self.placement = check_choice("placement", placement, _PLACEMENTS)
         span = self._span()
         if span < 2:
             raise ValueError(
@@ -241,23 +238,10 @@ class SafeGridWorld(gym.Env):
                 f"on a {span}x{span} placement area), got n_unsafe={n_unsafe!r}"
             )
         self.n_unsafe = int(n_unsafe)
-        try:
-            d_value = float(d)
-        except (TypeError, ValueError):
-            d_value = math.nan
-        if not (math.isfinite(d_value) and d_value > 0):
-            raise ValueError(f"d must be a positive finite number, got d={d!r}")
-        self.d = d_value
-        if max_steps is None:
-            max_steps = self.size * self.size
-        if isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral) or max_steps < 1:
-            raise ValueError(f"max_steps must be a positive integer or None, got max_steps={max_steps!r}")
-        self.max_steps = int(max_steps)
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"render_mode must be one of {self.metadata['render_modes']} or None, got render_mode={render_mode!r}"
-            )
-        self.render_mode = render_mode
+        self.d = check_positive("d", d)
+        max_steps = check_int("max_steps", max_steps, 1, allow_none=True)
+        self.max_steps = self.size * self.size if max_steps is None else max_steps
+        self.render_mode = check_choice("render_mode", render_mode, [None, *self.metadata["render_modes"]])
 
         self.action_space = spaces.Discrete(4)
         far = float(self.size - 1)

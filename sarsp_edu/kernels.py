@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.distance import cdist
 
+from ._validation import check_positive
+
 __all__ = ["RBF", "squared_distances"]
 
 
@@ -36,16 +38,6 @@ def squared_distances(X: np.ndarray, Y: np.ndarray | None = None) -> np.ndarray:
     ndarray of shape (n, m)
     """
     return cdist(X, X if Y is None else Y, "sqeuclidean")
-
-
-def _check_positive(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}") from None
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
-    return value
 
 
 class RBF:
@@ -79,8 +71,8 @@ class RBF:
     n_hyperparameters = 2
 
     def __init__(self, amplitude: float = 1.0, length_scale: float = 1.0):
-        self.amplitude = _check_positive("amplitude", amplitude)
-        self.length_scale = _check_positive("length_scale", length_scale)
+        self.amplitude = check_positive("amplitude", amplitude)
+        self.length_scale = check_positive("length_scale", length_scale)
 
     # -- hyperparameters in log space -------------------------------------
     @property

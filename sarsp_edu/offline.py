@@ -16,12 +16,11 @@ are multiplied by ``m``; the same rows in both buffers.
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ._validation import check_fraction, check_int, check_positive
 from .gridworld import cost_inputs, reward_inputs
 from .processes import as_generator
 
@@ -57,14 +56,8 @@ class ObservationBuffer:
     """
 
     def __init__(self, n_features: int, max_duplicates: int | None = None, capacity: int = 1024):
-        if isinstance(n_features, bool) or not isinstance(n_features, numbers.Integral) or n_features < 1:
-            raise ValueError(f"n_features must be a positive integer, got n_features={n_features!r}")
-        if max_duplicates is not None and (
-            isinstance(max_duplicates, bool) or not isinstance(max_duplicates, numbers.Integral) or max_duplicates < 1
-        ):
-            raise ValueError(f"max_duplicates must be a positive integer or None, got max_duplicates={max_duplicates!r}")
-        self.n_features = int(n_features)
-        self.max_duplicates = None if max_duplicates is None else int(max_duplicates)
+        self.n_features = check_int("n_features", n_features, 1)
+        self.max_duplicates = check_int("max_duplicates", max_duplicates, 1, allow_none=True)
         self._X = np.empty((max(int(capacity), 1), self.n_features))
         self._y = np.empty(max(int(capacity), 1))
         self._n = 0
@@ -237,15 +230,14 @@ def collect_offline_data(
     -------
     OfflineData
     """
-    if isinstance(episodes, bool) or not isinstance(episodes, numbers.Integral) or episodes < 1:
-        raise ValueError(f"episodes must be a positive integer, got episodes={episodes!r}")
+    episodes = check_int("episodes", episodes, 1)
     rng = as_generator(rng)
     env = getattr(env, "unwrapped", env)
     cost = ObservationBuffer(5, cost_duplicates, capacity=8192)
     reward = ObservationBuffer(5, reward_duplicates, capacity=8192)
     visits = np.zeros((env.size, env.size), dtype=int)
     transitions = 0
-    for _ in range(int(episodes)):
+    for _ in range(episodes):
         observation, _ = env.reset(seed=int(rng.integers(2**31 - 1)))
         done = False
         while not done:
@@ -258,7 +250,7 @@ def collect_offline_data(
             reward.add(x_reward, r)
             transitions += 1
             done = terminated or truncated
-    return OfflineData(cost=cost, reward=reward, episodes=int(episodes), transitions=transitions, visits=visits)
+    return OfflineData(cost=cost, reward=reward, episodes=episodes, transitions=transitions, visits=visits)
 
 
 def inject_outliers(
@@ -294,18 +286,8 @@ def inject_outliers(
     ``N`` is the size of the smaller buffer, so every drawn index exists in
     both.  ``round`` is Python's (halves go to the even number).
     """
-    try:
-        m = float(magnitude)
-    except (TypeError, ValueError):
-        m = math.nan
-    if not (math.isfinite(m) and m > 0):
-        raise ValueError(f"magnitude must be a positive finite number, got magnitude={magnitude!r}")
-    try:
-        p = float(proportion)
-    except (TypeError, ValueError):
-        p = math.nan
-    if not (0.0 <= p <= 1.0):
-        raise ValueError(f"proportion must lie in [0, 1], got proportion={proportion!r}")
+    m = check_positive("magnitude", magnitude)
+    p = check_fraction("proportion", proportion)
     if not (cost or reward):
         raise ValueError("at least one of cost and reward must be True, got cost=False, reward=False")
     if len(data.outlier_indices):

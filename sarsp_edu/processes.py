@@ -37,9 +37,10 @@ import warnings
 import numpy as np
 from scipy import linalg, optimize, special, stats
 
+from ._validation import check_choice, check_int, check_positive
 from .kernels import RBF, squared_distances
 
-__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator"]
+__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator", "draw_subset"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
 _OPTIMIZERS = ("adam", "lbfgs", None)
@@ -65,27 +66,16 @@ def as_generator(rng) -> np.random.Generator:
     )
 
 
+def draw_subset(n: int, max_points: int | None, rng) -> np.ndarray:
+    """Sorted row indices: all ``n`` rows, or ``max_points`` drawn without replacement."""
+    if max_points is None or n <= max_points:
+        return np.arange(n)
+    return np.sort(as_generator(rng).choice(n, size=max_points, replace=False))
+
+
 # --------------------------------------------------------------------------
 # validation helpers
 # --------------------------------------------------------------------------
-def _positive(name, value):
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
-    return value
-
-
-def _positive_int_or_none(name, value):
-    if value is None:
-        return None
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
-        raise ValueError(f"{name} must be a positive integer or None, got {name}={value!r}")
-    return int(value)
-
-
 def _check_X(X, name="X", n_features=None):
     X = np.asarray(X, dtype=float)
     if X.ndim != 2:
@@ -262,16 +252,12 @@ class _ProcessRegressor:
             self.kernel = RBF()
         if not isinstance(self.kernel, RBF):
             raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
-        self.noise_variance = _positive("noise_variance", self.noise_variance)
-        if self.optimizer not in _OPTIMIZERS:
-            raise ValueError(
-                f"optimizer must be one of 'adam', 'lbfgs' or None, got optimizer={self.optimizer!r}"
-            )
-        self.learning_rate = _positive("learning_rate", self.learning_rate)
-        self.max_iter = _positive_int_or_none("max_iter", self.max_iter)
-        if self.prior not in _PRIORS:
-            raise ValueError(f"prior must be 'lognormal' or None, got prior={self.prior!r}")
-        self.max_fit_points = _positive_int_or_none("max_fit_points", self.max_fit_points)
+        self.noise_variance = check_positive("noise_variance", self.noise_variance)
+        check_choice("optimizer", self.optimizer, _OPTIMIZERS)
+        self.learning_rate = check_positive("learning_rate", self.learning_rate)
+        self.max_iter = check_int("max_iter", self.max_iter, 1, allow_none=True)
+        check_choice("prior", self.prior, _PRIORS)
+        self.max_fit_points = check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
         try:
             low, high = (float(b) for b in self.bounds)
         except (TypeError, ValueError):
@@ -397,12 +383,7 @@ class _ProcessRegressor:
                     f"the initial {self.hyperparameter_names[i][4:]}={math.exp(theta0[i]):.3g} "
                     f"lies outside bounds={self.bounds}; widen bounds or change the initial value"
                 )
-            rng = as_generator(self.rng)
-            n = X.shape[0]
-            if self.max_fit_points is not None and n > self.max_fit_points:
-                idx = np.sort(rng.choice(n, size=self.max_fit_points, replace=False))
-            else:
-                idx = np.arange(n)
+            idx = draw_subset(X.shape[0], self.max_fit_points, self.rng)
             self.fit_indices_ = idx
             D2 = squared_distances(X[idx])
             y_fit = y[idx]
@@ -608,9 +589,7 @@ class _ProcessRegressor:
         -------
         ndarray of shape (m, n_samples)
         """
-        n_samples = _positive_int_or_none("n_samples", n_samples)
-        if n_samples is None:
-            raise ValueError("n_samples must be a positive integer, got n_samples=None")
+        n_samples = check_int("n_samples", n_samples, 1)
         rng = as_generator(rng)
         mean, cov = self.predict(X, return_cov=True, include_noise=include_noise)
         L, _ = cholesky_with_jitter(cov)
@@ -794,10 +773,7 @@ class StudentTProcess(_ProcessRegressor):
         self.nu = nu
         if not isinstance(self.fit_nu, (bool, np.bool_)):
             raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
-        if self.noise_convention not in ("shah", "tfp"):
-            raise ValueError(
-                f"noise_convention must be 'shah' or 'tfp', got noise_convention={self.noise_convention!r}"
-            )
+        check_choice("noise_convention", self.noise_convention, ("shah", "tfp"))
 
     def _extra_names(self):
         return ("log_nu_minus_2",) if self.fit_nu else ()

@@ -212,14 +212,14 @@ def test_distance_map_matches_the_cost_signal():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(size=1), "size must be an integer >= 2"),
+        (dict(size=1), "size must be an integer >= 2, got size=1"),
         (dict(size=2.5), "size"),
         (dict(n_unsafe=0), "n_unsafe must be an integer from 1 to 50"),
         (dict(n_unsafe=51), r"n_unsafe must be an integer from 1 to 50.*got n_unsafe=51"),
         (dict(size=4, n_unsafe=9), "from 1 to 8"),
         (dict(d=0), "d must be a positive finite number"),
         (dict(d=-1.0), "d must be"),
-        (dict(max_steps=0), "max_steps"),
+        (dict(max_steps=0), "max_steps must be an integer >= 1 or None, got max_steps=0"),
         (dict(placement="edge"), "placement"),
         (dict(render_mode="human"), "render_mode"),
     ],

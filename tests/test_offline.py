@@ -129,7 +129,7 @@ def test_proportion_edges(clean):
 
 
 def test_bad_episodes():
-    with pytest.raises(ValueError, match="episodes must be a positive integer, got episodes=0"):
+    with pytest.raises(ValueError, match="episodes must be an integer >= 1, got episodes=0"):
         collect_offline_data(SafeGridWorld(seed=0), episodes=0)
 
 

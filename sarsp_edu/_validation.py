@@ -1,0 +1,56 @@
+"""Argument checks shared by every module: each error names the parameter,
+the value that arrived and what is valid."""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+
+def check_positive(name: str, value) -> float:
+    """A positive finite float."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 0):
+        raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
+    return number
+
+
+def check_int(name: str, value, minimum: int | None = None, maximum: int | None = None, *, allow_none=False):
+    """An integer in ``[minimum, maximum]`` (bools refused), or None if allowed."""
+    if value is None and allow_none:
+        return None
+    ok = not isinstance(value, bool) and isinstance(value, numbers.Integral)
+    ok = ok and (minimum is None or value >= minimum) and (maximum is None or value <= maximum)
+    if not ok:
+        if minimum is not None and maximum is not None:
+            valid = f"an integer from {minimum} to {maximum}"
+        elif minimum is not None:
+            valid = f"an integer >= {minimum}"
+        else:
+            valid = "an integer"
+        if allow_none:
+            valid += " or None"
+        raise ValueError(f"{name} must be {valid}, got {name}={value!r}")
+    return int(value)
+
+
+def check_choice(name: str, value, choices):
+    """One of ``choices``."""
+    if value not in choices:
+        listed = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"{name} must be one of {listed}, got {name}={value!r}")
+    return value
+
+
+def check_fraction(name: str, value) -> float:
+    """A float in [0, 1]."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (0.0 <= number <= 1.0):
+        raise ValueError(f"{name} must lie in [0, 1], got {name}={value!r}")
+    return number
