@@ -35,7 +35,8 @@ import numbers
 import warnings
 
 import numpy as np
-from scipy import linalg, optimize, special, stats
+from scipy import optimize, special, stats
+from scipy.linalg import lapack as _lapack
 
 from ._validation import check_choice, check_int, check_positive
 from .kernels import RBF, squared_distances
@@ -116,6 +117,32 @@ def _check_training(X, y):
     return X, y
 
 
+def _potrf(K: np.ndarray):
+    """LAPACK Cholesky (lower), or None if ``K`` is not positive definite.
+
+    LAPACK is called directly: on the agent's 110 x 110 matrices scipy's
+    wrappers cost more than the factorisation itself.
+    """
+    L, info = _lapack.dpotrf(K, lower=1, clean=1)
+    return L if info == 0 else None
+
+
+def cho_solve(L: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Solve ``K x = b`` given the lower Cholesky factor ``L`` of ``K``."""
+    x, info = _lapack.dpotrs(L, b, lower=1)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"LAPACK dpotrs failed with info={info}")
+    return x
+
+
+def solve_lower(L: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Solve ``L X = B`` for lower-triangular ``L``."""
+    X, info = _lapack.dtrtrs(L, B, lower=1)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"LAPACK dtrtrs failed with info={info}")
+    return X
+
+
 def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
     """Lower Cholesky factor of ``K``, adding diagonal jitter if needed.
 
@@ -123,24 +150,26 @@ def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
     the mean of the diagonal.  Returns ``(L, jitter)``; raises
     ``numpy.linalg.LinAlgError`` with advice when every try fails.
     """
-    try:
-        return linalg.cholesky(K, lower=True, check_finite=False), 0.0
-    except linalg.LinAlgError:
-        pass
-    scale = float(np.mean(np.diag(K)))
-    if not np.isfinite(scale) or scale <= 0:
+    if not np.all(np.isfinite(np.diag(K))):
         raise np.linalg.LinAlgError(
-            "the covariance matrix has a non-finite or non-positive diagonal "
-            f"(mean {scale}); check the hyperparameters and the data for overflow"
+            "the covariance matrix has a non-finite diagonal; check the hyperparameters and the data for overflow"
+        )
+    L = _potrf(K)
+    if L is not None:
+        return L, 0.0
+    scale = float(np.mean(np.diag(K)))
+    if not scale > 0:
+        raise np.linalg.LinAlgError(
+            f"the covariance matrix has a non-positive diagonal (mean {scale}); check the hyperparameters"
         )
     jitter = 0.0
     for k in range(max_tries):
         jitter = scale * 10.0 ** (k - 10)
-        try:
-            Kj = K + jitter * np.eye(K.shape[0])
-            return linalg.cholesky(Kj, lower=True, check_finite=False), jitter
-        except linalg.LinAlgError:
-            continue
+        Kj = K.copy()
+        Kj.flat[:: K.shape[0] + 1] += jitter
+        L = _potrf(Kj)
+        if L is not None:
+            return L, jitter
     raise np.linalg.LinAlgError(
         f"the covariance matrix is not positive definite even with a diagonal jitter of "
         f"{jitter:.3g}: increase noise_variance, or remove duplicated inputs with "
@@ -148,18 +177,22 @@ def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
     )
 
 
-def _inverse_from_cholesky(L: np.ndarray) -> np.ndarray:
-    """``K^-1`` from the lower Cholesky factor of ``K`` (LAPACK potri).
+def _inverse_lower_from_cholesky(L: np.ndarray) -> np.ndarray:
+    """The lower triangle of ``K^-1`` (zeros above) from the lower Cholesky factor of ``K``.
 
-    About three times cheaper than solving against the identity; potri fills
-    only the lower triangle, which is mirrored here.
+    LAPACK potri: about three times cheaper than solving against the
+    identity.  ``L`` comes from :func:`_potrf` with zeros above the diagonal,
+    and potri keeps them, so no triangle needs clearing or mirroring.
     """
-    K_inv, info = linalg.lapack.dpotri(L, lower=1)
+    K_inv, info = _lapack.dpotri(L, lower=1)
     if info != 0:
         raise np.linalg.LinAlgError(f"LAPACK dpotri failed with info={info}")
-    K_inv = np.tril(K_inv)
-    K_inv += np.tril(K_inv, -1).T
     return K_inv
+
+
+def _trace_product(lower: np.ndarray, S: np.ndarray) -> float:
+    """``tr(A S) = sum(A * S)`` for symmetric ``A`` given as its lower triangle, symmetric ``S``."""
+    return 2.0 * float(np.vdot(lower, S)) - float(np.dot(np.diag(lower), np.diag(S)))
 
 
 # --------------------------------------------------------------------------
@@ -329,20 +362,23 @@ class _ProcessRegressor:
             K, dK = kernel.from_squared_distances(D2, eval_gradient=True)
         else:
             K = kernel.from_squared_distances(D2)
-        K[np.diag_indices_from(K)] += s2
+        K.flat[:: n + 1] += s2
         L, _ = cholesky_with_jitter(K)
         # Rasmussen & Williams Alg. 2.1, line 3: alpha = K^-1 y
-        alpha = linalg.cho_solve((L, True), y, check_finite=False)
+        alpha = cho_solve(L, y)
         beta = float(y @ alpha)
         log_det = 2.0 * float(np.sum(np.log(np.diag(L))))
         value, w, extra_grad = self._lml_terms(n, beta, log_det, extra)
         if not eval_gradient:
             return value
-        # R&W eq. 5.9, generalised: dL/dt = 0.5 tr((w alpha alpha^T - K^-1) dK/dt)
-        inner = w * np.outer(alpha, alpha) - _inverse_from_cholesky(L)
+        # R&W eq. 5.9, generalised: dL/dt = 0.5 (w alpha^T dK/dt alpha - tr(K^-1 dK/dt))
+        K_inv_lower = _inverse_lower_from_cholesky(L)
         grad = np.empty(3 + len(extra))
-        grad[:2] = 0.5 * np.einsum("ij,ijk->k", inner, dK, optimize=True)
-        grad[2] = 0.5 * s2 * np.trace(inner)  # dK/dlog s2 = s2 I
+        for j in range(dK.shape[2]):
+            dK_j = dK[:, :, j]
+            grad[j] = 0.5 * (w * float(alpha @ (dK_j @ alpha)) - _trace_product(K_inv_lower, dK_j))
+        # dK/dlog s2 = s2 I
+        grad[2] = 0.5 * s2 * (w * float(alpha @ alpha) - float(np.trace(K_inv_lower)))
         grad[3:] = extra_grad
         return value, grad
 
@@ -413,7 +449,7 @@ class _ProcessRegressor:
     def _condition_on(self, X, y):
         """Cholesky factor and weights for the current hyperparameters."""
         K = self.kernel_.from_squared_distances(squared_distances(X))
-        K[np.diag_indices_from(K)] += self.noise_variance_
+        K.flat[:: K.shape[0] + 1] += self.noise_variance_
         try:
             L, jitter = cholesky_with_jitter(K)
         except np.linalg.LinAlgError as exc:
@@ -426,7 +462,7 @@ class _ProcessRegressor:
         self.L_ = L
         self.jitter_ = jitter
         # Alg. 2.1, line 3
-        self.alpha_ = linalg.cho_solve((L, True), y, check_finite=False)
+        self.alpha_ = cho_solve(L, y)
         self.beta_ = float(y @ self.alpha_)
         log_det = 2.0 * float(np.sum(np.log(np.diag(L))))
         self.log_marginal_likelihood_value_, _, _ = self._lml_terms(
@@ -501,7 +537,7 @@ class _ProcessRegressor:
             return mean
         out = [mean]
         # Alg. 2.1, line 5: v = L \ k*
-        V = linalg.solve_triangular(self.L_, K_trans.T, lower=True, check_finite=False)
+        V = solve_lower(self.L_, K_trans.T)
         if return_var:
             # paper eq. 5; Alg. 2.1, line 6
             latent = self.kernel_.diag(X) - np.einsum("ij,ij->j", V, V)
