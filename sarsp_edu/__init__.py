@@ -5,6 +5,17 @@ Distribution Shift and Outliers with the Student-t's Process".
 
 from __future__ import annotations
 
+from ._version import __version__
+
+from .experiment import (
+    Comparison,
+    Experiment,
+    ExperimentConfig,
+    ExperimentResult,
+    compare,
+    prefers,
+    run_experiment,
+)
 from .gridworld import (
     ACTION_NAMES,
     DOWN,
@@ -20,8 +31,8 @@ from .kernels import RBF
 from .offline import ObservationBuffer, OfflineData, collect_offline_data, inject_outliers
 from .plotting import plot_gridworld
 from .processes import GaussianProcess, NotFittedError, StudentTProcess
+from .sarsp import Decision, SARSPAgent
 
-__version__ = "0.1.0"
 
 __all__ = [
     "RBF",
@@ -42,5 +53,14 @@ __all__ = [
     "collect_offline_data",
     "inject_outliers",
     "plot_gridworld",
+    "SARSPAgent",
+    "Decision",
+    "ExperimentConfig",
+    "Experiment",
+    "ExperimentResult",
+    "Comparison",
+    "run_experiment",
+    "compare",
+    "prefers",
     "__version__",
 ]

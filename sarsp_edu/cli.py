@@ -7,7 +7,7 @@ import importlib.metadata
 import platform
 import sys
 
-from . import __version__
+from ._version import __version__
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
 _REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium")

@@ -59,6 +59,10 @@ OBSERVATION_FIELDS = (
 )
 _AGENT, _GOAL, _UNSAFE = slice(0, 2), slice(2, 4), slice(5, 7)
 
+#: the paper's world: a 10 x 10 grid with 15 unsafe states
+GRID_SIZE = 10
+N_UNSAFE = 15
+
 _PLACEMENTS = ("full", "reference")
 _PLACEMENT_ATTEMPTS = 200
 
@@ -210,8 +214,8 @@ class SafeGridWorld(gym.Env):
 
     def __init__(
         self,
-        size: int = 10,
-        n_unsafe: int = 15,
+        size: int = GRID_SIZE,
+        n_unsafe: int = N_UNSAFE,
         d: float = 1.0,
         max_steps: int | None = None,
         *,
@@ -226,7 +230,7 @@ class SafeGridWorld(gym.Env):
             raise ValueError(
                 f"placement='reference' needs size >= 3 (it never uses the last row and column), got size={size}"
             )
-        capacity = math.ceil(span * span / 2)  # a checkerboard: the densest spacing allowed
+        capacity = self.max_unsafe(self.size, self.placement)
         if (
             isinstance(n_unsafe, bool)
             or not isinstance(n_unsafe, numbers.Integral)
@@ -263,6 +267,12 @@ class SafeGridWorld(gym.Env):
         self._moved_from = np.empty((0, 2), dtype=int)
         self._steps = 0
         self._done = True  # step() needs a reset() first
+
+    @staticmethod
+    def max_unsafe(size: int, placement: str = "full") -> int:
+        """The most unsafe states the spacing rule allows on this grid (a checkerboard)."""
+        span = size if placement == "full" else size - 1
+        return math.ceil(span * span / 2)
 
     # -- read-only state ---------------------------------------------------
     @property

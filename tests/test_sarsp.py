@@ -1,0 +1,210 @@
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sarsp_edu import RBF, GaussianProcess, ObservationBuffer, SARSPAgent, StudentTProcess
+from sarsp_edu.offline import OfflineData
+from sarsp_edu.sarsp import choose_action
+
+INF = np.inf
+
+
+# --------------------------------------------------------------------------
+# the decision rule on hand-built predictions
+# --------------------------------------------------------------------------
+def test_safe_action_with_the_highest_reward():
+    action, safe, backup = choose_action(
+        mu_cost=np.array([2.0, 0.5, 3.0, 2.0]),   # action 1 predicted in danger (< d)
+        var_cost=np.array([0.1, 0.1, 0.9, 0.5]),  # action 2 too uncertain (> 0.8)
+        mu_reward=np.array([-5.0, -1.0, -2.0, -3.0]),
+        known_unsafe=np.zeros(4, bool), d=1.0, variance_threshold=0.8,
+    )
+    np.testing.assert_array_equal(safe, [True, False, False, True])
+    assert action == 3 and not backup  # -3 beats -5 among the safe ones
+
+
+def test_thresholds_are_inclusive():
+    action, safe, backup = choose_action(
+        np.array([1.0, 0.999, 5.0, 5.0]), np.array([0.8, 0.1, 0.8000001, 0.1]),
+        np.array([0.0, 10.0, 10.0, -1.0]), np.zeros(4, bool), d=1.0, variance_threshold=0.8,
+    )
+    np.testing.assert_array_equal(safe, [True, False, False, True])  # cost >= d and var <= sigma^2
+    assert action == 0
+
+
+def test_known_unsafe_pairs_are_overridden():
+    known = np.array([False, False, False, True])
+    action, safe, backup = choose_action(
+        np.array([2.0, 2.0, 2.0, 9.0]), np.array([0.1, 0.1, 0.1, 0.0]),
+        np.array([-3.0, -2.0, -4.0, 0.0]), known, d=1.0, variance_threshold=0.8,
+    )
+    assert not safe[3] and action == 1  # action 3 had the best everything, but is in S_u
+
+
+def test_backup_takes_the_highest_reward_when_nothing_is_safe():
+    known = np.array([True, False, False, False])
+    action, safe, backup = choose_action(
+        np.array([0.0, 0.0, 5.0, 5.0]), np.array([0.1, 0.1, 2.0, 3.0]),
+        np.array([10.0, -2.0, -1.0, -3.0]), known, d=1.0, variance_threshold=0.8,
+    )
+    assert backup and not safe.any()
+    assert action == 2  # action 0's reward is overridden to -inf
+
+
+def test_ties_go_to_the_lowest_action():
+    action, _, backup = choose_action(
+        np.full(4, 2.0), np.full(4, 0.1), np.array([-1.0, -2.0, -1.0, -1.0]),
+        np.zeros(4, bool), d=1.0, variance_threshold=0.8,
+    )
+    assert action == 0 and not backup
+    action, _, backup = choose_action(
+        np.zeros(4), np.full(4, 0.1), np.array([-3.0, -1.0, -1.0, -2.0]),
+        np.zeros(4, bool), d=1.0, variance_threshold=0.8,
+    )
+    assert action == 1 and backup
+
+
+def test_all_actions_known_unsafe():
+    action, safe, backup = choose_action(np.ones(4) * 5, np.zeros(4), np.zeros(4), np.ones(4, bool), 1.0, 0.8)
+    assert action == 0 and backup and not safe.any()
+
+
+# --------------------------------------------------------------------------
+# the update rule on a tiny buffer
+# --------------------------------------------------------------------------
+OBS = np.array([2, 2, 5, 5, 6, 3, 2, 1.0])  # agent (2, 2), goal (5, 5), nearest unsafe (3, 2)
+
+
+def tiny_data(cost_target_of_right: float) -> OfflineData:
+    """Data that say moving RIGHT from (2, 2) leads `cost_target_of_right` from danger."""
+    cost = ObservationBuffer(5, max_duplicates=12)
+    reward = ObservationBuffer(5, max_duplicates=1)
+    for a in range(4):
+        target = cost_target_of_right if a == 0 else 3.0
+        for _ in range(3):
+            cost.add([a, 2, 2, 3, 2], target)
+        reward.add([a, 2, 2, 5, 5], -4.0)
+    for x in range(5):
+        cost.add([1, x, 4, 3, 2], 2.0)
+        reward.add([1, x, 4, 5, 5], -3.0)
+    return OfflineData(cost=cost, reward=reward, episodes=1, transitions=len(cost), visits=np.zeros((10, 10)))
+
+
+def tiny_agent(cost_target_of_right: float, model_cls=GaussianProcess, data=None, **kwargs):
+    """An agent on `tiny_data` with fixed hyperparameters (so fits are instant)."""
+    data = tiny_data(cost_target_of_right) if data is None else data
+
+    def model():
+        return model_cls(RBF(2.0, 1.0), noise_variance=0.01, optimizer=None)
+
+    params = dict(k_prior=100, rng=0)  # the prior is the whole (tiny) buffer
+    params.update(kwargs)
+    return SARSPAgent(model(), model(), data, **params).fit()
+
+
+def test_no_violation_changes_nothing():
+    agent = tiny_agent(5.0)
+    before = agent.cost_data.y.copy()
+    outcome = agent.learn(OBS, 0, {"cost": 0, "distance_to_unsafe": 1.0})
+    assert not outcome.violation and not agent.unsafe_pairs
+    np.testing.assert_array_equal(agent.cost_data.y, before)
+
+
+def test_violation_where_the_model_said_safe_overwrites_and_retrains():
+    agent = tiny_agent(5.0)  # the data say RIGHT is 5 from danger: the model predicts >= d
+    mu_cost, _, _, _ = agent.predict(OBS)
+    assert mu_cost[0] >= 1.0
+    action, decision = agent.act(OBS)
+    outcome = agent.learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.0}, decision)
+    assert outcome.violation and outcome.added_to_unsafe and outcome.corrected
+    assert outcome.buffer_update == "overwritten"
+    np.testing.assert_array_equal(agent.cost_data.y[agent.cost_data.rows_of([0, 2, 2, 3, 2])], [0.0, 0.0, 0.0])
+    assert agent.corrective_updates == 1
+    assert ((2, 2), 0) in agent.unsafe_pairs
+    assert agent.cost_model.predict(np.array([[0, 2, 2, 3, 2.0]]))[0] < 1.0  # retrained on the correction
+    # the pair is now overridden in the next decision from that cell
+    _, decision = agent.act(OBS)
+    assert decision.known_unsafe[0] and not decision.safe[0]
+
+
+def test_violation_of_an_unseen_input_adds_it():
+    agent = tiny_agent(5.0)
+    observation = np.array([7, 7, 5, 5, 4, 3, 2, 4.0])  # far from every row: predicted cost ~ 0 < d
+    mu_cost, var_cost, _, _ = agent.predict(observation)
+    action = int(np.argmin(var_cost))
+    assert mu_cost[action] < 1.0  # so only the lowest-variance clause can fire
+    rows = len(agent.cost_data)
+    outcome = agent.learn(observation, action, {"cost": 1, "distance_to_unsafe": 0.0}, None)
+    assert outcome.corrected and outcome.buffer_update == "added"
+    assert len(agent.cost_data) == rows + 1
+    assert agent.cost_data.count([action, 7, 7, 3, 2]) == 1
+
+
+def test_violation_where_the_model_said_unsafe_is_not_corrected():
+    agent = tiny_agent(0.0)  # the data already say RIGHT leads into danger
+    rows, y = len(agent.cost_data), agent.cost_data.y.copy()
+    _, decision = agent.act(OBS)
+    decision.backup = True  # the lowest-variance clause does not apply to a backup action
+    outcome = agent.learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.0}, decision)
+    assert outcome.violation and outcome.added_to_unsafe and not outcome.corrected
+    assert agent.corrective_updates == 0 and len(agent.cost_data) == rows
+    np.testing.assert_array_equal(agent.cost_data.y, y)
+
+
+def test_the_agent_works_on_a_copy_of_the_data():
+    data = tiny_data(5.0)
+    before = data.cost.y.copy()
+    agent = tiny_agent(5.0, data=data)
+    agent.learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.0})
+    assert agent.corrective_updates == 1  # the agent's copy changed ...
+    np.testing.assert_array_equal(data.cost.y, before)  # ... the caller's did not
+
+
+def test_prior_holds_random_rows_and_the_matches():
+    agent = tiny_agent(5.0, k_prior=2)
+    queries = np.array([[0, 2, 2, 3, 2.0], [1, 2, 2, 3, 2.0]])
+    rows = agent._prior(agent.cost_data, queries)
+    for query in queries:
+        assert set(agent.cost_data.rows_of(query)) <= set(rows)
+    assert len(rows) <= 2 + 6
+    agent = tiny_agent(5.0, k_prior=2, n_matching=2)
+    rows = agent._prior(agent.cost_data, queries[:1])
+    assert len(set(agent.cost_data.rows_of(queries[0])) & set(rows)) >= 2
+
+
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_sampled_predictions_estimate_the_closed_form(model_cls):
+    exact = tiny_agent(5.0, model_cls)
+    sampled = tiny_agent(5.0, model_cls, predictive="sample", n_samples=20_000)
+    mu_e, var_e, mr_e, _ = exact.predict(OBS)
+    mu_s, var_s, mr_s, _ = sampled.predict(OBS)
+    np.testing.assert_allclose(mu_s, mu_e, atol=5 * np.sqrt(var_e.max() / 20_000) + 1e-9)
+    np.testing.assert_allclose(var_s, var_e, rtol=0.1)
+
+
+def test_decision_record():
+    agent = tiny_agent(5.0)
+    action, decision = agent.act(OBS)
+    assert decision.position == (2, 2) and decision.action == action
+    for name in ("mu_cost", "var_cost", "mu_reward", "var_reward", "known_unsafe", "safe"):
+        assert getattr(decision, name).shape == (4,)
+    assert decision.prior_size[0] == len(agent.cost_data)
+    assert set(decision.scores) == {"mu_cost", "var_cost", "mu_reward"}
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(d=0), "d must be a positive finite number"),
+        (dict(variance_threshold=-1), "variance_threshold"),
+        (dict(k_prior=0), "k_prior must be an integer >= 1, got k_prior=0"),
+        (dict(n_matching=-1), "n_matching"),
+        (dict(predictive="mc"), "predictive must be one of"),
+        (dict(n_samples=1), "n_samples"),
+        (dict(fit_points=1), "fit_points"),
+    ],
+)
+def test_bad_agent_arguments(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        tiny_agent(5.0, **kwargs)
