@@ -1,8 +1,16 @@
-"""The ``sarsp-edu`` command."""
+"""The ``sarsp-edu`` command: the paper's experiments from a terminal.
+
+Examples::
+
+    sarsp-edu run --model tp --m 60 --p 0.3 --nss 6 --out results/tp-run
+    sarsp-edu compare --episodes 50 --seed 1
+    sarsp-edu info
+"""
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib.metadata
 import platform
 import sys
@@ -10,10 +18,111 @@ import sys
 from ._version import __version__
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
-_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium")
+_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium", "pandas", "tqdm")
 
 
-def _info(args) -> int:
+def _none_or(convert):
+    def parse(text: str):
+        return None if text.lower() == "none" else convert(text)
+
+    parse.__name__ = convert.__name__
+    return parse
+
+
+_TYPES = {
+    "float": float,
+    "int": int,
+    "str": str,
+    "int | None": _none_or(int),
+    "str | None": _none_or(str),
+}
+
+
+def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
+    """One flag per ``ExperimentConfig`` field, with the field's own help text.
+
+    Defaults are left to the dataclass (one source of truth): a flag not
+    given is not passed on.
+    """
+    from .experiment import ExperimentConfig
+
+    group = parser.add_argument_group("experiment settings (every default is the paper's)")
+    for f in dataclasses.fields(ExperimentConfig):
+        if f.name in skip:
+            continue
+        names = [f"--{f.name.replace('_', '-')}"]
+        if "flag" in f.metadata:
+            names.insert(0, f"--{f.metadata['flag']}")
+        help_text = f"{f.metadata['help']} [default: {f.default}]"
+        kwargs = dict(dest=f.name, default=argparse.SUPPRESS, help=help_text)
+        if f.type == "bool":
+            kwargs["action"] = argparse.BooleanOptionalAction
+        else:
+            kwargs["type"] = _TYPES[f.type]
+            kwargs["metavar"] = f.name.upper() if "flag" not in f.metadata else f.metadata["flag"].upper()
+            if "choices" in f.metadata:
+                kwargs["choices"] = list(f.metadata["choices"])
+                kwargs["metavar"] = "{" + ",".join(str(c) for c in f.metadata["choices"]) + "}"
+        group.add_argument(*names, **kwargs)
+
+
+def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace):
+    """Build the config, turning a bad value into a usage error that names it."""
+    from .experiment import ExperimentConfig
+
+    names = {f.name for f in dataclasses.fields(ExperimentConfig)}
+    values = {k: v for k, v in vars(args).items() if k in names}
+    try:
+        return ExperimentConfig(**values)
+    except ValueError as exc:
+        parser.error(str(exc))
+
+
+def _format_table(frame) -> str:
+    return frame.to_string(float_format=lambda v: f"{v:,.3f}")
+
+
+def _run(args, parser) -> int:
+    from .experiment import SUMMARY_METRICS, run_experiment
+
+    config = config_from_args(parser, args)
+    result = run_experiment(config, progress=not args.quiet)
+    import pandas as pd
+
+    table = pd.DataFrame({config.model.upper(): result.summary}).loc[list(SUMMARY_METRICS)]
+    print(f"SARSP with a {'Student-t' if config.model == 'tp' else 'Gaussian'} process, "
+          f"m={config.outlier_magnitude:g} p={config.outlier_proportion:g} nss={config.n_switch_states} "
+          f"episodes={config.episodes} seed={config.seed}")
+    print(_format_table(table))
+    records = result.records
+    backups = (records["backup_rate"] * records["episode_steps"]).sum() / records["episode_steps"].sum()
+    print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "
+          f"decisions with no safe action: {backups:.0%}")
+    if args.out:
+        print(f"saved to {result.save(args.out)}")
+    return 0
+
+
+def _compare(args, parser) -> int:
+    from .experiment import compare
+
+    config = config_from_args(parser, args)
+    try:
+        comparison = compare(config, progress=not args.quiet, a=args.a)
+    except ValueError as exc:
+        parser.error(str(exc))
+    print(f"TP vs GP, paired: m={config.outlier_magnitude:g} p={config.outlier_proportion:g} "
+          f"nss={config.n_switch_states} episodes={config.episodes} seed={config.seed}")
+    print(_format_table(comparison.table()))
+    verdict = comparison.verdict
+    print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
+          f"GP preferred to TP: {verdict['gp_preferred']}")
+    if args.out:
+        print(f"saved to {comparison.save(args.out)}")
+    return 0
+
+
+def _info(args, parser) -> int:
     print(f"sarsp_edu {__version__}")
     print(f"python {platform.python_version()} ({sys.executable})")
     for name in _REPORTED:
@@ -28,12 +137,42 @@ def _info(args) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="sarsp-edu",
-        description="Safe RL with Gaussian and Student-t processes: the paper's experiments from the command line.",
+        description=(
+            "Safe reinforcement learning with Gaussian and Student-t processes: run the "
+            "paper's experiment (SARSP, Algorithm 1) on the safe gridworld with outliers "
+            "and a covariate shift."
+        ),
+        epilog="Run 'sarsp-edu COMMAND --help' for the settings of a command.",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    run = sub.add_parser(
+        "run",
+        help="run one experiment (TP or GP) and print its summary",
+        description="Run one experiment: offline data with outliers, model fits, the covariate "
+        "shift, then the online episodes. Prints the paper's six metrics.",
+    )
+    add_config_arguments(run)
+    run.add_argument("--out", metavar="DIR", help="save records.csv and result.json in DIR")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(func=_run, parser=run)
+
+    cmp_ = sub.add_parser(
+        "compare",
+        help="run the TP and the GP paired and apply the preference criterion",
+        description="Run the TP and the GP on the same world, shift, offline data, outliers and "
+        "episode starts and goals; print both summaries, the % differences and Definition 4.",
+    )
+    add_config_arguments(cmp_, skip=("model",))
+    cmp_.add_argument("--a", type=float, default=100.0,
+                      help="Definition 4's TSR threshold a in [1, 100] [default: 100]")
+    cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
+    cmp_.add_argument("--quiet", action="store_true", help="no progress bars")
+    cmp_.set_defaults(func=_compare, parser=cmp_)
+
     info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies")
-    info.set_defaults(func=_info)
+    info.set_defaults(func=_info, parser=info)
     return parser
 
 
@@ -43,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
     if not hasattr(args, "func"):
         parser.print_help()
         return 0
-    return args.func(args)
+    return args.func(args, args.parser)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -349,7 +349,8 @@ class Experiment:
             "episode_seconds": 0.0,
             "retrain_seconds": 0.0,
         }
-        self.act_seconds: list[float] = []
+        self.act_seconds: list[float] = []  # one decision (both models, 4 actions)
+        self.step_seconds: list[float] = []  # decision, environment step and learn (with any retrain)
         self.episodes: list[dict] = []
         self.retrains = 0
         self._observation = None
@@ -389,6 +390,7 @@ class Experiment:
         self.act_seconds.append(time.perf_counter() - start)
         next_observation, reward, terminated, truncated, info = self.env.step(action)
         outcome = self.agent.learn(observation, action, info, decision)
+        self.step_seconds.append(time.perf_counter() - start)
         if outcome.retrain_seconds:
             self.retrains += 1
             self.timings["retrain_seconds"] += outcome.retrain_seconds
@@ -466,6 +468,7 @@ class Experiment:
         timings = dict(self.timings)
         if self.act_seconds:
             timings["median_act_seconds"] = float(np.median(self.act_seconds))
+            timings["median_step_seconds"] = float(np.median(self.step_seconds))
         timings["steps"] = len(self.act_seconds)
         return ExperimentResult(self.config, records, timings)
 

@@ -1,0 +1,76 @@
+"""Time a paired TP-versus-GP comparison at the paper's defaults (250 episodes,
+m = 40, p = 0.2, nss = 2) on one core: time per phase, the median time of one
+agent step, the total; then the summary beside the paper's Table 1 row.
+
+Run by hand:  python benchmarks/bench_compare.py [--episodes 250] [--seed 0] [--k-prior 100]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(__file__))
+from _timing import one_core  # noqa: E402
+
+from sarsp_edu import ExperimentConfig, compare  # noqa: E402
+
+#: the paper's Table 1 row for (m = 40, p = 0.2, nss = 2): TP | GP (REFERENCE.md)
+PAPER_ROW = {
+    "mean_reward": (-66.418, -106.348),
+    "total_cost": (28.0, 58.0),
+    "task_success_rate": (96.4, 90.8),
+    "mean_steps": (23.412, 34.312),
+}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=250)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--k-prior", type=int, default=None, help="default: the package's (paper's text, 100)")
+    args = parser.parse_args(argv)
+    changes = {"episodes": args.episodes, "seed": args.seed}
+    if args.k_prior is not None:
+        changes["k_prior"] = args.k_prior
+    config = ExperimentConfig(**changes)
+
+    start = time.perf_counter()
+    comparison = compare(config)
+    total = time.perf_counter() - start
+
+    print(f"Paired compare at the paper's defaults: {config.episodes} episodes, m={config.outlier_magnitude:g}, "
+          f"p={config.outlier_proportion:g}, nss={config.n_switch_states}, k_prior={config.k_prior}, "
+          f"seed={config.seed}; one BLAS thread")
+    print(f"{'phase':38s} {'TP':>9s} {'GP':>9s}")
+    rows = [
+        ("offline data + outliers + shift (shared)", "data_seconds", 1.0, "s"),
+        ("offline fits (cost + reward model)", "offline_fit_seconds", 1.0, "s"),
+        ("episodes (with online retrains)", "episode_seconds", 1.0, "s"),
+        ("  of which online retrains", "retrain_seconds", 1.0, "s"),
+        ("median decision (2 models, 4 actions)", "median_act_seconds", 1e3, "ms"),
+        ("median agent step (decide, step, learn)", "median_step_seconds", 1e3, "ms"),
+        ("agent steps", "steps", 1.0, ""),
+    ]
+    for label, key, scale, unit in rows:
+        tp, gp = comparison.tp.timings[key] * scale, comparison.gp.timings[key] * scale
+        print(f"{label:38s} {tp:9.3f} {gp:9.3f} {unit}")
+    print(f"{'retrains':38s} {comparison.tp.records['retrains'].iloc[-1]:9d} "
+          f"{comparison.gp.records['retrains'].iloc[-1]:9d}")
+    print(f"total wall time for the paired comparison: {total:.1f} s  (target < 60 s)")
+
+    print("\nSummary beside the paper's Table 1 row (m=40, p=0.2, nss=2):")
+    table = comparison.table()
+    print(f"{'metric':18s} {'ours TP':>10s} {'ours GP':>10s} {'paper TP':>10s} {'paper GP':>10s}")
+    for name, row in table.iterrows():
+        paper_tp, paper_gp = PAPER_ROW.get(name, (float("nan"), float("nan")))
+        print(f"{name:18s} {row['TP']:10.3f} {row['GP']:10.3f} {paper_tp:10.3f} {paper_gp:10.3f}")
+    verdict = comparison.verdict
+    print(f"Definition 4 (a=100): TP preferred {verdict['tp_preferred']}, GP preferred {verdict['gp_preferred']}")
+
+
+if __name__ == "__main__":
+    with one_core():
+        main()

@@ -1,0 +1,73 @@
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from sarsp_edu.cli import build_parser, main
+
+TINY = ["--grid-size", "5", "--n-unsafe", "3", "--nss", "1", "--episodes", "2", "--offline-episodes", "5",
+        "--fit-points", "50", "--k-prior", "20", "--optimizer-steps", "3", "--quiet"]
+
+
+def test_run_prints_a_summary_and_saves(tmp_path, capsys):
+    assert main(["run", "--model", "gp", "--m", "60", "--p", "0.3", *TINY, "--out", str(tmp_path / "r")]) == 0
+    out = capsys.readouterr().out
+    assert "Gaussian process, m=60 p=0.3 nss=1" in out
+    for metric in ("mean_reward", "total_cost", "task_success_rate", "cost_rate"):
+        assert metric in out
+    payload = json.loads((tmp_path / "r" / "result.json").read_text())
+    assert payload["config"]["outlier_magnitude"] == 60.0 and payload["config"]["model"] == "gp"
+
+
+def test_compare_prints_the_verdict(tmp_path, capsys):
+    assert main(["compare", *TINY, "--a", "90", "--out", str(tmp_path / "c")]) == 0
+    out = capsys.readouterr().out
+    assert "TP vs GP (%)" in out and "Definition 4 (a=90)" in out
+    assert (tmp_path / "c" / "tp" / "result.json").exists() and (tmp_path / "c" / "gp" / "result.json").exists()
+
+
+def test_every_config_field_has_a_flag():
+    import dataclasses
+
+    from sarsp_edu import ExperimentConfig
+
+    run = build_parser()._subparsers._group_actions[0].choices["run"]
+    dests = {action.dest for action in run._actions}
+    assert {f.name for f in dataclasses.fields(ExperimentConfig)} <= dests
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["run", "--nu", "2"], "nu must be a finite number > 2"),
+        (["run", "--p", "1.5"], r"outlier_proportion must lie in \[0, 1\]"),
+        (["run", "--nss", "20"], "n_switch_states must be an integer from 0 to n_unsafe=15"),
+        (["run", "--episodes", "0"], "episodes must be an integer >= 1"),
+        (["run", "--model", "svm"], "invalid choice"),
+        (["compare", "--a", "0", *TINY], r"a must lie in \[1, 100\]"),
+    ],
+)
+def test_bad_values_are_usage_errors(argv, message, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    import re
+
+    assert re.search(message, capsys.readouterr().err)
+
+
+def test_none_values_parse():
+    args = build_parser().parse_args(["run", "--fit-points", "none", "--prior", "None", "--max-steps", "30"])
+    assert args.fit_points is None and args.prior is None and args.max_steps == 30
+
+
+def test_console_script_help_and_info():
+    help_text = subprocess.run([sys.executable, "-m", "sarsp_edu.cli", "--help"], capture_output=True, text=True,
+                               check=True).stdout
+    assert "run" in help_text and "compare" in help_text
+    info = subprocess.run([sys.executable, "-m", "sarsp_edu.cli", "info"], capture_output=True, text=True,
+                          check=True).stdout
+    assert info.startswith("sarsp_edu ")
