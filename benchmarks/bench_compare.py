@@ -16,15 +16,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _timing import one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig, compare  # noqa: E402
-
-#: the paper's Table 1 row for (m = 40, p = 0.2, nss = 2): TP | GP (REFERENCE.md)
-PAPER_ROW = {
-    "mean_reward": (-66.418, -106.348),
-    "total_cost": (28.0, 58.0),
-    "task_success_rate": (96.4, 90.8),
-    "mean_steps": (23.412, 34.312),
-}
-
+from sarsp_edu.paper import TABLE1  # noqa: E402
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -64,8 +56,9 @@ def main(argv=None):
     print("\nSummary beside the paper's Table 1 row (m=40, p=0.2, nss=2):")
     table = comparison.table()
     print(f"{'metric':18s} {'ours TP':>10s} {'ours GP':>10s} {'paper TP':>10s} {'paper GP':>10s}")
+    paper = TABLE1[(40.0, 0.2, 2)]
     for name, row in table.iterrows():
-        paper_tp, paper_gp = PAPER_ROW.get(name, (float("nan"), float("nan")))
+        paper_tp, paper_gp = paper["tp"].get(name, float("nan")), paper["gp"].get(name, float("nan"))
         print(f"{name:18s} {row['TP']:10.3f} {row['GP']:10.3f} {paper_tp:10.3f} {paper_gp:10.3f}")
     verdict = comparison.verdict
     print(f"Definition 4 (a=100): TP preferred {verdict['tp_preferred']}, GP preferred {verdict['gp_preferred']}")

@@ -29,9 +29,10 @@ from .gridworld import (
 )
 from .kernels import RBF
 from .offline import ObservationBuffer, OfflineData, collect_offline_data, inject_outliers
-from .plotting import plot_gridworld
+from .plotting import plot_gridworld, plot_macro, plot_metric_curves
 from .processes import GaussianProcess, NotFittedError, StudentTProcess
 from .sarsp import Decision, SARSPAgent
+from .sweep import SweepResults, run_sweep, summary_tables
 
 
 __all__ = [
@@ -62,5 +63,10 @@ __all__ = [
     "run_experiment",
     "compare",
     "prefers",
+    "run_sweep",
+    "SweepResults",
+    "summary_tables",
+    "plot_metric_curves",
+    "plot_macro",
     "__version__",
 ]

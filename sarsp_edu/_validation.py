@@ -45,12 +45,46 @@ def check_choice(name: str, value, choices):
     return value
 
 
-def check_fraction(name: str, value) -> float:
-    """A float in [0, 1]."""
+def check_range(name: str, value, low: float, high: float, what: str = "") -> float:
+    """A float in ``[low, high]``; ``what`` says what the number is, for the message."""
     try:
         number = float(value)
     except (TypeError, ValueError):
         number = math.nan
-    if not (0.0 <= number <= 1.0):
-        raise ValueError(f"{name} must lie in [0, 1], got {name}={value!r}")
+    if not (low <= number <= high):
+        detail = f" ({what})" if what else ""
+        raise ValueError(f"{name} must lie in [{low:g}, {high:g}]{detail}, got {name}={value!r}")
     return number
+
+
+def check_fraction(name: str, value) -> float:
+    """A float in [0, 1]."""
+    return check_range(name, value, 0.0, 1.0)
+
+
+def check_nu(nu) -> float:
+    """The Student-t degrees of freedom: finite and > 2."""
+    try:
+        number = float(nu)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not (math.isfinite(number) and number > 2):
+        raise ValueError(
+            f"nu must be a finite number > 2 (the covariance is infinite for nu <= 2), "
+            f"got nu={nu!r}; for nu -> infinity use GaussianProcess"
+        )
+    return number
+
+
+def check_switch_states(n_switch_states, n_unsafe: int) -> int:
+    """The number of unsafe states a shift moves: 0 to ``n_unsafe``."""
+    if (
+        isinstance(n_switch_states, bool)
+        or not isinstance(n_switch_states, numbers.Integral)
+        or not 0 <= n_switch_states <= n_unsafe
+    ):
+        raise ValueError(
+            f"n_switch_states must be an integer from 0 to n_unsafe={n_unsafe}, "
+            f"got n_switch_states={n_switch_states!r}"
+        )
+    return int(n_switch_states)

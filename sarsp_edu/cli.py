@@ -4,6 +4,8 @@ Examples::
 
     sarsp-edu run --model tp --m 60 --p 0.3 --nss 6 --out results/tp-run
     sarsp-edu compare --episodes 50 --seed 1
+    sarsp-edu sweep --jobs 2 --out results/paper
+    sarsp-edu tables results/paper
     sarsp-edu info
 """
 
@@ -18,7 +20,7 @@ import sys
 from ._version import __version__
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
-_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium", "pandas", "tqdm")
+_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium", "pandas", "tqdm", "joblib", "dask")
 
 
 def _none_or(convert):
@@ -83,7 +85,7 @@ def _format_table(frame) -> str:
 
 
 def _run(args, parser) -> int:
-    from .experiment import SUMMARY_METRICS, run_experiment
+    from .experiment import SUMMARY_METRICS, backup_share, run_experiment
 
     config = config_from_args(parser, args)
     result = run_experiment(config, progress=not args.quiet)
@@ -95,9 +97,8 @@ def _run(args, parser) -> int:
           f"episodes={config.episodes} seed={config.seed}")
     print(_format_table(table))
     records = result.records
-    backups = (records["backup_rate"] * records["episode_steps"]).sum() / records["episode_steps"].sum()
     print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "
-          f"decisions with no safe action: {backups:.0%}")
+          f"decisions with no safe action: {backup_share(records):.0%}")
     if args.out:
         print(f"saved to {result.save(args.out)}")
     return 0
@@ -119,6 +120,54 @@ def _compare(args, parser) -> int:
           f"GP preferred to TP: {verdict['gp_preferred']}")
     if args.out:
         print(f"saved to {comparison.save(args.out)}")
+    return 0
+
+
+def _sweep(args, parser) -> int:
+    from .sweep import run_sweep, summary_tables
+
+    config = config_from_args(parser, args)
+    try:
+        results = run_sweep(
+            config,
+            magnitudes=args.magnitudes,
+            proportions=args.proportions,
+            n_switch_states=args.nss,
+            seeds=args.seeds,
+            results_dir=args.out,
+            n_jobs=args.jobs,
+            scheduler=args.scheduler,
+            progress=not args.quiet,
+            a=args.a,
+        )
+    except ValueError as exc:
+        parser.error(str(exc))
+    tables = summary_tables(results)
+    print(f"{len(results)} cells, each a paired TP-vs-GP run of {config.episodes} episodes")
+    print(_format_table(tables["mean"]))
+    if args.out:
+        print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {args.out}")
+    return 0
+
+
+def _tables(args, parser) -> int:
+    from pathlib import Path
+
+    from ._io import atomic_write_text
+    from .sweep import SweepResults, summary_tables, tables_markdown
+
+    try:
+        results = SweepResults.load(args.results_dir, a=args.a)
+        tables = summary_tables(results)
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    for key, frame in tables.items():
+        if key == "seeds":
+            continue
+        print(f"\n{key}\n{_format_table(frame)}")
+    path = Path(args.markdown) if args.markdown else Path(args.results_dir) / "tables.md"
+    atomic_write_text(path, tables_markdown(tables) + "\n")
+    print(f"\nMarkdown tables written to {path}")
     return 0
 
 
@@ -170,6 +219,39 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
     cmp_.add_argument("--quiet", action="store_true", help="no progress bars")
     cmp_.set_defaults(func=_compare, parser=cmp_)
+
+    sweep = sub.add_parser(
+        "sweep",
+        help="run the paper's grid of paired comparisons (m x p x nss x seeds)",
+        description="Run every (m, p, nss, seed) cell as a paired TP-vs-GP comparison, locally "
+        "or on a Dask cluster. With --out each finished cell is stored at once, and a rerun "
+        "skips the cells already there.",
+    )
+    sweep.add_argument("--m", "--magnitudes", dest="magnitudes", type=float, nargs="+", metavar="M",
+                       default=[40, 60, 80], help="outlier magnitudes [default: 40 60 80]")
+    sweep.add_argument("--p", "--proportions", dest="proportions", type=float, nargs="+", metavar="P",
+                       default=[0.2, 0.3, 0.4], help="outlier proportions [default: 0.2 0.3 0.4]")
+    sweep.add_argument("--nss", "--n-switch-states", dest="nss", type=int, nargs="+", metavar="NSS",
+                       default=[2, 4, 6, 8, 10], help="numbers of switch states [default: 2 4 6 8 10]")
+    sweep.add_argument("--seeds", type=int, nargs="+", default=[0], help="sweep seeds [default: 0]")
+    sweep.add_argument("--jobs", type=int, default=1, help="local worker processes; -1: one per core [default: 1]")
+    sweep.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler address (needs sarsp_edu[dask])")
+    sweep.add_argument("--a", type=float, default=100.0, help="Definition 4's TSR threshold [default: 100]")
+    sweep.add_argument("--out", metavar="DIR", help="results folder (cells stored as they finish)")
+    sweep.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_config_arguments(sweep, skip=("model", "outlier_magnitude", "outlier_proportion", "n_switch_states", "seed"))
+    sweep.set_defaults(func=_sweep, parser=sweep)
+
+    tables = sub.add_parser(
+        "tables",
+        help="print the paper's Tables 1-4 for a sweep's results folder and write them as Markdown",
+        description="Read a sweep's results folder; print Table 1 (every configuration), Tables 2-4 "
+        "(mean, median, mode) and a paired Wilcoxon test; write them all as Markdown.",
+    )
+    tables.add_argument("results_dir", metavar="RESULTS_DIR")
+    tables.add_argument("--a", type=float, default=100.0, help="Definition 4's TSR threshold [default: 100]")
+    tables.add_argument("--markdown", metavar="FILE", help="where to write the Markdown [default: RESULTS_DIR/tables.md]")
+    tables.set_defaults(func=_tables, parser=tables)
 
     info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies")
     info.set_defaults(func=_info, parser=info)

@@ -17,7 +17,6 @@ import copy
 import dataclasses
 import json
 import math
-import numbers
 import time
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -27,7 +26,15 @@ import pandas as pd
 
 from ._version import __version__
 from ._io import atomic_write_text
-from ._validation import check_choice, check_fraction, check_int, check_positive
+from ._validation import (
+    check_choice,
+    check_fraction,
+    check_int,
+    check_nu,
+    check_positive,
+    check_range,
+    check_switch_states,
+)
 from .gridworld import GRID_SIZE, N_UNSAFE, SafeGridWorld
 from .kernels import RBF
 from .offline import COST_DUPLICATES, REWARD_DUPLICATES, collect_offline_data, inject_outliers
@@ -45,6 +52,7 @@ __all__ = [
     "prefers",
     "running_metrics",
     "percent_difference",
+    "backup_share",
     "SUMMARY_METRICS",
     "RECORD_COLUMNS",
 ]
@@ -103,12 +111,7 @@ class ExperimentConfig:
 
     def __post_init__(self):
         check_choice("model", self.model, ("tp", "gp"))
-        try:
-            nu = float(self.nu)
-        except (TypeError, ValueError):
-            nu = math.nan
-        if not (math.isfinite(nu) and nu > 2):
-            raise ValueError(f"nu must be a finite number > 2 (the covariance is infinite for nu <= 2), got nu={self.nu!r}")
+        check_nu(self.nu)
         check_positive("outlier_magnitude", self.outlier_magnitude)
         check_fraction("outlier_proportion", self.outlier_proportion)
         check_int("episodes", self.episodes, 1)
@@ -117,13 +120,7 @@ class ExperimentConfig:
         check_choice("placement", self.placement, ("full", "reference"))
         capacity = SafeGridWorld.max_unsafe(self.grid_size, self.placement)
         check_int("n_unsafe", self.n_unsafe, 1, capacity)
-        if isinstance(self.n_switch_states, bool) or not isinstance(self.n_switch_states, numbers.Integral) or not (
-            0 <= self.n_switch_states <= self.n_unsafe
-        ):
-            raise ValueError(
-                f"n_switch_states must be an integer from 0 to n_unsafe={self.n_unsafe}, "
-                f"got n_switch_states={self.n_switch_states!r}"
-            )
+        check_switch_states(self.n_switch_states, self.n_unsafe)
         check_positive("d", self.d)
         check_positive("variance_threshold", self.variance_threshold)
         check_int("k_prior", self.k_prior, 1)
@@ -585,13 +582,13 @@ HIGHER_IS_BETTER = {
 
 
 def _check_a(a) -> float:
-    try:
-        value = float(a)
-    except (TypeError, ValueError):
-        value = math.nan
-    if not (1.0 <= value <= 100.0):
-        raise ValueError(f"a must lie in [1, 100] (a task success rate in %), got a={a!r}")
-    return value
+    return check_range("a", a, 1.0, 100.0, "a task success rate in %")
+
+
+def backup_share(records: pd.DataFrame) -> float:
+    """Share of all decisions in ``records`` taken by the backup rule (no action was safe)."""
+    steps = records["episode_steps"].sum()
+    return float((records["backup_rate"] * records["episode_steps"]).sum() / steps) if steps else math.nan
 
 
 def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool:

@@ -21,7 +21,7 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import seeding
 
-from ._validation import check_choice, check_int, check_positive
+from ._validation import check_choice, check_int, check_positive, check_switch_states
 from .processes import as_generator
 
 __all__ = [
@@ -475,15 +475,7 @@ class SafeGridWorld(gym.Env):
         ndarray of int
             The indices of the moved states (also in ``moved_indices``).
         """
-        if (
-            isinstance(n_switch_states, bool)
-            or not isinstance(n_switch_states, numbers.Integral)
-            or not 0 <= n_switch_states <= self.n_unsafe
-        ):
-            raise ValueError(
-                f"n_switch_states must be an integer from 0 to n_unsafe={self.n_unsafe}, "
-                f"got n_switch_states={n_switch_states!r}"
-            )
+        n_switch_states = check_switch_states(n_switch_states, self.n_unsafe)
         rng = self.np_random if rng is None else as_generator(rng)
         moved = np.sort(rng.choice(self.n_unsafe, size=int(n_switch_states), replace=False))
         stay = np.setdiff1d(np.arange(self.n_unsafe), moved)

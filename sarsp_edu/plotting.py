@@ -5,7 +5,21 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import patches
 
-__all__ = ["plot_gridworld"]
+__all__ = [
+    "plot_gridworld",
+    "plot_metric_curves",
+    "plot_macro",
+    "plot_densities",
+    "plot_tail_ratios",
+    "plot_gaussian_ratio",
+    "plot_posterior",
+    "plot_variances",
+    "plot_outlier_scatter",
+    "gridworld_svg",
+    "decision_table_html",
+    "METRIC_LABELS",
+    "COLOURS",
+]
 
 #: colours shared by every figure of the package
 COLOURS = {
@@ -133,3 +147,272 @@ def plot_gridworld(
     if title:
         ax.set_title(title)
     return ax
+
+
+#: axis labels of the summary metrics, in the paper's symbols
+METRIC_LABELS = {
+    "mean_reward": "mean reward $J_r$",
+    "mean_cost": "mean cost $\\mu_{cost}$",
+    "total_cost": "total cost $\\Sigma_{cost}$",
+    "task_success_rate": "task success rate TSR (%)",
+    "mean_steps": "mean steps $\\mu_{steps}$",
+    "cost_rate": "cost rate $p_c$",
+}
+
+
+def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, legend: bool = True):
+    """Per-episode values of a metric, one line per number of switch states (Figures 2-7).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    curves : pandas.DataFrame
+        Index: episode; one column per nss (``SweepResults.curves``).
+    metric : str
+        A summary metric name, for the axis label.
+    """
+    from matplotlib import colormaps
+
+    columns = list(curves.columns)
+    cmap = colormaps["viridis"]
+    for i, column in enumerate(columns):
+        colour = cmap(i / max(len(columns) - 1, 1) * 0.9)
+        ax.plot(curves.index, curves[column], color=colour, lw=1.6, label=f"nss = {column}")
+    ax.set_xlabel("episode")
+    ax.set_ylabel(METRIC_LABELS.get(metric, metric))
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend(fontsize=8, frameon=False)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def plot_macro(ax, frame, *, metric: str, title: str | None = None):
+    """A metric averaged over outlier settings, against nss, TP beside GP (Figures 8-9).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    frame : pandas.DataFrame
+        Index: nss; columns ``TP`` and ``GP`` (``SweepResults.macro``).
+    """
+    for model in ("TP", "GP"):
+        if model in frame:
+            ax.plot(frame.index, frame[model], marker="o", lw=2, color=COLOURS[model.lower()], label=model)
+    ax.set_xlabel("number of switch states nss")
+    ax.set_xticks(list(frame.index))
+    ax.set_ylabel(METRIC_LABELS.get(metric, metric))
+    ax.grid(alpha=0.3)
+    ax.legend(frameon=False)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def plot_densities(ax, data, *, log: bool = False):
+    """Student-t and Gaussian densities (``tails.compute_densities``), linear or log scale."""
+    ax.plot(data["x"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian N(0, 1)")
+    ax.plot(data["x"], data["student_t"], color=COLOURS["tp"], lw=2, label=f"Student-t, nu = {data['nu']:g}")
+    if log:
+        ax.set_yscale("log")
+        ax.set_ylim(1e-16, 1.0)
+        ax.set_title("log scale: the tails")
+    else:
+        ax.set_title("linear scale")
+    ax.set_xlabel("x")
+    ax.set_ylabel("density f(x)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, frameon=False)
+    return ax
+
+
+def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = None):
+    """Paper Figure 1(a): the Student-t ratio f(lambda x)/f(x) against x, with its limit lambda^(-1-nu)."""
+    from matplotlib import colormaps
+
+    cmap = colormaps["Blues"]
+    nus = list(data["student_t"])
+    for i, nu in enumerate(nus):
+        colour = cmap(0.5 + 0.5 * i / max(len(nus) - 1, 1))
+        limit = data["limits"][nu]
+        label = f"Student-t, nu = {nu:g}"
+        if show_limits:
+            ax.axhline(limit, color=colour, ls="--", lw=1)
+            label += f" (limit $\\lambda^{{-1-\\nu}}$ = {limit:.3g})"
+        ax.plot(data["x_t"], data["student_t"][nu], color=colour, lw=2, label=label)
+    ax.set_xlabel("x")
+    ax.set_ylabel(f"f({data['lam']:g} x) / f(x)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, frameon=False)
+    ax.set_title(title or f"Student-t ratio, lambda = {data['lam']:g}")
+    return ax
+
+
+def plot_gaussian_ratio(ax, data, *, title: str | None = None):
+    """Paper Figure 1(b): the Gaussian ratio f(lambda x)/f(x) = exp((1 - lambda^2) x^2 / 2) on [0, 1]."""
+    ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian")
+    ax.set_xlabel("x")
+    ax.set_ylabel(f"f({data['lam']:g} x) / f(x)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, frameon=False)
+    ax.set_title(title or f"Gaussian ratio, lambda = {data['lam']:g}")
+    return ax
+
+
+def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None):
+    """Posterior mean and latent 2-sd band of one model (``demos.compute_posteriors``), outliers marked.
+
+    Outliers outside ``ylim`` are drawn as triangles on the edge they lie beyond.
+    """
+    post = data[model]
+    colour = COLOURS[model]
+    x = data["x_grid"]
+    sd = np.sqrt(post["var"])
+    ax.fill_between(x, post["mean"] - 2 * sd, post["mean"] + 2 * sd, color=colour, alpha=0.2,
+                    label="mean ± 2 sd (latent f)")
+    ax.plot(x, post["mean"], color=colour, lw=2, label="posterior mean")
+    inliers = ~data["outliers"]
+    ax.scatter(data["X"][inliers], data["y"][inliers], s=14, color="black", zorder=3, label="data")
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    low, high = ax.get_ylim()
+    in_view = data["outliers"] & (data["X"] <= x[-1])
+    ys = data["y"]
+    inside = in_view & (ys >= low) & (ys <= high)
+    if inside.any():
+        ax.scatter(data["X"][inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4,
+                   label="outliers")
+    label = "outliers off scale"
+    for mask, edge, marker in ((in_view & (ys > high), high, "^"), (in_view & (ys < low), low, "v")):
+        if mask.any():
+            ax.scatter(data["X"][mask], np.full(mask.sum(), edge), s=60, marker=marker, color=COLOURS["unsafe"],
+                       zorder=5, clip_on=False, label=label)
+            label = None
+    hidden = int((data["outliers"] & (data["X"] > x[-1])).sum())
+    if hidden:
+        ax.text(0.99, 0.02, f"{hidden} outliers beyond x = {x[-1]:g}", transform=ax.transAxes, ha="right",
+                fontsize=8, color=COLOURS["unsafe"])
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, frameon=False, loc="upper left")
+    ax.set_title(title or {"gp": "Gaussian process", "tp": f"Student-t process, nu = {data['nu']:g}"}[model])
+    return ax
+
+
+def plot_variances(ax, data, *, title: str | None = None):
+    """The two posterior variances on one log axis: paper eq. 5 (GP) against eq. 6 (TP)."""
+    x = data["x_grid"]
+    ax.plot(x, data["gp"]["var"], color=COLOURS["gp"], lw=2, label="GP, eq. 5")
+    ax.plot(x, data["tp"]["var"], color=COLOURS["tp"], lw=2, label="TP, eq. 6 (corrected)")
+    for xi in data["X"][data["outliers"] & (data["X"] <= x[-1])]:
+        ax.axvline(xi, color=COLOURS["unsafe"], lw=0.8, alpha=0.5)
+    ax.set_yscale("log")
+    ax.set_xlabel("x")
+    ax.set_ylabel("posterior variance of f")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, frameon=False, loc="lower right")
+    ax.set_title(title or "posterior variance: eq. 5 (GP) and eq. 6 (TP)")
+    return ax
+
+
+def plot_outlier_scatter(ax, world, *, title: str | None = None):
+    """The cost model's data (``demos.compute_world``): input size against target, outliers in red."""
+    X, y = world["dirty"]["X"], world["dirty"]["y"]
+    size = np.linalg.norm(X[:, 1:], axis=1) + 1.0
+    rows = np.zeros(len(y), dtype=bool)
+    rows[world["outlier_rows"]] = True
+    ax.scatter(size[~rows], y[~rows] + 1.0, s=6, alpha=0.4, color=COLOURS["tp"], label="clean rows")
+    ax.scatter(size[rows], y[rows] + 1.0, s=6, alpha=0.4, color=COLOURS["unsafe"],
+               label=f"outliers (x {world['magnitude']:g})")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("1 + |(x, y, unsafe x, unsafe y)| of the input")
+    ax.set_ylabel("1 + target (distance to danger)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, frameon=False, loc="upper left")
+    ax.set_title(title or f"cost-model data: {len(world['outlier_rows'])} of {len(y)} rows are outliers")
+    return ax
+
+
+# --------------------------------------------------------------------------
+# SVG drawings for the live dashboard: microseconds per frame, drawn by the browser
+# --------------------------------------------------------------------------
+_ACTION_ARROWS = ("→", "↓", "←", "↑")
+
+
+def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, title: str = "") -> str:
+    """The world as an SVG string: unsafe states, moved states, S_u, path, agent, goal.
+
+    The same picture as :func:`plot_gridworld`, cheap enough to redraw at
+    every agent step.
+    """
+    n = layout.size
+    size = n * cell
+    top = 22 if title else 0
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{size + 2}" height="{size + 2 + top}" '
+             f'viewBox="-1 {-1 - top} {size + 2} {size + 2 + top}" font-family="sans-serif">']
+    if title:
+        parts.append(f'<text x="{size / 2}" y="-7" text-anchor="middle" font-size="13">{title}</text>')
+    parts.append(f'<rect x="0" y="0" width="{size}" height="{size}" fill="#fafafa" stroke="#999"/>')
+    for k in range(1, n):
+        parts.append(f'<line x1="{k * cell}" y1="0" x2="{k * cell}" y2="{size}" stroke="{COLOURS["grid"]}"/>')
+        parts.append(f'<line x1="0" y1="{k * cell}" x2="{size}" y2="{k * cell}" stroke="{COLOURS["grid"]}"/>')
+    moved = {int(i) for i in layout.moved}
+    for ox, oy in layout.moved_from:
+        parts.append(f'<rect x="{ox * cell + 3}" y="{oy * cell + 3}" width="{cell - 6}" height="{cell - 6}" '
+                     f'fill="none" stroke="{COLOURS["unsafe"]}" stroke-dasharray="3,2"/>')
+    for i, (x, y) in enumerate(layout.unsafe_states):
+        stroke = 'stroke="black" stroke-width="2"' if i in moved else ""
+        parts.append(f'<rect x="{x * cell + 2}" y="{y * cell + 2}" width="{cell - 4}" height="{cell - 4}" '
+                     f'fill="{COLOURS["unsafe"]}" {stroke}/>')
+    half = cell / 2
+    for (x, y), action in unsafe_pairs:
+        dx, dy = ((1, 0), (0, 1), (-1, 0), (0, -1))[int(action)]
+        cx, cy = x * cell + half, y * cell + half
+        parts.append(f'<line x1="{cx + dx * 4}" y1="{cy + dy * 4}" x2="{cx + dx * (half - 2)}" '
+                     f'y2="{cy + dy * (half - 2)}" stroke="{COLOURS["unsafe"]}" stroke-width="4"/>')
+    if trajectory is not None and len(trajectory) > 1:
+        points = " ".join(f"{x * cell + half},{y * cell + half}" for x, y in trajectory)
+        parts.append(f'<polyline points="{points}" fill="none" stroke="{COLOURS["path"]}" stroke-width="3" '
+                     'stroke-opacity="0.8"/>')
+    if layout.start is not None:
+        sx, sy = layout.start
+        parts.append(f'<circle cx="{sx * cell + half}" cy="{sy * cell + half}" r="{cell * 0.3}" fill="white" '
+                     f'stroke="{COLOURS["start"]}" stroke-width="3"/>')
+    if layout.goal is not None:
+        gx, gy = layout.goal
+        parts.append(f'<text x="{gx * cell + half}" y="{gy * cell + half + 7}" text-anchor="middle" '
+                     f'font-size="{int(cell * 0.8)}" fill="{COLOURS["goal"]}">★</text>')
+    if layout.agent is not None:
+        ax_, ay = layout.agent
+        parts.append(f'<circle cx="{ax_ * cell + half}" cy="{ay * cell + half}" r="{cell * 0.22}" '
+                     f'fill="{COLOURS["agent"]}" stroke="white" stroke-width="2"/>')
+    parts.append("</svg>")
+    return "".join(parts)
+
+
+def decision_table_html(decision, d: float, variance_threshold: float) -> str:
+    """Algorithm 1's view of one decision: per-action predictions, S_u, safe set, the choice."""
+    if decision is None:
+        return "<i>no decision yet</i>"
+    rows = []
+    for a in range(4):
+        known = bool(decision.known_unsafe[a])
+        safe = bool(decision.safe[a])
+        chosen = a == decision.action
+        status = "in S_u" if known else ("safe" if safe else "not safe")
+        style = "font-weight:bold;background:#e8f1fa" if chosen else ""
+        rows.append(
+            f'<tr style="{style}"><td>{_ACTION_ARROWS[a]}</td><td>{decision.mu_cost[a]:.2f}</td>'
+            f"<td>{decision.var_cost[a]:.3g}</td><td>{decision.mu_reward[a]:.2f}</td><td>{status}</td></tr>"
+        )
+    rule = "backup: no action safe, highest reward" if decision.backup else "safe action with the highest reward"
+    return (
+        '<table style="font-size:12px;border-collapse:collapse" cellpadding="2">'
+        "<tr><th>a</th><th>cost μ</th><th>cost σ²</th><th>reward μ</th><th>status</th></tr>"
+        + "".join(rows)
+        + f'</table><div style="font-size:12px">safe ⇔ σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
+        f"chosen: {_ACTION_ARROWS[decision.action]} ({rule})</div>"
+    )

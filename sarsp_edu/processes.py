@@ -38,7 +38,7 @@ import numpy as np
 from scipy import optimize, special, stats
 from scipy.linalg import lapack as _lapack
 
-from ._validation import check_choice, check_int, check_positive
+from ._validation import check_choice, check_int, check_nu, check_positive
 from .kernels import RBF, squared_distances
 
 __all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator", "draw_subset"]
@@ -797,16 +797,7 @@ class StudentTProcess(_ProcessRegressor):
 
     def _validate_params(self):
         super()._validate_params()
-        try:
-            nu = float(self.nu)
-        except (TypeError, ValueError):
-            nu = math.nan
-        if not (math.isfinite(nu) and nu > 2):
-            raise ValueError(
-                f"nu must be a finite number > 2 (the covariance is infinite for nu <= 2), "
-                f"got nu={self.nu!r}; for nu -> infinity use GaussianProcess"
-            )
-        self.nu = nu
+        self.nu = check_nu(self.nu)
         if not isinstance(self.fit_nu, (bool, np.bool_)):
             raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
         check_choice("noise_convention", self.noise_convention, ("shah", "tfp"))

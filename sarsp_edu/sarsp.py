@@ -260,6 +260,25 @@ class SARSPAgent:
                 parts.append(rows)
         return np.unique(np.concatenate(parts))
 
+    def strategic_prior(self, observation, model: str = "cost") -> np.ndarray:
+        """Rows of one model's training set that a decision would condition on (a fresh draw).
+
+        Parameters
+        ----------
+        observation : array-like of shape (8,)
+        model : {"cost", "reward"}
+
+        Returns
+        -------
+        ndarray of int
+            Row indices into ``cost_data`` or ``reward_data``: ``k_prior``
+            random rows plus up to ``n_matching`` rows matching each action's input.
+        """
+        check_choice("model", model, ("cost", "reward"))
+        if model == "cost":
+            return self._prior(self.cost_data, cost_inputs(observation))
+        return self._prior(self.reward_data, reward_inputs(observation))
+
     def _predict(self, model, buffer, queries):
         rows = self._prior(buffer, queries)
         conditioned = model.condition(buffer.X[rows], buffer.y[rows])

@@ -71,3 +71,23 @@ def test_console_script_help_and_info():
     info = subprocess.run([sys.executable, "-m", "sarsp_edu.cli", "info"], capture_output=True, text=True,
                           check=True).stdout
     assert info.startswith("sarsp_edu ")
+
+
+def test_sweep_and_tables(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    settings = [a for i, a in enumerate(TINY) if a != "--nss" and (i == 0 or TINY[i - 1] != "--nss")]
+    grid = ["--m", "40", "--p", "0.2", "--nss", "1", "2"]
+    assert main(["sweep", *grid, *settings, "--out", str(out)]) == 0
+    assert "2 cells, each a paired TP-vs-GP run of 2 episodes" in capsys.readouterr().out
+    assert main(["tables", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "table1" in printed and "wilcoxon" in printed
+    markdown = (out / "tables.md").read_text()
+    assert markdown.startswith("# sarsp_edu sweep") and "## Table 2" in markdown
+
+
+def test_tables_of_a_missing_folder(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        main(["tables", str(tmp_path)])
+    assert exit_info.value.code == 2
+    assert "not a sweep results folder" in capsys.readouterr().err

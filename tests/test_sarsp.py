@@ -208,3 +208,13 @@ def test_decision_record():
 def test_bad_agent_arguments(kwargs, match):
     with pytest.raises(ValueError, match=match):
         tiny_agent(5.0, **kwargs)
+
+
+def test_public_strategic_prior():
+    agent = tiny_agent(5.0, k_prior=2)
+    rows = agent.strategic_prior(OBS, "cost")
+    for a in range(4):
+        assert set(agent.cost_data.rows_of([a, 2, 2, 3, 2])) <= set(rows)
+    assert set(agent.reward_data.rows_of([0, 2, 2, 5, 5])) <= set(agent.strategic_prior(OBS, "reward"))
+    with pytest.raises(ValueError, match="model must be one of 'cost', 'reward'"):
+        agent.strategic_prior(OBS, "value")

@@ -1,0 +1,68 @@
+"""The paper's published figures, for comparison (never used in a computation).
+
+Hickman et al., "Hybrid Safe Reinforcement Learning: Tackling Distribution
+Shift and Outliers with the Student-t's Process", section 6: Table 1 (six of
+the 45 configurations), Table 2 (mean over the 45 configurations, with the
+coefficients of variation), Table 3 (median) and Table 4 (mode).  Metric names
+are the package's (``SUMMARY_METRICS``); TSR is in %.
+"""
+
+from __future__ import annotations
+
+__all__ = ["TABLE1", "TABLE2", "TABLE2_CV", "TABLE3", "TABLE4"]
+
+#: (m, p, nss) -> {"tp": {...}, "gp": {...}}; Table 1 gives no cost rate
+TABLE1 = {
+    (40.0, 0.2, 2): {"tp": {"mean_cost": 0.112, "mean_reward": -66.418, "total_cost": 28, "task_success_rate": 96.4, "mean_steps": 23.412},
+                     "gp": {"mean_cost": 0.232, "mean_reward": -106.348, "total_cost": 58, "task_success_rate": 90.8, "mean_steps": 34.312}},
+    (80.0, 0.2, 4): {"tp": {"mean_cost": 0.124, "mean_reward": -104.342, "total_cost": 31, "task_success_rate": 81.2, "mean_steps": 31.188},
+                     "gp": {"mean_cost": 0.232, "mean_reward": -173.677, "total_cost": 58, "task_success_rate": 73.2, "mean_steps": 47.488}},
+    (60.0, 0.3, 6): {"tp": {"mean_cost": 0.176, "mean_reward": -75.311, "total_cost": 44, "task_success_rate": 93.2, "mean_steps": 25.176},
+                     "gp": {"mean_cost": 0.236, "mean_reward": -200.553, "total_cost": 59, "task_success_rate": 68.4, "mean_steps": 49.728}},
+    (60.0, 0.3, 8): {"tp": {"mean_cost": 0.152, "mean_reward": -116.432, "total_cost": 38, "task_success_rate": 82.8, "mean_steps": 34.124},
+                     "gp": {"mean_cost": 0.224, "mean_reward": -163.626, "total_cost": 56, "task_success_rate": 79.6, "mean_steps": 41.408}},
+    (60.0, 0.4, 8): {"tp": {"mean_cost": 0.168, "mean_reward": -55.973, "total_cost": 42, "task_success_rate": 96.0, "mean_steps": 21.28},
+                     "gp": {"mean_cost": 0.236, "mean_reward": -131.454, "total_cost": 59, "task_success_rate": 90.8, "mean_steps": 38.264}},
+    (80.0, 0.4, 10): {"tp": {"mean_cost": 0.156, "mean_reward": -76.408, "total_cost": 39, "task_success_rate": 90.0, "mean_steps": 26.396},
+                      "gp": {"mean_cost": 0.232, "mean_reward": -140.015, "total_cost": 58, "task_success_rate": 86.4, "mean_steps": 37.772}},
+}
+
+#: Table 2: mean over the 45 configurations
+TABLE2 = {
+    "mean_reward": (-75.755, -129.924),
+    "mean_cost": (0.141, 0.234),
+    "total_cost": (35.133, 58.489),
+    "task_success_rate": (91.644, 86.062),
+    "mean_steps": (25.201, 37.513),
+    "cost_rate": (0.010, 0.012),
+}
+
+#: Table 2: coefficients of variation (%), TP and GP
+TABLE2_CV = {
+    "mean_reward": (31.8, 25.99),
+    "mean_cost": (28.66, 3.99),
+    "total_cost": (28.66, 3.99),
+    "task_success_rate": (6.58, 9.61),
+    "mean_steps": (23.33, 17.6),
+    "cost_rate": (34.73, 15.02),
+}
+
+#: Table 3: median over the 45 configurations
+TABLE3 = {
+    "mean_reward": (-68.396, -122.887),
+    "mean_cost": (0.144, 0.232),
+    "total_cost": (36.0, 58.0),
+    "task_success_rate": (93.6, 90.4),
+    "mean_steps": (23.86, 36.08),
+    "cost_rate": (0.010, 0.011),
+}
+
+#: Table 4: mode over the 45 configurations
+TABLE4 = {
+    "mean_reward": (-145.273, -200.553),
+    "mean_cost": (0.144, 0.232),
+    "total_cost": (36.0, 58.0),
+    "task_success_rate": (96.0, 90.4),
+    "mean_steps": (15.104, 25.044),
+    "cost_rate": (0.010, 0.011),
+}

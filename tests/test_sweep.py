@@ -1,0 +1,221 @@
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sarsp_edu import ExperimentConfig, compare, run_sweep, summary_tables
+from sarsp_edu.experiment import SUMMARY_METRICS
+from sarsp_edu.sweep import SweepResults, cell_config, cell_seed, frame_to_markdown, tables_markdown
+
+TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
+                        fit_points=50, k_prior=20, optimizer_steps=3)
+GRID = dict(magnitudes=(40, 80), proportions=(0.2,), n_switch_states=(1, 2))
+
+
+@pytest.fixture(scope="module")
+def sweep_dir(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("sweep")
+    results = run_sweep(TINY, **GRID, seeds=(0, 1), results_dir=folder)
+    return folder, results
+
+
+def summaries(results):
+    return results.frame().sort_values(["m", "p", "nss", "seed", "model"]).reset_index(drop=True)
+
+
+def test_grid_and_pairing(sweep_dir):
+    _, results = sweep_dir
+    assert len(results) == 2 * 2 * 2
+    assert sorted(results.comparisons) == sorted(
+        (float(m), 0.2, nss, seed) for m in (40, 80) for nss in (1, 2) for seed in (0, 1)
+    )
+    for (m, p, nss, seed), comparison in results.comparisons.items():
+        assert comparison.tp.config.outlier_magnitude == m and comparison.gp.config.n_switch_states == nss
+        assert comparison.tp.config.seed == comparison.gp.config.seed == cell_seed(seed, m, p, nss)
+        assert comparison.tp.records["start"].tolist() == comparison.gp.records["start"].tolist()
+
+
+def test_a_cell_is_a_paired_compare(sweep_dir):
+    _, results = sweep_dir
+    alone = compare(cell_config(TINY, 80, 0.2, 2, 1))
+    cell = results.comparisons[(80.0, 0.2, 2, 1)]
+    pd.testing.assert_frame_equal(alone.tp.records, cell.tp.records, check_dtype=False)
+    pd.testing.assert_frame_equal(alone.gp.records, cell.gp.records, check_dtype=False)
+
+
+def test_results_do_not_depend_on_the_number_of_workers(sweep_dir):
+    _, serial = sweep_dir
+    parallel = run_sweep(TINY, **GRID, seeds=(0, 1), n_jobs=2)
+    pd.testing.assert_frame_equal(summaries(serial), summaries(parallel))
+
+
+def test_cell_seeds_depend_on_the_cell_not_the_order():
+    assert cell_seed(0, 40, 0.2, 2) == cell_seed(0, 40.0, 0.2, 2)
+    seeds = {cell_seed(s, m, p, n) for s in (0, 1) for m in (40, 60) for p in (0.2, 0.3) for n in (2, 4)}
+    assert len(seeds) == 16
+
+
+def test_rerun_skips_finished_cells(sweep_dir, monkeypatch):
+    folder, results = sweep_dir
+    from sarsp_edu import sweep as sweep_module
+
+    def must_not_run(*args, **kwargs):
+        raise AssertionError("a finished cell was run again")
+
+    monkeypatch.setattr(sweep_module, "_run_cell", must_not_run)
+    again = run_sweep(TINY, **GRID, seeds=(0, 1), results_dir=folder)
+    pd.testing.assert_frame_equal(summaries(again), summaries(results), check_dtype=False)
+
+
+def test_an_interrupted_sweep_resumes(tmp_path, monkeypatch):
+    from sarsp_edu import sweep as sweep_module
+
+    real = sweep_module._run_cell
+    calls = []
+
+    def flaky(base, key, folder):
+        calls.append(key)
+        if len(calls) == 3:
+            raise KeyboardInterrupt  # Ctrl-C while the third cell runs
+        return real(base, key, folder)
+
+    monkeypatch.setattr(sweep_module, "_run_cell", flaky)
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(TINY, **GRID, results_dir=tmp_path)
+    finished = sorted(p.name for p in (tmp_path / "cells").iterdir())
+    assert len(finished) == 2 and not any(name.startswith(".") for name in finished)
+    monkeypatch.setattr(sweep_module, "_run_cell", real)
+    resumed = run_sweep(TINY, **GRID, results_dir=tmp_path)
+    assert len(resumed) == 4
+    fresh = run_sweep(TINY, **GRID)
+    pd.testing.assert_frame_equal(summaries(resumed), summaries(fresh), check_dtype=False)
+
+
+def test_stale_staging_folders_are_cleared(tmp_path):
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1,), results_dir=tmp_path)
+    stale = tmp_path / "cells" / ".m40_p0.2_nss2_seed0.abc"
+    stale.mkdir()
+    (stale / "records.csv").write_text("half written")
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1,), results_dir=tmp_path)
+    assert not stale.exists()
+
+
+def test_a_folder_with_other_settings_is_refused(sweep_dir):
+    folder, _ = sweep_dir
+    with pytest.raises(ValueError, match=r"other settings \(episodes: folder 3, now 4\)"):
+        run_sweep(TINY.replace(episodes=4), **GRID, results_dir=folder)
+
+
+def test_load(sweep_dir):
+    folder, results = sweep_dir
+    loaded = SweepResults.load(folder)
+    assert loaded.base == TINY
+    pd.testing.assert_frame_equal(summaries(loaded), summaries(results), check_dtype=False)
+    meta = json.loads((folder / "sweep.json").read_text())
+    assert meta["base_config"]["episodes"] == 3
+
+
+def test_load_of_a_non_sweep_folder(tmp_path):
+    with pytest.raises(FileNotFoundError, match="not a sweep results folder"):
+        SweepResults.load(tmp_path)
+
+
+def test_dask_scheduler_gives_the_same_numbers(sweep_dir):
+    pytest.importorskip("dask.distributed")
+    from dask.distributed import Client, LocalCluster
+
+    _, serial = sweep_dir
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            on_dask = run_sweep(TINY, **GRID, seeds=(0, 1), scheduler=client)
+    pd.testing.assert_frame_equal(summaries(serial), summaries(on_dask))
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(magnitudes=()), "magnitudes must hold at least one value"),
+        (dict(magnitudes=(40, -1)), "magnitudes must be a positive finite number"),
+        (dict(proportions=(1.2,)), r"proportions must lie in \[0, 1\]"),
+        (dict(n_switch_states=(4,)), "n_switch_states must be an integer from 0 to n_unsafe=3"),
+        (dict(seeds=(0, 0)), "seeds must not repeat"),
+        (dict(n_jobs=0), "n_jobs"),
+        (dict(a=0), r"a must lie in \[1, 100\] \(a task success rate in %\)"),
+    ],
+)
+def test_bad_sweep_arguments(kwargs, match):
+    params = dict(GRID)
+    params.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        run_sweep(TINY, **params)
+
+
+# --------------------------------------------------------------------------
+# the tables
+# --------------------------------------------------------------------------
+def test_tables_by_hand(sweep_dir):
+    _, results = sweep_dir
+    tables = summary_tables(results, n_boot=200)
+    assert set(tables) == {"table1", "mean", "median", "mode", "wilcoxon", "seeds"}
+    per_config = results.frame().groupby(["m", "p", "nss", "model"])[list(SUMMARY_METRICS)].mean()
+    for metric in SUMMARY_METRICS:
+        tp = per_config.xs("TP", level="model")[metric].to_numpy()
+        gp = per_config.xs("GP", level="model")[metric].to_numpy()
+        assert tables["mean"].loc[metric, "TP"] == pytest.approx(tp.mean())
+        assert tables["median"].loc[metric, "GP"] == pytest.approx(np.median(gp))
+        if tp.mean() != 0 and len(tp) > 1:
+            assert tables["mean"].loc[metric, "CV TP (%)"] == pytest.approx(tp.std(ddof=1) / abs(tp.mean()) * 100)
+        expected = (tp.mean() - gp.mean()) / abs(gp.mean()) * 100 if gp.mean() else None
+        if expected is not None:
+            assert tables["mean"].loc[metric, "% change"] == pytest.approx(expected)
+    assert len(tables["table1"]) == 2 * 4
+    assert tables["wilcoxon"]["n"].tolist() == [4] * 6
+
+
+def test_table1_uses_definition_4_and_the_symmetric_difference():
+    from sarsp_edu.sweep import _symmetric_percent
+
+    assert _symmetric_percent(28, 58) == pytest.approx(69.77, abs=0.01)  # the paper's 69.8%
+    assert _symmetric_percent(31, 58) == pytest.approx(60.67, abs=0.01)  # and 60.7%
+    assert _symmetric_percent(5, 5) == 0.0
+
+
+def test_mode_is_scipys_rule():
+    from sarsp_edu.sweep import _paper_mode
+
+    assert _paper_mode(np.array([3.0, 1.0, 3.0, 2.0])) == 3.0  # the most frequent
+    assert _paper_mode(np.array([-145.3, -60.2, -88.8])) == -145.3  # all unique: the smallest
+
+
+def test_markdown_export(sweep_dir):
+    _, results = sweep_dir
+    tables = summary_tables(results, n_boot=50)
+    text = frame_to_markdown(tables["mean"])
+    lines = text.splitlines()
+    assert lines[0].startswith("| metric | TP | GP |") and lines[1].startswith("|---|")
+    assert len(lines) == 2 + 6
+    doc = tables_markdown(tables)
+    assert doc.count("## ") == len(tables)
+
+
+def test_curves_and_macro(sweep_dir):
+    _, results = sweep_dir
+    curves = results.curves("total_cost", "TP", 40, 0.2)
+    assert list(curves.columns) == [1, 2] and list(curves.index) == [1, 2, 3]
+    macro = results.macro("mean_cost")
+    assert list(macro.columns) == ["TP", "GP"] and list(macro.index) == [1, 2]
+    frame = results.frame()
+    expected = frame[(frame.model == "TP") & (frame.nss == 1)]["mean_cost"].mean()
+    assert macro.loc[1, "TP"] == pytest.approx(expected)
+    with pytest.raises(ValueError, match="no cell with m=60"):
+        results.curves("total_cost", "tp", 60, 0.2)
+    with pytest.raises(ValueError, match="metric must be one of"):
+        results.macro("speed")
+
+
+def test_tables_refuse_an_empty_sweep():
+    with pytest.raises(ValueError, match="no finished cell"):
+        summary_tables(SweepResults(TINY))
