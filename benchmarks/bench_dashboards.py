@@ -1,0 +1,70 @@
+"""Each dashboard's update time for a slider move (compute + redraw, median of
+repeats; target < 200 ms), and the live agent dashboard's frame rate
+(paired step + SVG drawing; target >= 20 steps per second displayed).
+
+Run by hand:  python benchmarks/bench_dashboards.py [--repeats 9]
+The rate a browser actually displays is measured by tests/test_browser.py.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(__file__))
+from _timing import one_core  # noqa: E402
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+
+from sarsp_edu.widgets import (  # noqa: E402
+    agent_dashboard,
+    gridworld_dashboard,
+    posterior_dashboard,
+    tail_decay_dashboard,
+)
+
+MOVES = {
+    "tail_decay_dashboard": [("nu", (3.0, 3.5)), ("lam", (5.0, 5.5))],
+    "posterior_dashboard": [("nu", (3.0, 4.0)), ("magnitude", (10.0, 20.0)), ("proportion", (0.1, 0.2))],
+    "gridworld_dashboard": [("n_switch_states", (6, 7)), ("magnitude", (40.0, 60.0)),
+                            ("proportion", (0.2, 0.3)), ("seed", (0, 1))],
+}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=9)
+    args = parser.parse_args(argv)
+    print(f"slider move = compute + redraw, median of {args.repeats}; one BLAS thread; target < 200 ms")
+    for factory in (tail_decay_dashboard, posterior_dashboard, gridworld_dashboard):
+        dashboard = factory()
+        for name, (a, b) in MOVES[factory.__name__]:
+            times = []
+            for i in range(args.repeats):
+                dashboard.controls[name].value = b if i % 2 == 0 else a
+                times.append(dashboard.last_update_seconds)
+            note = "  (the first visit of a seed collects 100 offline episodes; later visits are cached)" \
+                if name == "seed" else ""
+            print(f"  {factory.__name__:22s} {name:16s} {statistics.median(times) * 1e3:7.1f} ms{note}")
+
+    live = agent_dashboard()
+    start = time.perf_counter()
+    live.prepare()
+    prepare = time.perf_counter() - start
+    live.run_steps(5)
+    start = time.perf_counter()
+    live.run_steps(300)
+    elapsed = time.perf_counter() - start
+    print(f"live agent dashboard, paper's settings: preparation (data, outliers, 4 fits) {prepare:.1f} s; "
+          f"300 paired steps drawn in {elapsed:.2f} s = {300 / elapsed:.1f} steps per second "
+          f"(the animation runs at its speed slider, default 25)")
+
+
+if __name__ == "__main__":
+    with one_core():
+        main()

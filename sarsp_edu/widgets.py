@@ -1,0 +1,506 @@
+"""Widget dashboards for the tutorials: sliders wired to ``compute_*`` and ``plot_*``.
+
+Each ``*_dashboard()`` returns an ipywidgets box.  The computation lives in
+pure functions (:mod:`sarsp_edu.tails`, :mod:`sarsp_edu.demos`) and the drawing
+in :mod:`sarsp_edu.plotting`; this module only wires them.  Figures are
+matplotlib ``Figure`` objects (no pyplot state) rendered into an
+``ipywidgets.Image``, so a slider move redraws the picture in place in
+JupyterLab, Voila and a static notebook alike.  A callback never raises: a
+value the models cannot handle shows a message under the controls instead.
+"""
+
+from __future__ import annotations
+
+import html
+import io
+import time
+
+import ipywidgets as widgets
+from matplotlib.figure import Figure
+
+from . import demos, plotting, tails
+
+__all__ = [
+    "Dashboard",
+    "AgentDashboard",
+    "tail_decay_dashboard",
+    "posterior_dashboard",
+    "gridworld_dashboard",
+    "agent_dashboard",
+]
+
+
+class Dashboard(widgets.VBox):
+    """Controls, a message line, a figure and a text panel, redrawn by ``refresh``.
+
+    Attributes
+    ----------
+    controls : dict of widgets
+        By name (``"nu"``, ``"lam"``, ...), for code and tests to drive.
+    figure : matplotlib.figure.Figure
+    image : ipywidgets.Image
+        The rendered figure (PNG).
+    info : ipywidgets.HTMLMath
+        Numbers and formulas under the figure.
+    message : ipywidgets.HTML
+        Empty, or why the last update could not be drawn.
+    last_update_seconds : float
+        Compute and redraw time of the last update.
+    """
+
+    def __init__(self, controls: dict, draw, *, figsize, ncols: int, dpi: int = 90, layout_rows=None):
+        self.controls = controls
+        self.figure = Figure(figsize=figsize, layout="constrained")
+        self.axes = self.figure.subplots(1, ncols) if ncols > 1 else [self.figure.subplots()]
+        self.image = widgets.Image(format="png", layout=widgets.Layout(width="100%", max_width=f"{figsize[0] * dpi}px"))
+        self.info = widgets.HTMLMath()
+        self.message = widgets.HTML()
+        self._draw = draw
+        self._dpi = dpi
+        self.last_update_seconds = float("nan")
+        rows = layout_rows or [widgets.HBox(list(controls.values()))]
+        super().__init__(children=[*rows, self.message, self.image, self.info])
+        for control in controls.values():
+            control.observe(self._on_change, names="value")
+        self.refresh()
+
+    def _on_change(self, change):
+        self.refresh()
+
+    def values(self) -> dict:
+        return {name: control.value for name, control in self.controls.items()}
+
+    def refresh(self) -> bool:
+        """Recompute and redraw; returns False (and shows why) if the values could not be drawn."""
+        start = time.perf_counter()
+        try:
+            for ax in self.axes:
+                ax.clear()
+            info = self._draw(self.axes, **self.values())
+            buffer = io.BytesIO()
+            self.figure.savefig(buffer, format="png", dpi=self._dpi)
+            self.image.value = buffer.getvalue()
+            self.info.value = info or ""
+            self.message.value = ""
+            ok = True
+        except Exception as exc:  # a dashboard must not crash on an extreme slider value
+            self.message.value = (
+                "<span style='color:#b00020'>Could not draw these values: "
+                f"{html.escape(type(exc).__name__)}: {html.escape(str(exc))}</span>"
+            )
+            ok = False
+        self.last_update_seconds = time.perf_counter() - start
+        return ok
+
+
+def _slider(kind, description, value, lo, hi, step, expensive=True, **kwargs):
+    cls = widgets.FloatSlider if kind == "float" else widgets.IntSlider
+    return cls(value=value, min=lo, max=hi, step=step, description=description,
+               continuous_update=not expensive, style={"description_width": "initial"},
+               layout=widgets.Layout(width="260px"), **kwargs)
+
+
+# --------------------------------------------------------------------------
+# tutorial 1: tail decay
+# --------------------------------------------------------------------------
+_T_LIMIT = None  # lambda**(-nu - 1), derived once by sympy
+
+
+def _student_t_limit_expr():
+    global _T_LIMIT
+    if _T_LIMIT is None:
+        _T_LIMIT = tails.student_t_tail_limit()
+    return _T_LIMIT
+
+
+def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
+    """Sliders for nu and lambda: the densities, their tails, and the Karamata ratio's limit.
+
+    The limit shown is derived by sympy (``tails.student_t_tail_limit``)
+    and evaluated at the slider values.
+    """
+    import sympy as sp
+
+    controls = {
+        "nu": _slider("float", "ν (degrees of freedom)", nu, 0.5, 30.0, 0.5, expensive=False),
+        "lam": _slider("float", "λ", lam, 1.5, 10.0, 0.5, expensive=False),
+    }
+
+    def draw(axes, nu, lam):
+        densities = tails.compute_densities(nu)
+        ratios = tails.compute_tail_ratios((nu,), lam, x_gauss=tails.compute_tail_ratios((nu,), lam)["x_t"])
+        plotting.plot_densities(axes[0], densities)
+        plotting.plot_densities(axes[1], densities, log=True)
+        plotting.plot_tail_ratios(axes[2], ratios, title="Karamata ratio f(λx)/f(x)")
+        axes[2].plot(ratios["x_gauss"], ratios["gaussian"], color=plotting.COLOURS["gp"], lw=2, ls=":",
+                     label="Gaussian")
+        axes[2].set_yscale("log")
+        axes[2].set_ylim(max(ratios["limits"][nu] / 100, 1e-30), 1.5)
+        axes[2].legend(fontsize=8, frameon=False)
+        expr = _student_t_limit_expr()
+        value = float(expr.subs({tails.LAMBDA: lam, tails.NU: nu}))
+        return (
+            f"Student-t (sympy): $\\lim_{{x\\to\\infty}} f(\\lambda x)/f(x) = {sp.latex(expr)}"
+            f" = {lam:g}^{{{-1 - nu:g}}} = {value:.4g}$, regularly varying with index $-1-\\nu = {-1 - nu:g}$."
+            f"<br>Gaussian: $f(\\lambda x)/f(x) = e^{{(1-\\lambda^2)x^2/2}} \\to 0$ for $\\lambda > 1$:"
+            " no power of $\\lambda$, so not regularly varying; its tail is lighter than any Student-t's."
+        )
+
+    return Dashboard(controls, draw, figsize=(13, 3.8), ncols=3)
+
+
+# --------------------------------------------------------------------------
+# tutorial 2: GP and TP under outliers
+# --------------------------------------------------------------------------
+def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: float = 0.1, seed: int = 0,
+                        fit: bool = True) -> Dashboard:
+    """GP and TP fitted side by side on 1-D data with outliers; sliders for nu, m, p and the seed.
+
+    Shows the posterior mean and 2-sigma band, both variances on one axis
+    (paper eq. 5 against eq. 6), marks the outliers, and prints
+    the TP's variance factor (nu + beta - 2)/(nu + n - 2) (paper eq. 6 in
+    its correct form) and both models' hyperparameters.
+    """
+    controls = {
+        "nu": _slider("float", "ν", nu, 2.1, 50.0, 0.1),
+        "magnitude": _slider("float", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
+        "proportion": _slider("float", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
+        "seed": _slider("int", "seed", seed, 0, 20, 1),
+        "fit": widgets.Checkbox(value=fit, description="fit hyperparameters (50 Adam steps)", indent=False),
+        "scale_inputs": widgets.Checkbox(value=False, description="scale the outliers' inputs too (paper 5.3)",
+                                         indent=False),
+    }
+    rows = [widgets.HBox([controls[k] for k in ("nu", "magnitude", "proportion", "seed")]),
+            widgets.HBox([controls["fit"], controls["scale_inputs"]])]
+
+    def draw(axes, nu, magnitude, proportion, seed, fit, scale_inputs):
+        data = demos.compute_posteriors(nu, magnitude, proportion, seed, fit=fit, scale_inputs=scale_inputs)
+        inlier_y = data["y"][~data["outliers"]]
+        span = max(float(abs(inlier_y).max()), 1.0)
+        ylim = (-3 * span, 3 * span)
+        plotting.plot_posterior(axes[0], data, "gp", ylim=ylim)
+        plotting.plot_posterior(axes[1], data, "tp", ylim=ylim)
+        plotting.plot_variances(axes[2], data)
+        rows = []
+        for name in ("gp", "tp"):
+            post = data[name]
+            rows.append(f"{name.upper()}: amplitude {post['kernel'].amplitude:.3g}, length scale "
+                        f"{post['kernel'].length_scale:.3g}, noise variance {post['noise_variance']:.3g}, "
+                        f"log marginal likelihood {post['log_marginal_likelihood']:.2f}")
+        factor = (f"TP variance factor $\\frac{{\\nu + \\beta - 2}}{{\\nu + n - 2}} = "
+                  f"\\frac{{{data['nu']:g} + {data['beta']:.4g} - 2}}{{{data['nu']:g} + {data['n']} - 2}} = "
+                  f"{data['tp_scale']:.4g}$, with $\\beta = y^T (K + \\sigma^2 I)^{{-1}} y$")
+        return "<br>".join([factor, *rows])
+
+    return Dashboard(controls, draw, figsize=(15, 4.2), ncols=3, layout_rows=rows)
+
+
+# --------------------------------------------------------------------------
+# tutorial 3: the world and its shift
+# --------------------------------------------------------------------------
+def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: float = 40.0,
+                        proportion: float = 0.2) -> Dashboard:
+    """The world before and after the covariate shift, the offline coverage and the outliers.
+
+    Sliders for nss, the seed, m and p.  The world and its 100 offline
+    episodes are cached per seed, so the nss, m and p sliders are quick.
+    """
+    controls = {
+        "seed": _slider("int", "seed", seed, 0, 50, 1),
+        "n_switch_states": _slider("int", "nss (switch states)", n_switch_states, 0, 15, 1),
+        "magnitude": _slider("float", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
+        "proportion": _slider("float", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
+    }
+
+    def draw(axes, seed, n_switch_states, magnitude, proportion):
+        world = demos.compute_world(seed, n_switch_states, magnitude, proportion)
+        plotting.plot_gridworld(axes[0], world["before"], visits=world["visits"], legend=False,
+                                title="offline world and its coverage")
+        plotting.plot_gridworld(axes[1], world["after"], title=f"after the shift, nss = {n_switch_states}")
+        plotting.plot_outlier_scatter(axes[2], world)
+        return (f"{world['transitions']} random-policy transitions kept as {world['cost_rows']} cost-model "
+                f"rows (at most 12 copies of an input) and {world['reward_rows']} reward-model rows (1 copy); "
+                f"{len(world['outlier_rows'])} rows (p = {proportion:g}) had inputs and targets multiplied "
+                f"by m = {magnitude:g}. States moved by the shift: {len(world['moved'])}.")
+
+    return Dashboard(controls, draw, figsize=(15, 4.4), ncols=3)
+
+
+# --------------------------------------------------------------------------
+# tutorial 4: the agent, live
+# --------------------------------------------------------------------------
+_LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
+
+
+class AgentDashboard(widgets.VBox):
+    """The TP agent and the GP agent running paired, side by side, live.
+
+    Sliders for nu, m, p, nss, the seed and the number of episodes; *Run*
+    animates both agents step by step, *Stop* pauses, *Fast-forward* runs
+    whole episodes without drawing each step, *New run* starts again from
+    the sliders.  Each side shows the world after the shift (moved states
+    outlined), the agent's path in the current episode, the moves it has
+    learned are unsafe (``S_u``, red ticks) and Algorithm 1's view of the
+    current decision; under them, the paper's running metrics of both agents
+    grow episode by episode.
+
+    The run loop is an asyncio task, so the notebook stays responsive while
+    it runs; the preparation (offline data, outliers, fits) runs in a worker
+    thread.  ``run_steps`` and ``fast_forward`` do the same work
+    synchronously, for scripts and tests.
+
+    Parameters
+    ----------
+    nu, magnitude, proportion, n_switch_states, seed, episodes : initial slider values
+    steps_per_second : float, default 25
+        Animation speed (a slider); the displayed rate is
+        ``displayed_steps_per_second``.
+    config : ExperimentConfig, optional
+        Other settings (grid size, k_prior, ...); the sliders override theirs.
+    """
+
+    def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
+                 steps_per_second=25.0, config=None):
+        from .experiment import ExperimentConfig
+
+        self.base_config = ExperimentConfig() if config is None else config
+        self.controls = {
+            "nu": _slider("float", "ν", nu, 2.1, 30.0, 0.1),
+            "magnitude": _slider("float", "m", magnitude, 1.0, 100.0, 1.0),
+            "proportion": _slider("float", "p", proportion, 0.0, 0.5, 0.05),
+            "n_switch_states": _slider("int", "nss", n_switch_states, 0, self.base_config.n_unsafe, 1),
+            "seed": _slider("int", "seed", seed, 0, 100, 1),
+            "episodes": _slider("int", "episodes", episodes, 1, 250, 1),
+        }
+        self.speed = _slider("float", "steps per second", steps_per_second, 1.0, 60.0, 1.0, expensive=False)
+        self.buttons = {
+            "run": widgets.Button(description="Run", icon="play", button_style="success"),
+            "stop": widgets.Button(description="Stop", icon="stop", button_style="warning"),
+            "forward": widgets.Button(description="Fast-forward 10 episodes", icon="forward",
+                                      layout=widgets.Layout(width="210px")),
+            "new": widgets.Button(description="New run", icon="refresh"),
+        }
+        self.buttons["run"].on_click(lambda _: self.start())
+        self.buttons["stop"].on_click(lambda _: self.stop())
+        self.buttons["forward"].on_click(lambda _: self.start(episodes=10))
+        self.buttons["new"].on_click(lambda _: self.reset())
+        self.status = widgets.HTML("Press <b>Run</b> to prepare the data, fit both models and start.")
+        self.worlds = {m: widgets.HTML() for m in ("tp", "gp")}
+        self.decisions = {m: widgets.HTML() for m in ("tp", "gp")}
+        self.summaries = {m: widgets.HTML() for m in ("tp", "gp")}
+        # A fixed layout and plain-text titles: constrained layout and mathtext
+        # would cost several times the whole agent step at each redraw.
+        self.metrics_figure = Figure(figsize=(14, 2.5))
+        self.metrics_figure.subplots_adjust(left=0.04, right=0.99, bottom=0.2, top=0.86, wspace=0.28)
+        self.metrics_axes = self.metrics_figure.subplots(1, len(_LIVE_METRICS))
+        self.metrics_image = widgets.Image(format="png", layout=widgets.Layout(width="100%"))
+        sides = []
+        for model, label in (("tp", "Student-t process"), ("gp", "Gaussian process")):
+            sides.append(widgets.VBox([widgets.HTML(f"<b>{label}</b>"), self.worlds[model],
+                                       self.decisions[model], self.summaries[model]],
+                                      layout=widgets.Layout(width="50%")))
+        super().__init__(children=[
+            widgets.HBox([self.controls[k] for k in ("nu", "magnitude", "proportion")]),
+            widgets.HBox([self.controls[k] for k in ("n_switch_states", "seed", "episodes")]),
+            widgets.HBox([*self.buttons.values(), self.speed]),
+            self.status,
+            widgets.HBox(sides),
+            self.metrics_image,
+        ])
+        self.experiments = None
+        self._last = {"tp": None, "gp": None}
+        self._task = None
+        self._running = False
+        self.frames = 0
+        self._frame_times: list[float] = []
+        self._drawn_episodes = -1
+        self._metrics_drawn_at = -float("inf")
+        self._draw_world()
+
+    # -- configuration ------------------------------------------------------
+    def config(self):
+        values = {k: c.value for k, c in self.controls.items()}
+        return self.base_config.replace(
+            nu=float(values["nu"]), outlier_magnitude=float(values["magnitude"]),
+            outlier_proportion=float(values["proportion"]), n_switch_states=int(values["n_switch_states"]),
+            seed=int(values["seed"]), episodes=int(values["episodes"]),
+        )
+
+    def prepare(self):
+        """Build the paired runs from the sliders (offline data, outliers, fits, shift)."""
+        from .experiment import Experiment, _prepare
+
+        config = self.config()
+        prepared = _prepare(config)
+        self.experiments = {m: Experiment(config.replace(model=m), prepared=prepared) for m in ("tp", "gp")}
+        self._last = {"tp": None, "gp": None}
+        self._drawn_episodes = -1
+        self.frames = 0
+        self._frame_times = []
+
+    @property
+    def finished(self) -> bool:
+        return self.experiments is not None and all(e.finished for e in self.experiments.values())
+
+    # -- stepping -----------------------------------------------------------
+    def step_pair(self, draw: bool = True) -> None:
+        """One step of each agent that has episodes left."""
+        if self.experiments is None:
+            self.prepare()
+        for model, experiment in self.experiments.items():
+            if not experiment.finished:
+                self._last[model] = experiment.step()
+        if draw:
+            self._draw_world()
+            self._draw_metrics_if_new_episode(throttle=True)
+            self.frames += 1
+            self._frame_times.append(time.perf_counter())
+
+    def run_steps(self, n: int, draw: bool = True) -> None:
+        """``n`` paired steps, synchronously."""
+        for _ in range(n):
+            if self.finished:
+                break
+            self.step_pair(draw=draw)
+
+    def fast_forward(self, episodes: int = 10) -> None:
+        """Run whole episodes of both agents without drawing each step, synchronously."""
+        if self.experiments is None:
+            self.prepare()
+        for experiment in self.experiments.values():
+            target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
+            while len(experiment.episodes) < target:
+                experiment.run_episode()
+        self._draw_world()
+        self._draw_metrics_if_new_episode()
+
+    @property
+    def displayed_steps_per_second(self) -> float:
+        """Frames drawn per second over the current animation (NaN before two frames)."""
+        times = self._frame_times
+        if len(times) < 2 or times[-1] == times[0]:
+            return float("nan")
+        return (len(times) - 1) / (times[-1] - times[0])
+
+    # -- asynchronous running (the buttons) ----------------------------------
+    def start(self, episodes: int | None = None):
+        """Start animating (or fast-forward ``episodes`` episodes) without blocking the kernel."""
+        import asyncio
+
+        if self._running:
+            return None
+        self._running = True
+        self._task = asyncio.ensure_future(self._loop(episodes))
+        return self._task
+
+    def stop(self) -> None:
+        self._running = False
+        if self.experiments is not None:
+            self.status.value = "Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders."
+
+    def reset(self) -> None:
+        self.stop()
+        self.experiments = None
+        self._last = {"tp": None, "gp": None}
+        self._draw_world()
+        self.metrics_image.value = b""
+        self.status.value = "Press <b>Run</b> to prepare the data, fit both models and start."
+
+    async def _loop(self, episodes):
+        import asyncio
+
+        try:
+            if self.experiments is None:
+                self.status.value = "Preparing: 100 offline episodes, outliers, fitting both models ..."
+                await asyncio.get_running_loop().run_in_executor(None, self.prepare)
+            if episodes is not None:
+                self.status.value = f"Fast-forwarding {episodes} episodes ..."
+                await asyncio.get_running_loop().run_in_executor(None, self._forward_quietly, episodes)
+                self._draw_world()
+                self._draw_metrics_if_new_episode()
+            else:
+                self._frame_times = []
+                self.status.value = "Running ..."
+                while self._running and not self.finished:
+                    start = time.perf_counter()
+                    self.step_pair(draw=True)
+                    if self.frames % 10 == 0:
+                        self.status.value = (f"Running: {self.frames} steps shown, "
+                                             f"{self.displayed_steps_per_second:.1f} steps per second.")
+                    await asyncio.sleep(max(0.0, 1.0 / self.speed.value - (time.perf_counter() - start)))
+            self._draw_metrics_if_new_episode()
+            if self.finished:
+                self.status.value = "Finished every episode. <b>New run</b> starts again from the sliders."
+            elif self._running:
+                self.status.value = "Paused. <b>Run</b> continues."
+        except Exception as exc:  # the dashboard reports, the kernel lives on
+            self.status.value = f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>"
+        finally:
+            self._running = False
+
+    def _forward_quietly(self, episodes):
+        for experiment in self.experiments.values():
+            target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
+            while len(experiment.episodes) < target:
+                experiment.run_episode()
+
+    # -- drawing ------------------------------------------------------------
+    def _draw_world(self) -> None:
+        for model in ("tp", "gp"):
+            if self.experiments is None:
+                self.worlds[model].value = ""
+                self.decisions[model].value = ""
+                self.summaries[model].value = ""
+                continue
+            experiment = self.experiments[model]
+            record = self._last[model]
+            title = (f"episode {len(experiment.episodes) + (0 if record is None or record.done else 1)}"
+                     f" of {experiment.config.episodes}")
+            self.worlds[model].value = plotting.gridworld_svg(
+                experiment.env.layout(), trajectory=experiment.trajectory,
+                unsafe_pairs=sorted(experiment.agent.unsafe_pairs), title=title,
+            )
+            decision = None if record is None else record.decision
+            self.decisions[model].value = plotting.decision_table_html(
+                decision, experiment.config.d, experiment.config.variance_threshold)
+            records = experiment.episodes
+            violations = sum(e["episode_cost"] for e in records)
+            done = sum(e["task_completed"] for e in records)
+            self.summaries[model].value = (
+                f"<span style='font-size:12px'>{len(records)} episodes done: {done} reached the goal, "
+                f"{violations} violations, |S_u| = {len(experiment.agent.unsafe_pairs)}, "
+                f"corrective updates {experiment.agent.corrective_updates}</span>")
+
+    def _draw_metrics_if_new_episode(self, throttle: bool = False) -> None:
+        """Redraw the metric curves if an episode ended; while animating, at most every 1.5 s."""
+        if self.experiments is None:
+            return
+        count = sum(len(e.episodes) for e in self.experiments.values())
+        if count == self._drawn_episodes:
+            return
+        now = time.perf_counter()
+        if throttle and now - self._metrics_drawn_at < 1.5 and not self.finished:
+            return
+        self._drawn_episodes = count
+        self._metrics_drawn_at = now
+        for ax, metric in zip(self.metrics_axes, _LIVE_METRICS):
+            ax.clear()
+            for model in ("tp", "gp"):
+                records = self.experiments[model].records()
+                if len(records):
+                    ax.plot(records["episode"], records[metric], color=plotting.COLOURS[model], lw=2,
+                            marker="o" if len(records) < 15 else None, ms=3, label=model.upper())
+            ax.set_title(metric.replace("_", " "), fontsize=10)
+            ax.set_xlabel("episode", fontsize=9)
+            ax.tick_params(labelsize=8)
+            ax.grid(alpha=0.3)
+        if self.metrics_axes[0].lines:
+            self.metrics_axes[0].legend(fontsize=8, frameon=False)
+        buffer = io.BytesIO()
+        self.metrics_figure.savefig(buffer, format="png", dpi=80)
+        self.metrics_image.value = buffer.getvalue()
+
+
+def agent_dashboard(**kwargs) -> AgentDashboard:
+    """The live TP-versus-GP dashboard of tutorial 4; see :class:`AgentDashboard` for the arguments."""
+    return AgentDashboard(**kwargs)

@@ -1,0 +1,232 @@
+"""The dashboards and their computations, without a browser."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from sarsp_edu import demos, plotting
+from sarsp_edu.widgets import Dashboard, gridworld_dashboard, posterior_dashboard, tail_decay_dashboard
+
+
+# --------------------------------------------------------------------------
+# the pure computations
+# --------------------------------------------------------------------------
+def test_regression_data_outliers():
+    X, y, outliers = demos.regression_data(n=40, magnitude=10, proportion=0.1, seed=0)
+    clean_X, clean_y, _ = demos.regression_data(n=40, magnitude=1, proportion=0.1, seed=0)
+    assert outliers.sum() == 4 and X.shape == (40, 1)
+    np.testing.assert_allclose(y[outliers], 10 * clean_y[outliers])
+    np.testing.assert_array_equal(y[~outliers], clean_y[~outliers])
+    Xs, _, _ = demos.regression_data(n=40, magnitude=10, proportion=0.1, seed=0, scale_inputs=True)
+    np.testing.assert_allclose(Xs[outliers], 10 * clean_X[outliers])
+
+
+def test_compute_posteriors_is_consistent_with_the_models():
+    data = demos.compute_posteriors(nu=3.0, magnitude=10, proportion=0.1, seed=0, fit=False)
+    # same hyperparameters (no fit): same mean, variance scaled by the TP's factor
+    np.testing.assert_allclose(data["tp"]["mean"], data["gp"]["mean"], rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(data["tp"]["var"], data["tp_scale"] * data["gp"]["var"], rtol=1e-10)
+    assert data["tp_scale"] == pytest.approx((3 + data["beta"] - 2) / (3 + 40 - 2))
+
+
+def test_more_outliers_raise_the_tp_factor():
+    factors = [demos.compute_posteriors(3.0, m, 0.1, 0, fit=False)["tp_scale"] for m in (1, 10, 40)]
+    assert factors[0] < factors[1] < factors[2]
+
+
+def test_nu_path_tends_to_the_gp():
+    from sarsp_edu import RBF
+
+    path = demos.compute_nu_path([3, 30, 3e6], kernel=RBF(1.5, 0.5), noise_variance=0.5)
+    assert np.all(np.diff(path["scale"]) < 0) and path["scale"][-1] == pytest.approx(1, abs=1e-2)
+    assert abs(path["lml"][-1] - path["gp_lml"]) < abs(path["lml"][0] - path["gp_lml"])
+
+
+def test_compute_world():
+    world = demos.compute_world(seed=1, n_switch_states=4, magnitude=40, proportion=0.2, offline_episodes=10)
+    assert len(world["moved"]) == 4
+    moved = world["moved"]
+    assert not np.array_equal(world["before"].unsafe_states[moved], world["after"].unsafe_states[moved])
+    stay = np.setdiff1d(np.arange(15), moved)
+    np.testing.assert_array_equal(world["before"].unsafe_states[stay], world["after"].unsafe_states[stay])
+    rows = world["outlier_rows"]
+    np.testing.assert_array_equal(world["dirty"]["X"][rows], 40 * world["clean"]["X"][rows])
+    again = demos.compute_world(seed=1, n_switch_states=0, magnitude=40, proportion=0.2, offline_episodes=10)
+    np.testing.assert_array_equal(again["after"].unsafe_states, world["before"].unsafe_states)
+
+
+# --------------------------------------------------------------------------
+# the dashboards
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize("factory", [tail_decay_dashboard, posterior_dashboard, gridworld_dashboard])
+def test_dashboard_draws_and_redraws(factory):
+    dashboard = factory()
+    assert isinstance(dashboard, Dashboard)
+    assert dashboard.message.value == ""
+    first = dashboard.image.value
+    assert first[:8] == b"\x89PNG\r\n\x1a\n"
+    name, control = next((n, c) for n, c in dashboard.controls.items() if hasattr(c, "max"))
+    control.value = control.max
+    assert dashboard.message.value == "", dashboard.message.value
+    assert dashboard.image.value != first
+    assert dashboard.last_update_seconds > 0
+    assert dashboard.info.value
+
+
+def test_expensive_sliders_update_on_release():
+    dashboard = posterior_dashboard()
+    assert all(not c.continuous_update for n, c in dashboard.controls.items() if hasattr(c, "continuous_update"))
+
+
+@pytest.mark.parametrize(
+    "factory, changes",
+    [
+        (posterior_dashboard, {"nu": 2.1, "magnitude": 100.0, "proportion": 0.5}),
+        (posterior_dashboard, {"proportion": 0.0, "fit": False, "scale_inputs": True}),
+        (tail_decay_dashboard, {"nu": 0.5, "lam": 10.0}),
+        (gridworld_dashboard, {"n_switch_states": 15, "magnitude": 100.0, "proportion": 0.5}),
+    ],
+)
+def test_extreme_values_never_crash(factory, changes):
+    dashboard = factory()
+    for name, value in changes.items():
+        dashboard.controls[name].value = value
+    # either drawn, or a message says why; never an exception
+    assert dashboard.message.value == "" or "Could not draw" in dashboard.message.value
+
+
+def test_a_failing_update_shows_a_message_not_a_traceback():
+    from ipywidgets import FloatSlider
+
+    def draw(axes, x):
+        if x > 1:
+            raise np.linalg.LinAlgError("not positive definite")
+        axes[0].plot([0, 1], [0, x])
+        return "ok"
+
+    dashboard = Dashboard({"x": FloatSlider(value=0.5, min=0, max=2)}, draw, figsize=(3, 2), ncols=1)
+    good = dashboard.image.value
+    dashboard.controls["x"].value = 2.0
+    assert "LinAlgError: not positive definite" in dashboard.message.value
+    assert dashboard.image.value == good  # the last good picture stays
+    dashboard.controls["x"].value = 0.7
+    assert dashboard.message.value == ""
+
+
+# --------------------------------------------------------------------------
+# the drawing functions
+# --------------------------------------------------------------------------
+def test_plot_gridworld_draws_what_it_is_handed():
+    from sarsp_edu import SafeGridWorld
+
+    env = SafeGridWorld(seed=0)
+    env.shift(3, rng=0)
+    ax = Figure().subplots()
+    plotting.plot_gridworld(ax, env, trajectory=[(0, 0), (1, 0)], unsafe_pairs=[((1, 0), 1)], show_agent=True)
+    solid = [p for p in ax.patches if p.get_facecolor()[3] > 0]
+    dashed = [p for p in ax.patches if p.get_linestyle() == "--"]
+    assert len(solid) == 15 and len(dashed) == 3
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert {"start", "goal", "path", "moved here in the shift", "learned unsafe move (S_u)"} <= set(labels)
+    assert ax.get_ylim()[0] > ax.get_ylim()[1]  # row 0 at the top
+
+
+def test_curve_and_macro_plots():
+    import pandas as pd
+
+    curves = pd.DataFrame({2: [1.0, 2.0], 4: [2.0, 3.0]}, index=[1, 2])
+    ax = Figure().subplots()
+    plotting.plot_metric_curves(ax, curves, metric="total_cost")
+    assert len(ax.lines) == 2 and ax.get_ylabel() == plotting.METRIC_LABELS["total_cost"]
+    macro = pd.DataFrame({"TP": [0.1, 0.2], "GP": [0.3, 0.3]}, index=[2, 4])
+    ax = Figure().subplots()
+    plotting.plot_macro(ax, macro, metric="mean_cost")
+    assert [line.get_label() for line in ax.lines] == ["TP", "GP"]
+
+
+# --------------------------------------------------------------------------
+# the live agent dashboard
+# --------------------------------------------------------------------------
+SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, fit_points=80, optimizer_steps=5, k_prior=30)
+
+
+@pytest.fixture
+def live():
+    from sarsp_edu import ExperimentConfig
+    from sarsp_edu.widgets import agent_dashboard
+
+    return agent_dashboard(episodes=3, n_switch_states=2, config=ExperimentConfig(**SMALL))
+
+
+def test_live_dashboard_steps_both_agents_paired(live):
+    live.run_steps(5)
+    tp, gp = live.experiments["tp"], live.experiments["gp"]
+    np.testing.assert_array_equal(tp.env.unsafe_states, gp.env.unsafe_states)
+    assert tp.config.model == "tp" and gp.config.model == "gp"
+    assert live.frames == 5
+    for model in ("tp", "gp"):
+        assert live.worlds[model].value.startswith("<svg") and "polyline" in live.worlds[model].value
+        assert "cost σ²" in live.decisions[model].value
+
+
+def test_live_dashboard_runs_to_the_end_and_matches_a_plain_run(live):
+    from sarsp_edu import run_experiment
+
+    live.run_steps(2)
+    live.fast_forward(10)
+    assert live.finished
+    assert live.metrics_image.value[:4] == b"\x89PNG"
+    plain = run_experiment(live.config().replace(model="tp"))
+    import pandas as pd
+
+    pd.testing.assert_frame_equal(live.experiments["tp"].records(), plain.records)
+
+
+def test_live_dashboard_reads_the_sliders(live):
+    live.controls["nu"].value = 5.0
+    live.controls["n_switch_states"].value = 3
+    config = live.config()
+    assert config.nu == 5.0 and config.n_switch_states == 3 and config.grid_size == 6
+    live.prepare()
+    assert len(live.experiments["gp"].env.moved_indices) == 3
+
+
+def test_live_dashboard_async_run_and_stop(live):
+    import asyncio
+
+    async def scenario():
+        live.speed.value = 60
+        task = live.start()
+        for _ in range(600):  # preparation runs in a worker thread; then frames appear
+            await asyncio.sleep(0.1)
+            if live.frames >= 3 or task.done():
+                break
+        live.stop()
+        await task
+        return live.frames
+
+    frames = asyncio.run(scenario())
+    assert frames > 0 and not live._running
+    assert "Paused" in live.status.value or "Stopped" in live.status.value or "Finished" in live.status.value
+
+
+def test_svg_and_table_drawings():
+    from sarsp_edu import SafeGridWorld
+    from sarsp_edu.sarsp import Decision
+
+    env = SafeGridWorld(seed=0)
+    env.shift(2, rng=0)
+    svg = plotting.gridworld_svg(env.layout(), trajectory=[(0, 0), (1, 0)], unsafe_pairs=[((1, 0), 1)], title="t")
+    assert svg.count('stroke-dasharray="3,2"') == 2  # the two cells states moved away from
+    assert svg.count(f'fill="{plotting.COLOURS["unsafe"]}"') == 15
+    decision = Decision((0, 0), np.array([2.0, 0.5, 3, 1]), np.array([0.1, 0.1, 2, 0.5]), np.zeros(4),
+                        np.zeros(4), np.array([False, False, False, True]), np.array([True, False, False, False]),
+                        0, False)
+    table = plotting.decision_table_html(decision, 1.0, 0.8)
+    assert table.count("<tr") == 5 and "in S_u" in table and "safe action with the highest reward" in table
