@@ -26,6 +26,7 @@ import pandas as pd
 
 from ._version import __version__
 from ._io import atomic_write_text
+from ._threads import one_blas_thread
 from ._validation import (
     check_choice,
     check_fraction,
@@ -538,11 +539,12 @@ def _progress(total: int, desc: str, enabled: bool):
 
 
 def _run(config: ExperimentConfig, prepared: _Prepared | None, progress: bool) -> ExperimentResult:
-    experiment = Experiment(config, prepared=prepared)
-    with _progress(config.episodes, f"{config.model.upper()} episodes", progress) as bar:
-        while not experiment.finished:
-            experiment.run_episode()
-            bar.update(1)
+    with one_blas_thread():
+        experiment = Experiment(config, prepared=prepared)
+        with _progress(config.episodes, f"{config.model.upper()} episodes", progress) as bar:
+            while not experiment.finished:
+                experiment.run_episode()
+                bar.update(1)
     return experiment.result()
 
 

@@ -19,6 +19,7 @@ import ipywidgets as widgets
 from matplotlib.figure import Figure
 
 from . import demos, plotting, tails
+from ._threads import one_blas_thread
 
 __all__ = [
     "Dashboard",
@@ -76,7 +77,8 @@ class Dashboard(widgets.VBox):
         try:
             for ax in self.axes:
                 ax.clear()
-            info = self._draw(self.axes, **self.values())
+            with one_blas_thread():
+                info = self._draw(self.axes, **self.values())
             buffer = io.BytesIO()
             self.figure.savefig(buffer, format="png", dpi=self._dpi)
             self.image.value = buffer.getvalue()
@@ -331,8 +333,9 @@ class AgentDashboard(widgets.VBox):
         from .experiment import Experiment, _prepare
 
         config = self.config()
-        prepared = _prepare(config)
-        self.experiments = {m: Experiment(config.replace(model=m), prepared=prepared) for m in ("tp", "gp")}
+        with one_blas_thread():
+            prepared = _prepare(config)
+            self.experiments = {m: Experiment(config.replace(model=m), prepared=prepared) for m in ("tp", "gp")}
         self._last = {"tp": None, "gp": None}
         self._drawn_episodes = -1
         self.frames = 0
@@ -358,19 +361,17 @@ class AgentDashboard(widgets.VBox):
 
     def run_steps(self, n: int, draw: bool = True) -> None:
         """``n`` paired steps, synchronously."""
-        for _ in range(n):
-            if self.finished:
-                break
-            self.step_pair(draw=draw)
+        with one_blas_thread():
+            for _ in range(n):
+                if self.finished:
+                    break
+                self.step_pair(draw=draw)
 
     def fast_forward(self, episodes: int = 10) -> None:
         """Run whole episodes of both agents without drawing each step, synchronously."""
         if self.experiments is None:
             self.prepare()
-        for experiment in self.experiments.values():
-            target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
-            while len(experiment.episodes) < target:
-                experiment.run_episode()
+        self._forward_quietly(episodes)
         self._draw_world()
         self._draw_metrics_if_new_episode()
 
@@ -421,13 +422,12 @@ class AgentDashboard(widgets.VBox):
             else:
                 self._frame_times = []
                 self.status.value = "Running ..."
-                while self._running and not self.finished:
-                    start = time.perf_counter()
-                    self.step_pair(draw=True)
-                    if self.frames % 10 == 0:
-                        self.status.value = (f"Running: {self.frames} steps shown, "
-                                             f"{self.displayed_steps_per_second:.1f} steps per second.")
-                    await asyncio.sleep(max(0.0, 1.0 / self.speed.value - (time.perf_counter() - start)))
+                limit = one_blas_thread()  # entered once for the whole animation, not per frame
+                limit.__enter__()
+                try:
+                    await self._animate()
+                finally:
+                    limit.__exit__(None, None, None)
             self._draw_metrics_if_new_episode()
             if self.finished:
                 self.status.value = "Finished every episode. <b>New run</b> starts again from the sliders."
@@ -438,11 +438,23 @@ class AgentDashboard(widgets.VBox):
         finally:
             self._running = False
 
+    async def _animate(self):
+        import asyncio
+
+        while self._running and not self.finished:
+            start = time.perf_counter()
+            self.step_pair(draw=True)
+            if self.frames % 10 == 0:
+                self.status.value = (f"Running: {self.frames} steps shown, "
+                                     f"{self.displayed_steps_per_second:.1f} steps per second.")
+            await asyncio.sleep(max(0.0, 1.0 / self.speed.value - (time.perf_counter() - start)))
+
     def _forward_quietly(self, episodes):
-        for experiment in self.experiments.values():
-            target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
-            while len(experiment.episodes) < target:
-                experiment.run_episode()
+        with one_blas_thread():
+            for experiment in self.experiments.values():
+                target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
+                while len(experiment.episodes) < target:
+                    experiment.run_episode()
 
     # -- drawing ------------------------------------------------------------
     def _draw_world(self) -> None:
