@@ -340,7 +340,8 @@ class Experiment:
             rng=prepared.agent_seed,
         )
         start = time.perf_counter()
-        self.agent.fit()
+        with one_blas_thread():
+            self.agent.fit()
         self.timings = {
             "data_seconds": prepared.seconds,
             "offline_fit_seconds": time.perf_counter() - start,
@@ -445,9 +446,10 @@ class Experiment:
 
     def run_episode(self) -> dict:
         """Run steps until the current episode ends; returns its log."""
-        while True:
-            if self.step().done:
-                return self.episodes[-1]
+        with one_blas_thread():
+            while True:
+                if self.step().done:
+                    return self.episodes[-1]
 
     def records(self) -> pd.DataFrame:
         """Per-episode records so far (the columns of ``RECORD_COLUMNS``)."""

@@ -177,14 +177,15 @@ def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
     )
 
 
-def _inverse_lower_from_cholesky(L: np.ndarray) -> np.ndarray:
+def _inverse_lower_from_cholesky(L: np.ndarray, overwrite: bool = False) -> np.ndarray:
     """The lower triangle of ``K^-1`` (zeros above) from the lower Cholesky factor of ``K``.
 
     LAPACK potri: about three times cheaper than solving against the
     identity.  ``L`` comes from :func:`_potrf` with zeros above the diagonal,
-    and potri keeps them, so no triangle needs clearing or mirroring.
+    and potri keeps them, so no triangle needs clearing or mirroring.  With
+    ``overwrite`` the inverse replaces ``L`` in its memory.
     """
-    K_inv, info = _lapack.dpotri(L, lower=1)
+    K_inv, info = _lapack.dpotri(L, lower=1, overwrite_c=1 if overwrite else 0)
     if info != 0:
         raise np.linalg.LinAlgError(f"LAPACK dpotri failed with info={info}")
     return K_inv
@@ -355,15 +356,31 @@ class _ProcessRegressor:
         grad[:3] = -1.0 - t
         return float(np.sum(-t - 0.5 * t * t - 0.5 * _LOG_2PI)), grad
 
-    def _lml_from_distances(self, theta, D2, y, eval_gradient):
+    def _lml_from_distances(self, theta, D2, y, eval_gradient, work=None):
+        """Log marginal likelihood (and gradient) at ``theta``.
+
+        ``work`` is an optional (3, n, n) workspace reused across a fit's
+        steps: the kernel is written into it and factorised in place.
+        """
         kernel, s2, extra = self._unpack(theta)
         n = y.shape[0]
         if eval_gradient:
-            K, dK = kernel.from_squared_distances(D2, eval_gradient=True)
+            K, dK = kernel.from_squared_distances(D2, eval_gradient=True, out=work)
         else:
-            K = kernel.from_squared_distances(D2)
+            K = kernel.from_squared_distances(D2, out=work)
         K.flat[:: n + 1] += s2
-        L, _ = cholesky_with_jitter(K)
+        L = None
+        if work is not None:
+            # K is symmetric: its transpose is the same matrix in Fortran order,
+            # which LAPACK factorises in place.
+            factor, info = _lapack.dpotrf(K.T, lower=1, clean=1, overwrite_a=1)
+            if info == 0:
+                L = factor
+            else:  # rare: rebuild K (the failed attempt overwrote it) and add jitter
+                K = kernel.from_squared_distances(D2)
+                K.flat[:: n + 1] += s2
+        if L is None:
+            L, _ = cholesky_with_jitter(K)
         # Rasmussen & Williams Alg. 2.1, line 3: alpha = K^-1 y
         alpha = cho_solve(L, y)
         beta = float(y @ alpha)
@@ -372,7 +389,7 @@ class _ProcessRegressor:
         if not eval_gradient:
             return value
         # R&W eq. 5.9, generalised: dL/dt = 0.5 (w alpha^T dK/dt alpha - tr(K^-1 dK/dt))
-        K_inv_lower = _inverse_lower_from_cholesky(L)
+        K_inv_lower = _inverse_lower_from_cholesky(L, overwrite=work is not None)
         grad = np.empty(3 + len(extra))
         for j in range(dK.shape[2]):
             dK_j = dK[:, :, j]
@@ -382,8 +399,8 @@ class _ProcessRegressor:
         grad[3:] = extra_grad
         return value, grad
 
-    def _log_joint(self, theta, D2, y):
-        value, grad = self._lml_from_distances(theta, D2, y, eval_gradient=True)
+    def _log_joint(self, theta, D2, y, work=None):
+        value, grad = self._lml_from_distances(theta, D2, y, eval_gradient=True, work=work)
         prior, prior_grad = self._log_prior(theta)
         return value + prior, grad + prior_grad
 
@@ -423,9 +440,10 @@ class _ProcessRegressor:
             self.fit_indices_ = idx
             D2 = squared_distances(X[idx])
             y_fit = y[idx]
+            work = np.empty((3,) + D2.shape)  # one workspace for every step of this fit
 
             def negative(theta):
-                value, grad = self._log_joint(theta, D2, y_fit)
+                value, grad = self._log_joint(theta, D2, y_fit, work)
                 return -value, -grad
 
             if self.optimizer == "adam":
