@@ -1,0 +1,193 @@
+"""The tutorials in a real browser: Voila and JupyterLab driven by Playwright and Debian's Chromium.
+
+Skipped where Chromium or Playwright is missing; ``.ci/run`` installs both.
+Screenshots land in ``$SARSP_SCREENSHOTS`` (default: the test's tmp folder).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = "/usr/bin/chromium"
+ROOT = Path(__file__).resolve().parents[1]
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+if not Path(CHROMIUM).exists():
+    if os.environ.get("CI"):  # CI installs it: a missing browser there is a failure, not a skip
+        raise RuntimeError(f"{CHROMIUM} is missing on CI: .ci/run should have installed Debian's chromium")
+    pytest.skip("Debian's chromium is not installed (apt-get install chromium)", allow_module_level=True)
+playwright_api = pytest.importorskip("playwright.sync_api")
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_for_http(url: str, timeout: float = 60.0) -> None:
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        try:
+            urllib.request.urlopen(url, timeout=2)
+            return
+        except Exception:
+            time.sleep(0.3)
+    raise TimeoutError(f"{url} did not answer within {timeout} s")
+
+
+@pytest.fixture(scope="module")
+def shots(tmp_path_factory):
+    folder = Path(os.environ.get("SARSP_SCREENSHOTS", tmp_path_factory.mktemp("screenshots")))
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with playwright_api.sync_playwright() as p:
+        instance = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield instance
+        instance.close()
+
+
+def serve(command, cwd, url):
+    env = dict(os.environ, MPLBACKEND="Agg")
+    process = subprocess.Popen(command, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        wait_for_http(url)
+    except TimeoutError:
+        process.kill()
+        raise
+    return process
+
+
+def voila(notebook: Path, port: int):
+    binary = shutil.which("voila") or str(Path(sys.prefix, "bin", "voila"))
+    return serve([binary, notebook.name, "--no-browser", f"--port={port}", "--Voila.ip=127.0.0.1"],
+                 notebook.parent, f"http://127.0.0.1:{port}/")
+
+
+def image_settled(page, selector: str, timeout: float = 30.0) -> str:
+    """The image's src once it has stopped changing for 0.6 s (several redraws may be queued)."""
+    deadline = time.time() + timeout
+    last, since = page.get_attribute(selector, "src"), time.time()
+    while time.time() < deadline:
+        time.sleep(0.15)
+        now = page.get_attribute(selector, "src")
+        if now != last:
+            last, since = now, time.time()
+        elif time.time() - since > 0.6:
+            return now
+    return last
+
+
+def slider_handle(page, label: str):
+    slider = page.locator(".widget-slider", has=page.locator(".widget-label", has_text=label)).first
+    return slider.locator(".noUi-handle").first
+
+
+def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
+    notebook = tmp_path / "01_tail_decay.ipynb"
+    shutil.copy(ROOT / "tutorials" / "01_tail_decay.ipynb", notebook)
+    port = free_port()
+    server = voila(notebook, port)
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
+        page.wait_for_selector("img.widget-image", timeout=180_000)
+        info = page.locator(".widget-htmlmath").last
+        before_src = image_settled(page, "img.widget-image")
+        before_info = info.inner_text()
+        handle = slider_handle(page, "ν")
+        handle.focus()
+        for _ in range(4):  # nu 3 -> 5
+            page.keyboard.press("ArrowRight")
+        after_src = image_settled(page, "img.widget-image")
+        page.wait_for_function("(t) => !document.body.innerText.includes(t)", arg=before_info[:60], timeout=30_000)
+        assert after_src != before_src
+        assert re.search(r"index\s*−?-?1\s*−?-?\s*ν\s*=\s*[−-]6", info.inner_text()) or "-6" in info.inner_text()
+        page.locator("img.widget-image").first.scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / "voila_tail_decay.png"), full_page=False)
+    finally:
+        server.kill()
+
+
+LIVE = """
+from sarsp_edu import ExperimentConfig
+from sarsp_edu.widgets import agent_dashboard
+
+agent_dashboard(episodes=4, n_switch_states=2, steps_per_second=25,
+                config=ExperimentConfig(grid_size=7, n_unsafe=6, offline_episodes=20, fit_points=150,
+                                        optimizer_steps=20))
+"""
+
+
+def test_live_agent_dashboard_in_voila(tmp_path, browser, shots):
+    import nbformat
+
+    notebook = tmp_path / "live.ipynb"
+    nb = nbformat.v4.new_notebook()
+    nb.cells.append(nbformat.v4.new_code_cell(LIVE))
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, notebook)
+    port = free_port()
+    server = voila(notebook, port)
+    try:
+        page = browser.new_page(viewport={"width": 1400, "height": 1100})
+        page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
+        page.get_by_role("button", name="Run", exact=True).click(timeout=120_000)
+        page.wait_for_function("() => document.body.innerText.includes('steps per second')", timeout=120_000)
+        time.sleep(3.0)
+        status = page.locator("text=steps per second").first.inner_text()
+        rate = float(re.search(r"([\d.]+) steps per second", status).group(1))
+        svg_before = page.locator("svg").first.inner_html()
+        time.sleep(0.5)
+        assert page.locator("svg").first.inner_html() != svg_before  # the world moves
+        page.screenshot(path=str(shots / "voila_live_agent.png"), full_page=True)
+        page.get_by_role("button", name="Stop", exact=True).click()
+        page.wait_for_function("() => /Paused|Stopped|Finished/.test(document.body.innerText)", timeout=30_000)
+        (shots / "live_rate.json").write_text(json.dumps({"displayed_steps_per_second": rate}))
+        assert rate >= 15.0, f"only {rate} steps per second displayed"
+    finally:
+        server.kill()
+
+
+def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
+    work = tmp_path / "lab"
+    work.mkdir()
+    shutil.copy(ROOT / "tutorials" / "02_gp_vs_tp_outliers.ipynb", work / "02.ipynb")
+    port = free_port()
+    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
+               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
+               f"--ServerApp.root_dir={work}"]
+    server = serve(command, work, f"http://127.0.0.1:{port}/lab")
+    try:
+        page = browser.new_page(viewport={"width": 1500, "height": 1100})
+        page.goto(f"http://127.0.0.1:{port}/lab/tree/02.ipynb", timeout=120_000)
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+        page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
+        page.locator("li[data-command='runmenu:run-all']").click()
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="busy"]', timeout=30_000)
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
+        assert page.locator('.jp-RenderedText[data-mime-type="application/vnd.jupyter.stderr"]').count() == 0
+        assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
+        dashboard = page.locator("img.widget-image").first
+        dashboard.wait_for(timeout=60_000)
+        dashboard.scroll_into_view_if_needed()
+        time.sleep(1.0)
+        page.screenshot(path=str(shots / "jupyterlab_posterior_dashboard.png"))
+    finally:
+        server.kill()
