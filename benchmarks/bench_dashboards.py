@@ -62,7 +62,7 @@ def main(argv=None):
     elapsed = time.perf_counter() - start
     print(f"live agent dashboard, paper's settings: preparation (data, outliers, 4 fits) {prepare:.1f} s; "
           f"300 paired steps drawn in {elapsed:.2f} s = {300 / elapsed:.1f} steps per second "
-          f"(the animation runs at its speed slider, default 25)")
+          f"(the animation runs at its speed slider, default 30)")
 
 
 if __name__ == "__main__":

@@ -254,7 +254,7 @@ class AgentDashboard(widgets.VBox):
     Parameters
     ----------
     nu, magnitude, proportion, n_switch_states, seed, episodes : initial slider values
-    steps_per_second : float, default 25
+    steps_per_second : float, default 30
         Animation speed (a slider); the displayed rate is
         ``displayed_steps_per_second``.
     config : ExperimentConfig, optional
@@ -262,7 +262,7 @@ class AgentDashboard(widgets.VBox):
     """
 
     def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
-                 steps_per_second=25.0, config=None):
+                 steps_per_second=30.0, config=None):
         from .experiment import ExperimentConfig
 
         self.base_config = ExperimentConfig() if config is None else config
