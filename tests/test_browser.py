@@ -143,7 +143,7 @@ LIVE = """
 from sarsp_edu import ExperimentConfig
 from sarsp_edu.widgets import agent_dashboard
 
-agent_dashboard(episodes=4, n_switch_states=2,
+agent_dashboard(episodes=30, n_switch_states=2,
                 config=ExperimentConfig(grid_size=7, n_unsafe=6, offline_episodes=20, fit_points=150,
                                         optimizer_steps=20))
 """
@@ -168,9 +168,10 @@ def test_live_agent_dashboard_in_voila(tmp_path, browser, shots):
         time.sleep(3.0)
         status = re.search(r"(\d+) steps shown, ([\d.]+) steps per second", page.inner_text("body"))
         rate = float(status.group(2))
-        svg_before = page.locator("svg").first.inner_html()
+        worlds = page.locator("svg")
+        before = [worlds.nth(i).inner_html() for i in range(worlds.count())]
         time.sleep(0.5)
-        assert page.locator("svg").first.inner_html() != svg_before  # the world moves
+        assert [worlds.nth(i).inner_html() for i in range(worlds.count())] != before  # the agents move
         page.screenshot(path=str(shots / "voila_live_agent.png"), full_page=True)
         button(page, "Stop").click()
         page.wait_for_function("() => /Paused|Stopped|Finished/.test(document.body.innerText)", timeout=30_000)
