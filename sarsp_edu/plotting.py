@@ -35,6 +35,17 @@ COLOURS = {
 }
 
 
+def log_scale(ax, axis: str = "y") -> None:
+    """A log axis with plain tick labels ("1e-04"): matplotlib's default labels are
+    mathtext, whose parsing was a sixth of a dashboard redraw."""
+    from matplotlib import ticker
+
+    target = ax.yaxis if axis == "y" else ax.xaxis
+    (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
+    target.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:.0e}".replace("e-0", "e-").replace("e+0", "e")))
+    target.set_minor_formatter(ticker.NullFormatter())
+
+
 def _layout_of(world):
     return world.layout() if hasattr(world, "layout") else world
 
@@ -215,7 +226,7 @@ def plot_densities(ax, data, *, log: bool = False):
     ax.plot(data["x"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian N(0, 1)")
     ax.plot(data["x"], data["student_t"], color=COLOURS["tp"], lw=2, label=f"Student-t, nu = {data['nu']:g}")
     if log:
-        ax.set_yscale("log")
+        log_scale(ax)
         ax.set_ylim(1e-16, 1.0)
         ax.set_title("log scale: the tails")
     else:
@@ -239,7 +250,7 @@ def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = 
         label = f"Student-t, nu = {nu:g}"
         if show_limits:
             ax.axhline(limit, color=colour, ls="--", lw=1)
-            label += f" (limit $\\lambda^{{-1-\\nu}}$ = {limit:.3g})"
+            label += f" (limit λ^(-1-ν) = {limit:.3g})"
         ax.plot(data["x_t"], data["student_t"][nu], color=colour, lw=2, label=label)
     ax.set_xlabel("x")
     ax.set_ylabel(f"f({data['lam']:g} x) / f(x)")
@@ -308,7 +319,7 @@ def plot_variances(ax, data, *, title: str | None = None):
     ax.plot(x, data["tp"]["var"], color=COLOURS["tp"], lw=2, label="TP, eq. 6 (corrected)")
     for xi in data["X"][data["outliers"] & (data["X"] <= x[-1])]:
         ax.axvline(xi, color=COLOURS["unsafe"], lw=0.8, alpha=0.5)
-    ax.set_yscale("log")
+    log_scale(ax)
     ax.set_xlabel("x")
     ax.set_ylabel("posterior variance of f")
     ax.grid(alpha=0.3, which="both")
@@ -326,8 +337,8 @@ def plot_outlier_scatter(ax, world, *, title: str | None = None):
     ax.scatter(size[~rows], y[~rows] + 1.0, s=6, alpha=0.4, color=COLOURS["tp"], label="clean rows")
     ax.scatter(size[rows], y[rows] + 1.0, s=6, alpha=0.4, color=COLOURS["unsafe"],
                label=f"outliers (x {world['magnitude']:g})")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    log_scale(ax, "x")
+    log_scale(ax, "y")
     ax.set_xlabel("1 + |(x, y, unsafe x, unsafe y)| of the input")
     ax.set_ylabel("1 + target (distance to danger)")
     ax.grid(alpha=0.3, which="both")

@@ -49,9 +49,14 @@ class Dashboard(widgets.VBox):
         Compute and redraw time of the last update.
     """
 
-    def __init__(self, controls: dict, draw, *, figsize, ncols: int, dpi: int = 90, layout_rows=None):
+    def __init__(self, controls: dict, draw, *, figsize, ncols: int, dpi: int = 72, layout_rows=None,
+                 margins=None):
         self.controls = controls
-        self.figure = Figure(figsize=figsize, layout="constrained")
+        # Fixed margins rather than constrained layout: the layout engine draws the
+        # figure twice and was half of every slider move's time.
+        self.figure = Figure(figsize=figsize)
+        self.figure.subplots_adjust(**{"left": 0.06, "right": 0.98, "bottom": 0.14, "top": 0.9, "wspace": 0.3,
+                                       **(margins or {})})
         self.axes = self.figure.subplots(1, ncols) if ncols > 1 else [self.figure.subplots()]
         self.image = widgets.Image(format="png", layout=widgets.Layout(width="100%", max_width=f"{figsize[0] * dpi}px"))
         self.info = widgets.HTMLMath()
@@ -136,7 +141,7 @@ def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
         plotting.plot_tail_ratios(axes[2], ratios, title="Karamata ratio f(λx)/f(x)")
         axes[2].plot(ratios["x_gauss"], ratios["gaussian"], color=plotting.COLOURS["gp"], lw=2, ls=":",
                      label="Gaussian")
-        axes[2].set_yscale("log")
+        plotting.log_scale(axes[2])
         axes[2].set_ylim(max(ratios["limits"][nu] / 100, 1e-30), 1.5)
         axes[2].legend(fontsize=8, frameon=False)
         expr = _student_t_limit_expr()
@@ -148,7 +153,7 @@ def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
             " no power of $\\lambda$, so not regularly varying; its tail is lighter than any Student-t's."
         )
 
-    return Dashboard(controls, draw, figsize=(13, 3.8), ncols=3)
+    return Dashboard(controls, draw, figsize=(13, 3.8), ncols=3, margins={"left": 0.06, "wspace": 0.32})
 
 
 # --------------------------------------------------------------------------
@@ -194,7 +199,7 @@ def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: fl
                   f"{data['tp_scale']:.4g}$, with $\\beta = y^T (K + \\sigma^2 I)^{{-1}} y$")
         return "<br>".join([factor, *rows])
 
-    return Dashboard(controls, draw, figsize=(15, 4.2), ncols=3, layout_rows=rows)
+    return Dashboard(controls, draw, figsize=(15, 4.2), ncols=3, layout_rows=rows, margins={"left": 0.05, "wspace": 0.25})
 
 
 # --------------------------------------------------------------------------
@@ -219,13 +224,14 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
         plotting.plot_gridworld(axes[0], world["before"], visits=world["visits"], legend=False,
                                 title="offline world and its coverage")
         plotting.plot_gridworld(axes[1], world["after"], title=f"after the shift, nss = {n_switch_states}")
-        plotting.plot_outlier_scatter(axes[2], world)
+        plotting.plot_outlier_scatter(axes[2], world, title="cost-model data, outliers in red")
         return (f"{world['transitions']} random-policy transitions kept as {world['cost_rows']} cost-model "
                 f"rows (at most 12 copies of an input) and {world['reward_rows']} reward-model rows (1 copy); "
                 f"{len(world['outlier_rows'])} rows (p = {proportion:g}) had inputs and targets multiplied "
                 f"by m = {magnitude:g}. States moved by the shift: {len(world['moved'])}.")
 
-    return Dashboard(controls, draw, figsize=(15, 4.4), ncols=3)
+    return Dashboard(controls, draw, figsize=(15, 4.4), ncols=3,
+                     margins={"left": 0.04, "right": 0.98, "bottom": 0.13, "wspace": 0.85})
 
 
 # --------------------------------------------------------------------------
