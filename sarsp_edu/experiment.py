@@ -705,7 +705,8 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     """
     config = ExperimentConfig() if config is None else config
     _check_a(a)  # before any work starts
-    prepared = _prepare(config)
-    tp = _run(config.replace(model="tp"), prepared, progress)
-    gp = _run(config.replace(model="gp"), prepared, progress)
+    with one_blas_thread():
+        prepared = _prepare(config)
+        tp = _run(config.replace(model="tp"), prepared, progress)
+        gp = _run(config.replace(model="gp"), prepared, progress)
     return Comparison(tp, gp, a)

@@ -296,13 +296,13 @@ def inject_outliers(
     N = min(len(data.cost), len(data.reward))
     k = int(round(p * N))
     rows = np.sort(rng.choice(N, size=k, replace=False))
-    out = data.copy()
-    if cost:
-        out.cost = data.cost.scaled(rows, m)
-    if reward:
-        out.reward = data.reward.scaled(rows, m)
-    out.outlier_indices = rows
-    out.outlier_magnitude = m
-    out.outlier_proportion = p
-    out.outliers_in = tuple(name for name, flag in (("cost", cost), ("reward", reward)) if flag)
-    return out
+    return replace(
+        data,
+        cost=data.cost.scaled(rows, m) if cost else data.cost.copy(),
+        reward=data.reward.scaled(rows, m) if reward else data.reward.copy(),
+        visits=data.visits.copy(),
+        outlier_indices=rows,
+        outlier_magnitude=m,
+        outlier_proportion=p,
+        outliers_in=tuple(name for name, flag in (("cost", cost), ("reward", reward)) if flag),
+    )

@@ -46,6 +46,15 @@ def log_scale(ax, axis: str = "y") -> None:
     target.set_minor_formatter(ticker.NullFormatter())
 
 
+def _finish(ax, xlabel: str, ylabel: str, title: str, legend_loc="best") -> None:
+    """The labels, light grid and frameless legend every line plot here ends with."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, frameon=False, loc=legend_loc)
+    ax.set_title(title)
+
+
 def _layout_of(world):
     return world.layout() if hasattr(world, "layout") else world
 
@@ -252,22 +261,14 @@ def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = 
             ax.axhline(limit, color=colour, ls="--", lw=1)
             label += f" (limit λ^(-1-ν) = {limit:.3g})"
         ax.plot(data["x_t"], data["student_t"][nu], color=colour, lw=2, label=label)
-    ax.set_xlabel("x")
-    ax.set_ylabel(f"f({data['lam']:g} x) / f(x)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, frameon=False)
-    ax.set_title(title or f"Student-t ratio, lambda = {data['lam']:g}")
+    _finish(ax, "x", f"f({data['lam']:g} x) / f(x)", title or f"Student-t ratio, lambda = {data['lam']:g}")
     return ax
 
 
 def plot_gaussian_ratio(ax, data, *, title: str | None = None):
     """Paper Figure 1(b): the Gaussian ratio f(lambda x)/f(x) = exp((1 - lambda^2) x^2 / 2) on [0, 1]."""
     ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian")
-    ax.set_xlabel("x")
-    ax.set_ylabel(f"f({data['lam']:g} x) / f(x)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, frameon=False)
-    ax.set_title(title or f"Gaussian ratio, lambda = {data['lam']:g}")
+    _finish(ax, "x", f"f({data['lam']:g} x) / f(x)", title or f"Gaussian ratio, lambda = {data['lam']:g}")
     return ax
 
 

@@ -869,8 +869,6 @@ class StudentTProcess(_ProcessRegressor):
         return float(value), w, extra_grad
 
     def _condition_on(self, X, y):
-        if not hasattr(self, "nu_"):
-            self.nu_ = self.nu
         super()._condition_on(X, y)
         n = y.shape[0]
         # paper eq. 6 with Shah et al.'s beta (training covariance)

@@ -94,9 +94,8 @@ class Decision:
     @property
     def scores(self) -> dict:
         """The values the decision rule saw, after the ``S_u`` override."""
-        mu_cost = np.where(self.known_unsafe, -np.inf, self.mu_cost)
-        var_cost = np.where(self.known_unsafe, np.inf, self.var_cost)
-        mu_reward = np.where(self.known_unsafe, -np.inf, self.mu_reward)
+        mu_cost, var_cost, mu_reward = override_known_unsafe(
+            self.mu_cost, self.var_cost, self.mu_reward, self.known_unsafe)
         return {"mu_cost": mu_cost, "var_cost": var_cost, "mu_reward": mu_reward}
 
 
@@ -109,6 +108,12 @@ class LearnOutcome:
     corrected: bool = False
     buffer_update: str | None = None  # "overwritten" or "added"
     retrain_seconds: float = 0.0
+
+
+def override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe):
+    """Algorithm 1's ``S_u`` override: known-unsafe actions get cost -inf, variance +inf, reward -inf."""
+    return (np.where(known_unsafe, -np.inf, mu_cost), np.where(known_unsafe, np.inf, var_cost),
+            np.where(known_unsafe, -np.inf, mu_reward))
 
 
 def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
@@ -133,9 +138,7 @@ def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance
     candidate only on a strictly higher reward.  If every action is known
     unsafe, every reward is -inf and the backup takes action 0.
     """
-    mu_cost = np.where(known_unsafe, -np.inf, mu_cost)
-    var_cost = np.where(known_unsafe, np.inf, var_cost)
-    mu_reward = np.where(known_unsafe, -np.inf, mu_reward)
+    mu_cost, var_cost, mu_reward = override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe)
     safe = (var_cost <= variance_threshold) & (mu_cost >= d)
     if safe.any():
         return int(np.argmax(np.where(safe, mu_reward, -np.inf))), safe, False

@@ -26,7 +26,6 @@ import pandas as pd
 from scipy import stats
 
 from ._io import atomic_write_text
-from ._threads import one_blas_thread
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
 from .experiment import (
@@ -35,8 +34,7 @@ from .experiment import (
     Comparison,
     ExperimentConfig,
     _check_a,
-    _prepare,
-    _run,
+    compare,
     percent_difference,
     prefers,
 )
@@ -166,11 +164,7 @@ class SweepResults:
 def _run_cell(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tuple:
     """Run one paired cell; store it atomically if a folder is given."""
     m, p, nss, seed = key
-    config = cell_config(base, m, p, nss, seed)
-    with one_blas_thread():
-        prepared = _prepare(config)
-        comparison = Comparison(_run(config.replace(model="tp"), prepared, False),
-                                _run(config.replace(model="gp"), prepared, False))
+    comparison = compare(cell_config(base, m, p, nss, seed))
     if results_dir is not None:
         _store_cell(Path(results_dir), key, comparison)
     return key, comparison

@@ -428,12 +428,8 @@ class AgentDashboard(widgets.VBox):
             else:
                 self._frame_times = []
                 self.status.value = "Running ..."
-                limit = one_blas_thread()  # entered once for the whole animation, not per frame
-                limit.__enter__()
-                try:
+                with one_blas_thread():  # entered once for the whole animation, not per frame
                     await self._animate()
-                finally:
-                    limit.__exit__(None, None, None)
             self._draw_metrics_if_new_episode()
             if self.finished:
                 self.status.value = "Finished every episode. <b>New run</b> starts again from the sliders."
