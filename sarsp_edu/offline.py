@@ -154,9 +154,13 @@ class ObservationBuffer:
         return other
 
     def _reindex(self):
-        self._rows = {}
-        for i in range(self._n):
-            self._rows.setdefault((self._X[i] + 0.0).tobytes(), []).append(i)
+        """Rebuild the input -> rows index from the stored inputs, as ``add`` would have built it."""
+        X = np.ascontiguousarray(self._X[: self._n] + 0.0)  # + 0.0 folds -0.0, as _key does
+        keys = X.view(np.dtype((np.void, X.dtype.itemsize * self.n_features))).ravel()
+        unique, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        rows = np.split(np.argsort(inverse, kind="stable"), np.cumsum(np.bincount(inverse))[:-1])
+        # keys in order of first appearance, rows ascending: the same dict a loop over the rows gives
+        self._rows = {unique[u].tobytes(): rows[u].tolist() for u in np.argsort(first)}
 
     def __repr__(self) -> str:
         return f"ObservationBuffer(n={self._n}, n_features={self.n_features}, max_duplicates={self.max_duplicates})"

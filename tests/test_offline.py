@@ -174,3 +174,26 @@ def test_buffer_bad_arguments():
         ObservationBuffer(0)
     with pytest.raises(ValueError, match="x must have 2 features, got 3"):
         ObservationBuffer(2).add([1, 2, 3], 0.0)
+
+
+def test_a_scaled_buffer_indexes_its_rows_by_their_new_inputs():
+    buffer = ObservationBuffer(2, max_duplicates=None)
+    for x in [(0.0, 1.0), (-0.0, 1.0), (2.0, 3.0), (0.0, 1.0), (2.0, 3.0), (5.0, 5.0)]:
+        buffer.add(x, 1.0)
+    scaled = buffer.scaled([1, 4], 10.0)  # one copy of (0, 1) and one of (2, 3) become new inputs
+    np.testing.assert_array_equal(scaled.rows_of((0.0, 1.0)), [0, 3])
+    np.testing.assert_array_equal(scaled.rows_of((-0.0, 10.0)), [1])  # -0.0 and 0.0 are one input
+    np.testing.assert_array_equal(scaled.rows_of((2.0, 3.0)), [2])
+    np.testing.assert_array_equal(scaled.rows_of((20.0, 30.0)), [4])
+    np.testing.assert_array_equal(scaled.rows_of((5.0, 5.0)), [5])
+    assert scaled.count((1.0, 1.0)) == 0
+    assert scaled.overwrite((20.0, 30.0), -1.0) == 1 and scaled.y[4] == -1.0
+    np.testing.assert_array_equal(buffer.rows_of((0.0, 1.0)), [0, 1, 3])  # the original is untouched
+
+
+def test_the_index_of_injected_data_agrees_with_its_rows(clean):
+    dirty = inject_outliers(clean, 40.0, 0.2, rng=0)
+    X = dirty.cost.X + 0.0
+    for i in range(0, len(X), 37):
+        expected = np.flatnonzero((X == X[i]).all(axis=1))
+        np.testing.assert_array_equal(dirty.cost.rows_of(X[i]), expected)
