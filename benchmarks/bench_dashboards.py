@@ -1,5 +1,5 @@
-"""Each dashboard's update time for a slider move (compute + redraw, median of
-repeats; target < 200 ms), and the live agent dashboard's frame rate
+"""Each dashboard's update time for a slider move (compute + redraw of the
+panels that depend on the slider, median of repeats; target < 200 ms), and the live agent dashboard's frame rate
 (paired step + SVG drawing; target >= 20 steps per second displayed).
 
 Run by hand:  python benchmarks/bench_dashboards.py [--repeats 9]
@@ -50,7 +50,8 @@ def main(argv=None):
                 times.append(dashboard.last_update_seconds)
             note = "  (the first visit of a seed collects 100 offline episodes; later visits are cached)" \
                 if name == "seed" else ""
-            print(f"  {factory.__name__:22s} {name:16s} {statistics.median(times) * 1e3:7.1f} ms{note}")
+            redrawn = f"{len(dashboard.last_redrawn)} of {len(dashboard.panels)} panels"
+            print(f"  {factory.__name__:22s} {name:16s} {redrawn:14s} {statistics.median(times) * 1e3:7.1f} ms{note}")
 
     live = agent_dashboard()
     start = time.perf_counter()

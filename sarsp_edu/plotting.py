@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from matplotlib import patches
+from matplotlib import patches, ticker
+from matplotlib.collections import LineCollection, PatchCollection
 
 __all__ = [
     "plot_gridworld",
@@ -35,15 +36,37 @@ COLOURS = {
 }
 
 
-def log_scale(ax, axis: str = "y") -> None:
-    """A log axis with plain tick labels ("1e-04"): matplotlib's default labels are
-    mathtext, whose parsing was a sixth of a dashboard redraw."""
-    from matplotlib import ticker
+class _PlainLogFormatter(ticker.Formatter):
+    """Tick labels of a log axis as "1e-04".
 
+    matplotlib's default labels are mathtext, whose parsing was a sixth of a
+    dashboard redraw.  With ``minor=True`` the ticks at 2 and 5 times a power
+    of ten are labelled when the axis spans less than two decades, so a short
+    axis never shows a single number.
+    """
+
+    def __init__(self, minor: bool = False):
+        self.minor = minor
+
+    def __call__(self, value, pos=None):
+        if value <= 0:
+            return ""
+        if self.minor:
+            low, high = sorted(abs(v) for v in self.axis.get_view_interval())
+            mantissa = round(value / 10 ** np.floor(np.log10(value)), 6)
+            if low <= 0 or high / low >= 100 or mantissa not in (2.0, 5.0):
+                return ""
+        return f"{value:.0e}".replace("e-0", "e-").replace("e+0", "e")
+
+
+def log_scale(ax, axis: str = "y") -> None:
+    """A log axis with plain tick labels ("1e-04"), minor ticks at 2 and 5 times
+    each power of ten (labelled on a short axis)."""
     target = ax.yaxis if axis == "y" else ax.xaxis
     (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
-    target.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:.0e}".replace("e-0", "e-").replace("e+0", "e")))
-    target.set_minor_formatter(ticker.NullFormatter())
+    target.set_minor_locator(ticker.LogLocator(subs=(2.0, 5.0)))
+    target.set_major_formatter(_PlainLogFormatter())
+    target.set_minor_formatter(_PlainLogFormatter(minor=True))
 
 
 def _finish(ax, xlabel: str, ylabel: str, title: str, legend_loc="best") -> None:
@@ -108,9 +131,11 @@ def plot_gridworld(
     ax.tick_params(length=0, labelsize=8)
     ax.set_xlabel("x")
     ax.set_ylabel("y")
-    for k in range(n + 1):
-        ax.axhline(k - 0.5, color=COLOURS["grid"], lw=0.6, zorder=1)
-        ax.axvline(k - 0.5, color=COLOURS["grid"], lw=0.6, zorder=1)
+    # One artist per kind of thing (a collection), not one per cell: a
+    # dashboard redraws this at every slider move.
+    edges = np.arange(n + 1) - 0.5
+    ax.vlines(edges, -0.5, n - 0.5, color=COLOURS["grid"], lw=0.6, zorder=1)
+    ax.hlines(edges, -0.5, n - 0.5, color=COLOURS["grid"], lw=0.6, zorder=1)
     if visits is not None:
         visits = np.asarray(visits, dtype=float)
         ax.imshow(visits, cmap="Greys", alpha=0.55, zorder=0, origin="upper",
@@ -118,34 +143,39 @@ def plot_gridworld(
 
     moved = set(int(i) for i in layout.moved) if show_moved else set()
     handles = {}
-    for i, (x, y) in enumerate(layout.unsafe_states):
-        is_moved = i in moved
-        rect = patches.Rectangle(
-            (x - 0.45, y - 0.45), 0.9, 0.9,
-            facecolor=COLOURS["unsafe"], edgecolor="black" if is_moved else COLOURS["unsafe"],
-            lw=1.8 if is_moved else 0.5, zorder=3,
-        )
-        ax.add_patch(rect)
-        handles.setdefault("moved here in the shift" if is_moved else "unsafe state", rect)
+    styles = {
+        False: dict(facecolor=COLOURS["unsafe"], edgecolor=COLOURS["unsafe"], lw=0.5),
+        True: dict(facecolor=COLOURS["unsafe"], edgecolor="black", lw=1.8),
+    }
+    is_moved = [i in moved for i in range(len(layout.unsafe_states))]
+    if len(layout.unsafe_states):
+        squares = [patches.Rectangle((x - 0.45, y - 0.45), 0.9, 0.9) for x, y in layout.unsafe_states]
+        ax.add_collection(PatchCollection(
+            squares, zorder=3, facecolors=COLOURS["unsafe"],
+            edgecolors=[styles[m]["edgecolor"] for m in is_moved], linewidths=[styles[m]["lw"] for m in is_moved],
+        ), autolim=False)
+    for flag in sorted(set(is_moved)):
+        handles["moved here in the shift" if flag else "unsafe state"] = patches.Patch(**styles[flag])
     if show_moved and len(layout.moved):
+        ax.add_collection(PatchCollection(
+            [patches.Rectangle((ox - 0.42, oy - 0.42), 0.84, 0.84) for ox, oy in layout.moved_from],
+            zorder=3, facecolors="none", edgecolors=COLOURS["unsafe"], linewidths=1.4, linestyles="--",
+        ), autolim=False)
+        handles["unsafe before the shift"] = patches.Patch(facecolor="none", edgecolor=COLOURS["unsafe"], lw=1.4,
+                                                           ls="--")
         for i, (ox, oy) in zip(layout.moved, layout.moved_from):
-            old = patches.Rectangle(
-                (ox - 0.42, oy - 0.42), 0.84, 0.84, facecolor="none",
-                edgecolor=COLOURS["unsafe"], lw=1.4, ls="--", zorder=3,
-            )
-            ax.add_patch(old)
-            handles.setdefault("unsafe before the shift", old)
             nx, ny = layout.unsafe_states[int(i)]
-            ax.annotate("", xy=(nx, ny), xytext=(ox, oy), zorder=4,
-                        arrowprops=dict(arrowstyle="->", color="black", lw=0.9, alpha=0.6,
-                                        shrinkA=6, shrinkB=8))
+            ax.add_artist(patches.FancyArrowPatch(
+                (ox, oy), (nx, ny), arrowstyle="->", mutation_scale=10, color="black", lw=0.9, alpha=0.6,
+                shrinkA=6, shrinkB=8, zorder=4))
     if unsafe_pairs:
         moves = {0: (1, 0), 1: (0, 1), 2: (-1, 0), 3: (0, -1)}
+        ticks = []
         for (cx, cy), action in unsafe_pairs:
             dx, dy = moves[int(action)]
-            line, = ax.plot([cx + 0.1 * dx, cx + 0.42 * dx], [cy + 0.1 * dy, cy + 0.42 * dy],
-                            color=COLOURS["unsafe"], lw=2.5, solid_capstyle="butt", zorder=6)
-            handles.setdefault("learned unsafe move (S_u)", line)
+            ticks.append([(cx + 0.1 * dx, cy + 0.1 * dy), (cx + 0.42 * dx, cy + 0.42 * dy)])
+        handles["learned unsafe move (S_u)"] = ax.add_collection(LineCollection(
+            ticks, colors=COLOURS["unsafe"], linewidths=2.5, capstyle="butt", zorder=6), autolim=False)
     if trajectory is not None:
         path = np.asarray(trajectory, dtype=float).reshape(-1, 2)
         if len(path):
@@ -318,32 +348,43 @@ def plot_variances(ax, data, *, title: str | None = None):
     x = data["x_grid"]
     ax.plot(x, data["gp"]["var"], color=COLOURS["gp"], lw=2, label="GP, eq. 5")
     ax.plot(x, data["tp"]["var"], color=COLOURS["tp"], lw=2, label="TP, eq. 6 (corrected)")
-    for xi in data["X"][data["outliers"] & (data["X"] <= x[-1])]:
-        ax.axvline(xi, color=COLOURS["unsafe"], lw=0.8, alpha=0.5)
+    ax.vlines(data["X"][data["outliers"] & (data["X"] <= x[-1])], 0, 1, transform=ax.get_xaxis_transform(),
+              color=COLOURS["unsafe"], lw=0.8, alpha=0.5, label="outlier inputs")
     log_scale(ax)
     ax.set_xlabel("x")
     ax.set_ylabel("posterior variance of f")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, frameon=False, loc="lower right")
+    ax.grid(alpha=0.3)
+    low, high = ax.get_ylim()
+    ax.set_ylim(low, high * (high / low) ** 0.4)  # headroom for the legend, above the curves
+    ax.legend(fontsize=8, frameon=False, loc="upper right", ncols=3, handlelength=1.5, columnspacing=1.0)
     ax.set_title(title or "posterior variance: eq. 5 (GP) and eq. 6 (TP)")
     return ax
 
 
 def plot_outlier_scatter(ax, world, *, title: str | None = None):
-    """The cost model's data (``demos.compute_world``): input size against target, outliers in red."""
+    """The cost model's data (``demos.compute_world``): input size against target, outliers in red.
+
+    Many rows share an input (the buffers keep up to 12 copies), so each
+    distinct point is drawn once, its area growing with the rows behind it.
+    """
     X, y = world["dirty"]["X"], world["dirty"]["y"]
     size = np.linalg.norm(X[:, 1:], axis=1) + 1.0
     rows = np.zeros(len(y), dtype=bool)
     rows[world["outlier_rows"]] = True
-    ax.scatter(size[~rows], y[~rows] + 1.0, s=6, alpha=0.4, color=COLOURS["tp"], label="clean rows")
-    ax.scatter(size[rows], y[rows] + 1.0, s=6, alpha=0.4, color=COLOURS["unsafe"],
-               label=f"outliers (x {world['magnitude']:g})")
+    for mask, colour, label in ((~rows, COLOURS["tp"], "clean rows"),
+                                (rows, COLOURS["unsafe"], f"outliers (x {world['magnitude']:g})")):
+        points, counts = np.unique(np.column_stack([size[mask], y[mask] + 1.0]), axis=0, return_counts=True)
+        ax.scatter(points[:, 0], points[:, 1], s=4 + 3 * counts, alpha=0.5, color=colour, linewidths=0,
+                   label=f"{label}: {int(mask.sum())}", rasterized=True)  # pixels even in an SVG: hundreds of dots
     log_scale(ax, "x")
     log_scale(ax, "y")
     ax.set_xlabel("1 + |(x, y, unsafe x, unsafe y)| of the input")
     ax.set_ylabel("1 + target (distance to danger)")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, frameon=False, loc="upper left")
+    ax.grid(alpha=0.3)
+    legend = ax.legend(fontsize=8, frameon=False, loc="upper left", title="marker area: rows at that point",
+                       title_fontsize=8)
+    for handle in legend.legend_handles:
+        handle.set_sizes([20])
     ax.set_title(title or f"cost-model data: {len(world['outlier_rows'])} of {len(y)} rows are outliers")
     return ax
 

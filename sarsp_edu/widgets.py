@@ -2,11 +2,14 @@
 
 Each ``*_dashboard()`` returns an ipywidgets box.  The computation lives in
 pure functions (:mod:`sarsp_edu.tails`, :mod:`sarsp_edu.demos`) and the drawing
-in :mod:`sarsp_edu.plotting`; this module only wires them.  Figures are
-matplotlib ``Figure`` objects (no pyplot state) rendered into an
-``ipywidgets.Image``, so a slider move redraws the picture in place in
-JupyterLab, Voila and a static notebook alike.  A callback never raises: a
-value the models cannot handle shows a message under the controls instead.
+in :mod:`sarsp_edu.plotting`; this module only wires them.  Each picture
+(a :class:`Panel`) is a small matplotlib ``Figure`` (no pyplot state)
+rendered into an ``ipywidgets.Image``, as SVG with its text left to the
+browser (sharp on a projector) or as PNG for dense scatter plots, so a
+slider move redraws it in place in JupyterLab, Voila and a static notebook
+alike; a move redraws only the panels that depend on the slider.  A
+callback never raises: a value the models cannot handle shows a message
+under the controls instead.
 """
 
 from __future__ import annotations
@@ -14,16 +17,20 @@ from __future__ import annotations
 import html
 import io
 import time
+from dataclasses import dataclass
+from typing import Callable
 
 import ipywidgets as widgets
 import matplotlib
 from matplotlib.figure import Figure
+from matplotlib.transforms import ScaledTranslation
 
 from . import demos, plotting, tails
 from ._threads import one_blas_thread
 
 __all__ = [
     "Dashboard",
+    "Panel",
     "AgentDashboard",
     "tail_decay_dashboard",
     "posterior_dashboard",
@@ -32,68 +39,154 @@ __all__ = [
 ]
 
 
+@dataclass(frozen=True)
+class Panel:
+    """One picture of a dashboard: its own small figure, redrawn only when its inputs move.
+
+    Attributes
+    ----------
+    draw : callable
+        ``draw(ax, result, **values)``: draws the dashboard's computed
+        ``result`` on ``ax`` (through the ``plot_*`` functions).
+    width : float
+        Figure width in inches (all panels of a dashboard share its height).
+    inputs : tuple of str, optional
+        The controls this picture depends on; a move of any other control
+        leaves it as it is.  None means every control.
+    margins : dict, optional
+        ``left``, ``right``, ``bottom``, ``top`` in inches, for long labels or
+        a legend outside the Axes.
+    label_offsets : (float, float)
+        Distance in points from the Axes to the x label (below) and to the
+        y label (left), room for the tick labels the panel can show.  Fixed
+        rather than measured at each redraw, which cost a tenth of it.
+    """
+
+    draw: Callable
+    width: float
+    inputs: tuple | None = None
+    margins: dict | None = None
+    label_offsets: tuple = (24.0, 42.0)
+
+    def depends_on(self, changed) -> bool:
+        return changed is None or self.inputs is None or bool(set(changed) & set(self.inputs))
+
+
 class Dashboard(widgets.VBox):
-    """Controls, a message line, a figure and a text panel, redrawn by ``refresh``.
+    """Controls, a message line, a row of pictures and a text panel.
+
+    A slider move calls ``compute(**values)`` once, then redraws only the
+    panels whose ``inputs`` include the control that moved: matplotlib needs
+    tens of milliseconds per picture whatever it shows, so a panel that
+    cannot have changed is not drawn again.
+
+    Parameters
+    ----------
+    controls : dict of widgets
+        By name; their values are passed to ``compute`` and the panels.
+    compute : callable
+        ``compute(**values) -> (result, info_html)``: the numbers behind the
+        pictures (through the package's ``compute_*`` functions).
+    panels : list of Panel
+    height : float
+        Height of every panel, in inches.
+    max_scale : float, default 1.5
+        How far the pictures (vector graphics) may grow beyond their natural
+        size (72 px per inch) to fill a wide page or a projector.
+    layout_rows : list of widgets, optional
+        How to arrange the controls (default: one row).
 
     Attributes
     ----------
     controls : dict of widgets
         By name (``"nu"``, ``"lam"``, ...), for code and tests to drive.
-    figure : matplotlib.figure.Figure
-    image : ipywidgets.Image
-        The rendered figure (PNG).
+    figures : list of matplotlib.figure.Figure
+    axes : list of Axes
+        One per panel.
+    images : list of ipywidgets.Image
+        The rendered panels (PNG).
+    result : object
+        What ``compute`` returned for the values on show.
     info : ipywidgets.HTMLMath
-        Numbers and formulas under the figure.
+        Numbers and formulas under the pictures.
     message : ipywidgets.HTML
         Empty, or why the last update could not be drawn.
     last_update_seconds : float
         Compute and redraw time of the last update.
+    last_redrawn : list of int
+        The panels the last update redrew.
     """
 
-    def __init__(self, controls: dict, draw, *, figsize, ncols: int, dpi: int = 72, layout_rows=None,
-                 margins=None):
+    def __init__(self, controls: dict, compute, panels, *, height: float, max_scale: float = 1.5,
+                 layout_rows=None):
         self.controls = controls
-        # Fixed margins rather than constrained layout: the layout engine draws the
-        # figure twice and was half of every slider move's time.
-        self.figure = Figure(figsize=figsize)
-        self.figure.subplots_adjust(**{"left": 0.06, "right": 0.98, "bottom": 0.14, "top": 0.9, "wspace": 0.3,
-                                       **(margins or {})})
-        self.axes = _fixed_title_axes(self.figure, ncols)
-        self.image = widgets.Image(format="png", layout=widgets.Layout(width="100%", max_width=f"{figsize[0] * dpi}px"))
+        self.panels = list(panels)
+        self._compute = compute
+        self._names = {id(control): name for name, control in controls.items()}
+        self.figures, self.axes, self.images = [], [], []
+        total = sum(panel.width for panel in self.panels)
+        for panel in self.panels:
+            figure = Figure(figsize=(panel.width, height))
+            # Fixed margins rather than constrained layout: the layout engine
+            # draws the figure twice.
+            inches = {"left": 0.75, "right": 0.15, "bottom": 0.55, "top": 0.35, **(panel.margins or {})}
+            figure.subplots_adjust(left=inches["left"] / panel.width, right=1 - inches["right"] / panel.width,
+                                   bottom=inches["bottom"] / height, top=1 - inches["top"] / height)
+            self.figures.append(figure)
+            self.axes.append(_fixed_layout_axes(figure, panel.label_offsets))
+            self.images.append(widgets.Image(format="svg+xml", layout=widgets.Layout(
+                width=f"{100 * panel.width / total:.3f}%", max_width=f"{panel.width * 72 * max_scale:.0f}px")))
         self.info = widgets.HTMLMath()
         self.message = widgets.HTML()
-        self._draw = draw
-        self._dpi = dpi
+        self.result = None
         self.last_update_seconds = float("nan")
+        self.last_redrawn: list[int] = []
+        self._stale = True
         rows = layout_rows or [widgets.HBox(list(controls.values()))]
-        super().__init__(children=[*rows, self.message, self.image, self.info])
+        pictures = widgets.HBox(self.images, layout=widgets.Layout(width="100%",
+                                                                   max_width=f"{total * 72 * max_scale:.0f}px"))
+        super().__init__(children=[*rows, self.message, pictures, self.info])
         for control in controls.values():
             control.observe(self._on_change, names="value")
         self.refresh()
 
     def _on_change(self, change):
-        self.refresh()
+        self.refresh(changed=(self._names[id(change["owner"])],))
 
     def values(self) -> dict:
         return {name: control.value for name, control in self.controls.items()}
 
-    def refresh(self) -> bool:
-        """Recompute and redraw; returns False (and shows why) if the values could not be drawn."""
+    def refresh(self, changed=None) -> bool:
+        """Recompute and redraw the panels that depend on ``changed`` (default: all).
+
+        Returns False, and shows why under the controls, if the values could
+        not be computed or drawn; the last good pictures then stay.
+        """
         start = time.perf_counter()
+        self.last_redrawn = []
+        if self._stale:  # the last update failed part-way: every panel may be out of date
+            changed = None
+        values = self.values()
         try:
-            for ax in self.axes:
-                _wipe(ax)
             with one_blas_thread():
-                info = self._draw(self.axes, **self.values())
-            self.image.value = _png(self.figure, self._dpi)
+                result, info = self._compute(**values)
+            for i, panel in enumerate(self.panels):
+                if panel.depends_on(changed):
+                    _wipe(self.axes[i])
+                    panel.draw(self.axes[i], result, **values)
+                    self.images[i].value = _render(self.figures[i], "svg")
+                    self.last_redrawn.append(i)
+            self.result = result
             self.info.value = info or ""
             self.message.value = ""
+            self._stale = False
             ok = True
         except Exception as exc:  # a dashboard must not crash on an extreme slider value
             self.message.value = (
                 "<span style='color:#b00020'>Could not draw these values: "
                 f"{html.escape(type(exc).__name__)}: {html.escape(str(exc))}</span>"
             )
+            self._stale = True
             ok = False
         self.last_update_seconds = time.perf_counter() - start
         return ok
@@ -127,20 +220,39 @@ def _wipe(ax) -> None:
     ax.ignore_existing_data_limits = True
 
 
-def _fixed_title_axes(figure: Figure, ncols: int) -> list:
-    """One row of Axes whose titles sit at a fixed height.
+def _fixed_layout_axes(figure: Figure, label_offsets=None):
+    """An Axes filling the figure's margins, with its title and labels at fixed places.
 
-    By default matplotlib measures every tick label at each draw to decide
-    whether a title must move up; these figures have no ticks or labels above
-    their Axes, so the measuring only cost time.
+    By default matplotlib measures every tick label at each draw, to decide
+    whether the title must move up and where the axis labels go: a fifth of
+    a redraw.  These figures have nothing above their Axes, and the label
+    distances (points, x then y) are given, so nothing needs measuring.
     """
     with matplotlib.rc_context({"axes.titley": 1.0}):
-        return list(figure.subplots(1, ncols, squeeze=False)[0])
+        ax = figure.subplots()
+    if label_offsets is not None:
+        below, left = label_offsets
+        ax.xaxis.set_label_coords(
+            0.5, 0, transform=ax.transAxes + ScaledTranslation(0, -below / 72, figure.dpi_scale_trans))
+        ax.yaxis.set_label_coords(
+            0, 0.5, transform=ax.transAxes + ScaledTranslation(-left / 72, 0, figure.dpi_scale_trans))
+    return ax
 
 
-def _png(figure: Figure, dpi: int) -> bytes:
+def _render(figure: Figure, fmt: str, dpi: int = 72) -> bytes:
+    """The figure as PNG bytes, or as SVG with its text kept as text (drawn by the browser).
+
+    In an SVG, ``dpi`` applies only to the rasterized artists (images, dense
+    scatter plots), which are drawn at twice the natural resolution so that
+    they stay sharp when the picture is enlarged.
+    """
     buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=dpi)
+    if fmt == "svg":
+        # No date and fixed element ids: the same figure gives the same bytes.
+        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "sarsp_edu"}):
+            figure.savefig(buffer, format="svg", dpi=2 * dpi, metadata={"Date": None})
+    else:
+        figure.savefig(buffer, format=fmt, dpi=dpi)
     return buffer.getvalue()
 
 
@@ -177,27 +289,35 @@ def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
         "lam": _slider("float", "λ", lam, 1.5, 10.0, 0.5, expensive=False),
     }
 
-    def draw(axes, nu, lam):
+    def compute(nu, lam):
         densities = tails.compute_densities(nu)
         ratios = tails.compute_tail_ratios((nu,), lam, x_gauss=tails.compute_tail_ratios((nu,), lam)["x_t"])
-        plotting.plot_densities(axes[0], densities)
-        plotting.plot_densities(axes[1], densities, log=True)
-        plotting.plot_tail_ratios(axes[2], ratios, title="Karamata ratio f(λx)/f(x)")
-        axes[2].plot(ratios["x_gauss"], ratios["gaussian"], color=plotting.COLOURS["gp"], lw=2, ls=":",
-                     label="Gaussian")
-        plotting.log_scale(axes[2])
-        axes[2].set_ylim(max(ratios["limits"][nu] / 100, 1e-30), 1.5)
-        axes[2].legend(fontsize=8, frameon=False)
         expr = _student_t_limit_expr()
         value = float(expr.subs({tails.LAMBDA: lam, tails.NU: nu}))
-        return (
+        info = (
             f"Student-t (sympy): $\\lim_{{x\\to\\infty}} f(\\lambda x)/f(x) = {sp.latex(expr)}"
             f" = {lam:g}^{{{-1 - nu:g}}} = {value:.4g}$, regularly varying with index $-1-\\nu = {-1 - nu:g}$."
             f"<br>Gaussian: $f(\\lambda x)/f(x) = e^{{(1-\\lambda^2)x^2/2}} \\to 0$ for $\\lambda > 1$:"
             " no power of $\\lambda$, so not regularly varying; its tail is lighter than any Student-t's."
         )
+        return {"densities": densities, "ratios": ratios}, info
 
-    return Dashboard(controls, draw, figsize=(13, 3.8), ncols=3, margins={"left": 0.06, "wspace": 0.32})
+    def draw_ratios(ax, result, nu, lam):
+        ratios = result["ratios"]
+        plotting.plot_tail_ratios(ax, ratios, title="Karamata ratio f(λx)/f(x)")
+        ax.plot(ratios["x_gauss"], ratios["gaussian"], color=plotting.COLOURS["gp"], lw=2, ls=":", label="Gaussian")
+        plotting.log_scale(ax)
+        ax.set_ylim(max(ratios["limits"][nu] / 100, 1e-30), 1.5)
+        ax.legend(fontsize=8, frameon=False)
+
+    panels = [
+        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"]), 4.3, inputs=("nu",),
+              label_offsets=(24, 34)),
+        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"], log=True), 4.3,
+              inputs=("nu",), label_offsets=(24, 40)),
+        Panel(draw_ratios, 4.4, inputs=("nu", "lam"), label_offsets=(24, 40)),
+    ]
+    return Dashboard(controls, compute, panels, height=3.8)
 
 
 # --------------------------------------------------------------------------
@@ -224,14 +344,8 @@ def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: fl
     rows = [widgets.HBox([controls[k] for k in ("nu", "magnitude", "proportion", "seed")]),
             widgets.HBox([controls["fit"], controls["scale_inputs"]])]
 
-    def draw(axes, nu, magnitude, proportion, seed, fit, scale_inputs):
+    def compute(nu, magnitude, proportion, seed, fit, scale_inputs):
         data = demos.compute_posteriors(nu, magnitude, proportion, seed, fit=fit, scale_inputs=scale_inputs)
-        inlier_y = data["y"][~data["outliers"]]
-        span = max(float(abs(inlier_y).max()), 1.0)
-        ylim = (-3 * span, 3 * span)
-        plotting.plot_posterior(axes[0], data, "gp", ylim=ylim)
-        plotting.plot_posterior(axes[1], data, "tp", ylim=ylim)
-        plotting.plot_variances(axes[2], data)
         rows = []
         for name in ("gp", "tp"):
             post = data[name]
@@ -241,9 +355,23 @@ def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: fl
         factor = (f"TP variance factor $\\frac{{\\nu + \\beta - 2}}{{\\nu + n - 2}} = "
                   f"\\frac{{{data['nu']:g} + {data['beta']:.4g} - 2}}{{{data['nu']:g} + {data['n']} - 2}} = "
                   f"{data['tp_scale']:.4g}$, with $\\beta = y^T (K + \\sigma^2 I)^{{-1}} y$")
-        return "<br>".join([factor, *rows])
+        return data, "<br>".join([factor, *rows])
 
-    return Dashboard(controls, draw, figsize=(15, 4.2), ncols=3, layout_rows=rows, margins={"left": 0.05, "wspace": 0.25})
+    def draw_posterior(model):
+        def draw(ax, data, **_):
+            inlier_y = data["y"][~data["outliers"]]
+            span = max(float(abs(inlier_y).max()), 1.0)
+            plotting.plot_posterior(ax, data, model, ylim=(-3 * span, 3 * span))
+        return draw
+
+    # The GP does not depend on nu: moving nu redraws the TP and the variances only.
+    gp_inputs = ("magnitude", "proportion", "seed", "fit", "scale_inputs")
+    panels = [
+        Panel(draw_posterior("gp"), 5.0, inputs=gp_inputs, margins={"left": 0.6}, label_offsets=(24, 30)),
+        Panel(draw_posterior("tp"), 5.0, margins={"left": 0.6}, label_offsets=(24, 30)),
+        Panel(lambda ax, data, **_: plotting.plot_variances(ax, data), 5.0, label_offsets=(24, 38)),
+    ]
+    return Dashboard(controls, compute, panels, height=4.2, layout_rows=rows)
 
 
 # --------------------------------------------------------------------------
@@ -263,19 +391,26 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
         "proportion": _slider("float", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
     }
 
-    def draw(axes, seed, n_switch_states, magnitude, proportion):
+    def compute(seed, n_switch_states, magnitude, proportion):
         world = demos.compute_world(seed, n_switch_states, magnitude, proportion)
-        plotting.plot_gridworld(axes[0], world["before"], visits=world["visits"], legend=False,
-                                title="offline world and its coverage")
-        plotting.plot_gridworld(axes[1], world["after"], title=f"after the shift, nss = {n_switch_states}")
-        plotting.plot_outlier_scatter(axes[2], world, title="cost-model data, outliers in red")
-        return (f"{world['transitions']} random-policy transitions kept as {world['cost_rows']} cost-model "
+        info = (f"{world['transitions']} random-policy transitions kept as {world['cost_rows']} cost-model "
                 f"rows (at most 12 copies of an input) and {world['reward_rows']} reward-model rows (1 copy); "
                 f"{len(world['outlier_rows'])} rows (p = {proportion:g}) had inputs and targets multiplied "
                 f"by m = {magnitude:g}. States moved by the shift: {len(world['moved'])}.")
+        return world, info
 
-    return Dashboard(controls, draw, figsize=(15, 4.4), ncols=3,
-                     margins={"left": 0.04, "right": 0.98, "bottom": 0.13, "wspace": 0.85})
+    panels = [
+        Panel(lambda ax, world, **_: plotting.plot_gridworld(
+            ax, world["before"], visits=world["visits"], legend=False, title="offline world and its coverage"),
+            4.0, inputs=("seed",), margins={"left": 0.5, "right": 0.2}, label_offsets=(16, 16)),
+        Panel(lambda ax, world, n_switch_states, **_: plotting.plot_gridworld(
+            ax, world["after"], title=f"after the shift, nss = {n_switch_states}"),
+            5.6, inputs=("seed", "n_switch_states"), margins={"left": 0.5, "right": 1.8}, label_offsets=(16, 16)),
+        Panel(lambda ax, world, **_: plotting.plot_outlier_scatter(
+            ax, world, title="cost-model data, outliers in red"),
+            5.0, inputs=("seed", "magnitude", "proportion"), margins={"left": 0.7}, label_offsets=(24, 30)),
+    ]
+    return Dashboard(controls, compute, panels, height=4.4)
 
 
 # --------------------------------------------------------------------------
@@ -344,7 +479,8 @@ class AgentDashboard(widgets.VBox):
         # would cost several times the whole agent step at each redraw.
         self.metrics_figure = Figure(figsize=(14, 2.5))
         self.metrics_figure.subplots_adjust(left=0.04, right=0.99, bottom=0.2, top=0.86, wspace=0.28)
-        self.metrics_axes = _fixed_title_axes(self.metrics_figure, len(_LIVE_METRICS))
+        with matplotlib.rc_context({"axes.titley": 1.0}):  # titles that need no measuring
+            self.metrics_axes = list(self.metrics_figure.subplots(1, len(_LIVE_METRICS)))
         self.metrics_image = widgets.Image(format="png", layout=widgets.Layout(width="100%"))
         sides = []
         for model, label in (("tp", "Student-t process"), ("gp", "Gaussian process")):
@@ -554,7 +690,7 @@ class AgentDashboard(widgets.VBox):
             ax.grid(alpha=0.3)
         if self.metrics_axes[0].lines:
             self.metrics_axes[0].legend(fontsize=8, frameon=False)
-        self.metrics_image.value = _png(self.metrics_figure, 80)
+        self.metrics_image.value = _render(self.metrics_figure, "png", 80)
 
 
 def agent_dashboard(**kwargs) -> AgentDashboard:

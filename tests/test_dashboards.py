@@ -69,22 +69,52 @@ def test_dashboard_draws_and_redraws(factory):
     dashboard = factory()
     assert isinstance(dashboard, Dashboard)
     assert dashboard.message.value == ""
-    first = dashboard.image.value
-    assert first[:8] == b"\x89PNG\r\n\x1a\n"
+    assert dashboard.last_redrawn == [0, 1, 2]
+    first = [image.value for image in dashboard.images]
+    for image, data in zip(dashboard.images, first):
+        assert image.format == "svg+xml" and bytes(data).startswith(b"<?xml")
     name, control = next((n, c) for n, c in dashboard.controls.items() if hasattr(c, "max"))
     control.value = control.max
     assert dashboard.message.value == "", dashboard.message.value
-    assert dashboard.image.value != first
+    assert dashboard.last_redrawn
+    for i in dashboard.last_redrawn:
+        assert dashboard.images[i].value != first[i]
     assert dashboard.last_update_seconds > 0
     assert dashboard.info.value
 
 
-def _pixels(png: bytes) -> np.ndarray:
+@pytest.mark.parametrize(
+    "factory, control, redrawn",
+    [
+        (tail_decay_dashboard, "lam", [2]),
+        (tail_decay_dashboard, "nu", [0, 1, 2]),
+        (posterior_dashboard, "nu", [1, 2]),  # the GP does not depend on nu
+        (posterior_dashboard, "magnitude", [0, 1, 2]),
+        (gridworld_dashboard, "n_switch_states", [1]),
+        (gridworld_dashboard, "magnitude", [2]),
+        (gridworld_dashboard, "seed", [0, 1, 2]),
+    ],
+)
+def test_a_move_redraws_only_the_panels_that_depend_on_it(factory, control, redrawn):
+    dashboard = factory()
+    before = [image.value for image in dashboard.images]
+    slider = dashboard.controls[control]
+    slider.value = slider.value + slider.step
+    assert dashboard.last_redrawn == redrawn
+    for i, (old, image) in enumerate(zip(before, dashboard.images)):
+        assert (image.value != old) == (i in redrawn), i
+
+
+def _pixels(image) -> np.ndarray:
+    """A panel's picture as something to compare: PNG pixels, or the SVG text."""
     import io
 
     import matplotlib.image
 
-    return matplotlib.image.imread(io.BytesIO(png), format="png")
+    data = bytes(image.value)
+    if image.format == "svg+xml":
+        return np.array(data.decode())
+    return matplotlib.image.imread(io.BytesIO(data), format="png")
 
 
 @pytest.mark.parametrize(
@@ -98,8 +128,9 @@ def _pixels(png: bytes) -> np.ndarray:
     ],
 )
 def test_a_redrawn_figure_equals_a_fresh_one(factory, moves):
-    # Slider moves reuse the Axes (only their contents are wiped): nothing of
-    # an earlier picture may survive into a later one.
+    # Slider moves reuse the Axes (only their contents are wiped) and skip the
+    # panels that cannot have changed: nothing of an earlier picture may
+    # survive into a later one, and no panel may be left showing old values.
     moved = factory()
     for name, value in moves:
         moved.controls[name].value = value
@@ -108,30 +139,73 @@ def test_a_redrawn_figure_equals_a_fresh_one(factory, moves):
     if "scale_inputs" in moved.controls:
         fresh.controls["scale_inputs"].value = moved.controls["scale_inputs"].value
     assert fresh.values() == moved.values()
-    np.testing.assert_array_equal(_pixels(moved.image.value), _pixels(fresh.image.value))
+    for i, (a, b) in enumerate(zip(moved.images, fresh.images)):
+        np.testing.assert_array_equal(_pixels(a), _pixels(b), err_msg=f"panel {i}")
     assert moved.info.value == fresh.info.value
 
 
-def test_a_wiped_axes_forgets_titles_limits_scales_and_colours():
+def _one_panel_dashboard(draw, x: float, inputs=None) -> Dashboard:
     from ipywidgets import FloatSlider
 
-    def draw(axes, x):
+    from sarsp_edu.widgets import Panel
+
+    return Dashboard({"x": FloatSlider(value=x, min=0, max=2), "y": FloatSlider(value=0, min=0, max=1)},
+                     lambda x, y: (x, f"x = {x}"), [Panel(draw, 3.0, inputs=inputs)], height=2.0)
+
+
+def test_a_wiped_axes_forgets_titles_limits_scales_and_colours():
+    def draw(ax, result, x, **_):
         if x > 1:  # state a later, plainer picture must not inherit
-            axes[0].set_title("big")
-            axes[0].set_xlabel("x")
-            axes[0].set_yscale("log")
-            axes[0].set_ylim(1e-3, 1e3)
-            axes[0].set_aspect("equal")
-            axes[0].text(0.5, 0.5, "note")
-            axes[0].legend(*axes[0].plot([1, 2], [1, 2], label="first"))
-        axes[0].plot([0, 1], [1, 1 + x])
+            ax.set_title("big")
+            ax.set_xlabel("x")
+            ax.set_yscale("log")
+            ax.set_ylim(1e-3, 1e3)
+            ax.set_aspect("equal")
+            ax.text(0.5, 0.5, "note")
+            ax.legend(*ax.plot([1, 2], [1, 2], label="first"))
+        ax.plot([0, 1], [1, 1 + x])
 
-    def make(x):
-        return Dashboard({"x": FloatSlider(value=x, min=0, max=2)}, draw, figsize=(3, 2), ncols=1)
-
-    moved = make(2.0)
+    moved = _one_panel_dashboard(draw, 2.0)
     moved.controls["x"].value = 0.5
-    np.testing.assert_array_equal(_pixels(moved.image.value), _pixels(make(0.5).image.value))
+    np.testing.assert_array_equal(_pixels(moved.images[0]), _pixels(_one_panel_dashboard(draw, 0.5).images[0]))
+
+
+EXTREMES = [
+    (tail_decay_dashboard, {}),
+    (tail_decay_dashboard, {"nu": 0.5, "lam": 10.0}),
+    (tail_decay_dashboard, {"nu": 30.0, "lam": 1.5}),
+    (posterior_dashboard, {}),
+    (posterior_dashboard, {"nu": 2.1, "magnitude": 100.0, "proportion": 0.5}),
+    (posterior_dashboard, {"nu": 50.0, "magnitude": 1.0, "proportion": 0.0, "fit": False}),
+    (gridworld_dashboard, {}),
+    (gridworld_dashboard, {"n_switch_states": 15, "magnitude": 100.0, "proportion": 0.5}),
+]
+
+
+@pytest.mark.parametrize("factory, values", EXTREMES)
+def test_axis_labels_never_touch_tick_labels(factory, values):
+    # The axis labels sit at fixed distances (Panel.label_offsets) instead of
+    # being placed after measuring the tick labels: check those distances hold
+    # the widest tick labels each panel shows, and stay inside the picture.
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    dashboard = factory(**values)
+    assert dashboard.message.value == ""
+    for i, (figure, ax) in enumerate(zip(dashboard.figures, dashboard.axes)):
+        canvas = FigureCanvasAgg(figure)
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        for axis in (ax.xaxis, ax.yaxis):
+            label = axis.label.get_window_extent(renderer)
+            assert label.x0 >= 0 and label.y0 >= 0, (i, axis.axis_name, label)
+            low, high = sorted(axis.get_view_interval())
+            for tick in [*axis.get_major_ticks(), *axis.get_minor_ticks()]:
+                if not (tick.label1.get_visible() and tick.label1.get_text()):
+                    continue
+                if not low <= tick.get_loc() <= high:
+                    continue
+                box = tick.label1.get_window_extent(renderer)
+                assert not box.overlaps(label), (i, axis.axis_name, tick.label1.get_text())
 
 
 def test_expensive_sliders_update_on_release():
@@ -157,36 +231,70 @@ def test_extreme_values_never_crash(factory, changes):
 
 
 def test_a_failing_update_shows_a_message_not_a_traceback():
-    from ipywidgets import FloatSlider
-
-    def draw(axes, x):
+    def draw(ax, result, x, **_):
         if x > 1:
             raise np.linalg.LinAlgError("not positive definite")
-        axes[0].plot([0, 1], [0, x])
-        return "ok"
+        ax.plot([0, 1], [0, x])
 
-    dashboard = Dashboard({"x": FloatSlider(value=0.5, min=0, max=2)}, draw, figsize=(3, 2), ncols=1)
-    good = dashboard.image.value
+    dashboard = _one_panel_dashboard(draw, 0.5, inputs=("x",))
+    good = dashboard.images[0].value
     dashboard.controls["x"].value = 2.0
     assert "LinAlgError: not positive definite" in dashboard.message.value
-    assert dashboard.image.value == good  # the last good picture stays
+    assert dashboard.images[0].value == good  # the last good picture stays
+    assert dashboard.info.value == "x = 0.5"
     dashboard.controls["x"].value = 0.7
     assert dashboard.message.value == ""
+    assert dashboard.info.value == "x = 0.7"
+
+
+def test_after_a_failure_the_next_move_redraws_every_panel():
+    from ipywidgets import FloatSlider
+
+    from sarsp_edu.widgets import Panel
+
+    def draw_x(ax, result, x, **_):
+        if x > 1:
+            raise ValueError("x too large")
+        ax.plot([0, 1], [0, x])
+
+    def draw_y(ax, result, y, **_):
+        ax.plot([0, 1], [0, y])
+
+    dashboard = Dashboard({"x": FloatSlider(value=0.5, min=0, max=2), "y": FloatSlider(value=0, min=0, max=1)},
+                          lambda x, y: (None, ""), [Panel(draw_x, 3.0, inputs=("x",)), Panel(draw_y, 3.0, inputs=("y",))],
+                          height=2.0)
+    dashboard.controls["x"].value = 2.0  # the x panel fails and keeps its x = 0.5 picture
+    assert "x too large" in dashboard.message.value
+    # Moving y alone would redraw only the y panel and clear the message,
+    # leaving the x panel silently out of date; after a failure every panel is tried.
+    dashboard.controls["y"].value = 0.5
+    assert "x too large" in dashboard.message.value
+    dashboard.controls["x"].value = 0.25
+    assert dashboard.message.value == ""
+    assert dashboard.last_redrawn == [0, 1]
 
 
 # --------------------------------------------------------------------------
 # the drawing functions
 # --------------------------------------------------------------------------
 def test_plot_gridworld_draws_what_it_is_handed():
+    from matplotlib import patches
+
     from sarsp_edu import SafeGridWorld
 
     env = SafeGridWorld(seed=0)
     env.shift(3, rng=0)
     ax = Figure().subplots()
     plotting.plot_gridworld(ax, env, trajectory=[(0, 0), (1, 0)], unsafe_pairs=[((1, 0), 1)], show_agent=True)
-    solid = [p for p in ax.patches if p.get_facecolor()[3] > 0]
-    dashed = [p for p in ax.patches if p.get_linestyle() == "--"]
-    assert len(solid) == 15 and len(dashed) == 3
+    from matplotlib.collections import PatchCollection
+
+    squares = [c for c in ax.collections if isinstance(c, PatchCollection)]
+    solid = [c for c in squares if len(c.get_facecolor()) and c.get_facecolor()[0][3] > 0]
+    dashed = [c for c in squares if c.get_linestyle()[0][1] is not None]  # (offset, dash pattern)
+    assert [len(c.get_paths()) for c in solid] == [15] and [len(c.get_paths()) for c in dashed] == [3]
+    assert len([p for p in ax.patches if isinstance(p, patches.FancyArrowPatch)]) == 3  # old cell -> new cell
+    edges = [tuple(e) for e in solid[0].get_edgecolor()]
+    assert edges.count((0.0, 0.0, 0.0, 1.0)) == 3  # the moved states are outlined in black
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert {"start", "goal", "path", "moved here in the shift", "learned unsafe move (S_u)"} <= set(labels)
     assert ax.get_ylim()[0] > ax.get_ylim()[1]  # row 0 at the top
