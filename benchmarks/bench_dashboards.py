@@ -1,6 +1,7 @@
 """Each dashboard's update time for a slider move (compute + redraw of the
-panels that depend on the slider, median of repeats; target < 200 ms), and the live agent dashboard's frame rate
-(paired step + SVG drawing; target >= 20 steps per second displayed).
+panels that depend on the slider, median of repeats; target < 200 ms), and
+the live agent dashboard's frame rate (paired step + SVG drawing; target
+>= 20 steps per second displayed).
 
 Run by hand:  python benchmarks/bench_dashboards.py [--repeats 9]
 The rate a browser actually displays is measured by tests/test_browser.py.
