@@ -104,7 +104,7 @@ class Dashboard(widgets.VBox):
     axes : list of Axes
         One per panel.
     images : list of ipywidgets.Image
-        The rendered panels (PNG).
+        The rendered panels (SVG).
     result : object
         What ``compute`` returned for the values on show.
     info : ipywidgets.HTMLMath
