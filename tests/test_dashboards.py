@@ -158,16 +158,22 @@ def test_a_wiped_axes_forgets_titles_limits_scales_and_colours():
         if x > 1:  # state a later, plainer picture must not inherit
             ax.set_title("big")
             ax.set_xlabel("x")
+            ax.set_ylabel("y")
+            ax.set_xscale("log")
             ax.set_yscale("log")
             ax.set_ylim(1e-3, 1e3)
             ax.set_aspect("equal")
             ax.text(0.5, 0.5, "note")
-            ax.legend(*ax.plot([1, 2], [1, 2], label="first"))
-        ax.plot([0, 1], [1, 1 + x])
+            ax.legend(*ax.plot([1, 20], [1, 2], label="first"))
+        if x < 0.25:  # no data at all: the default limits, not the last picture's
+            ax.text(0.1, 0.1, "empty")
+        else:
+            ax.plot([0.1, 1], [1, 1 + x])
 
     moved = _one_panel_dashboard(draw, 2.0)
-    moved.controls["x"].value = 0.5
-    np.testing.assert_array_equal(_pixels(moved.images[0]), _pixels(_one_panel_dashboard(draw, 0.5).images[0]))
+    for x in (0.1, 0.5):
+        moved.controls["x"].value = x
+        np.testing.assert_array_equal(_pixels(moved.images[0]), _pixels(_one_panel_dashboard(draw, x).images[0]))
 
 
 EXTREMES = [
