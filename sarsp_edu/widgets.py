@@ -27,6 +27,7 @@ from matplotlib.transforms import ScaledTranslation
 
 from . import demos, plotting, tails
 from ._threads import one_blas_thread
+from ._validation import check_choice, check_positive
 
 __all__ = [
     "Dashboard",
@@ -67,6 +68,9 @@ class Panel:
     inputs: tuple | None = None
     margins: dict | None = None
     label_offsets: tuple = (24.0, 42.0)
+
+    def __post_init__(self):
+        check_positive("width", self.width)
 
     def depends_on(self, changed) -> bool:
         return changed is None or self.inputs is None or bool(set(changed) & set(self.inputs))
@@ -121,6 +125,13 @@ class Dashboard(widgets.VBox):
                  layout_rows=None):
         self.controls = controls
         self.panels = list(panels)
+        if not self.panels:
+            raise ValueError("panels must hold at least one Panel, got panels=[]")
+        height = check_positive("height", height)
+        max_scale = check_positive("max_scale", max_scale)
+        for panel in self.panels:
+            for name in panel.inputs or ():
+                check_choice("Panel inputs", name, list(controls))
         self._compute = compute
         self._names = {id(control): name for name, control in controls.items()}
         self.figures, self.axes, self.images = [], [], []

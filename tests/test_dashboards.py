@@ -399,3 +399,22 @@ def test_svg_and_table_drawings():
                         0, False)
     table = plotting.decision_table_html(decision, 1.0, 0.8)
     assert table.count("<tr") == 5 and "in S_u" in table and "safe action with the highest reward" in table
+
+
+def test_bad_panels_are_refused_with_the_parameter_named():
+    from ipywidgets import FloatSlider
+
+    from sarsp_edu.widgets import Panel
+
+    def draw(ax, result, **_):
+        ax.plot([0, 1])
+
+    controls = {"x": FloatSlider(value=0.5)}
+    with pytest.raises(ValueError, match="width"):
+        Panel(draw, 0.0)
+    with pytest.raises(ValueError, match="Panel inputs must be one of 'x', got Panel inputs='nu'"):
+        Dashboard(controls, lambda x: (x, ""), [Panel(draw, 3.0, inputs=("nu",))], height=2.0)
+    with pytest.raises(ValueError, match="height"):
+        Dashboard(controls, lambda x: (x, ""), [Panel(draw, 3.0)], height=-1)
+    with pytest.raises(ValueError, match="panels"):
+        Dashboard(controls, lambda x: (x, ""), [], height=2.0)
