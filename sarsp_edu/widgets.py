@@ -4,10 +4,10 @@ Each ``*_dashboard()`` returns an ipywidgets box.  The computation lives in
 pure functions (:mod:`sarsp_edu.tails`, :mod:`sarsp_edu.demos`) and the drawing
 in :mod:`sarsp_edu.plotting`; this module only wires them.  Each picture
 (a :class:`Panel`) is a small matplotlib ``Figure`` (no pyplot state)
-rendered into an ``ipywidgets.Image``, as SVG with its text left to the
-browser (sharp on a projector) or as PNG for dense scatter plots, so a
-slider move redraws it in place in JupyterLab, Voila and a static notebook
-alike; a move redraws only the panels that depend on the slider.  A
+rendered into an ``ipywidgets.Image`` as SVG, its text left to the browser
+(sharp on a projector), so a slider move redraws it in place in JupyterLab,
+Voila and a static notebook alike; a move redraws only the panels that
+depend on the slider.  A
 callback never raises: a value the models cannot handle shows a message
 under the controls instead.
 """
@@ -22,6 +22,7 @@ from typing import Callable
 
 import ipywidgets as widgets
 import matplotlib
+import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.transforms import ScaledTranslation
 
@@ -144,7 +145,7 @@ class Dashboard(widgets.VBox):
             figure.subplots_adjust(left=inches["left"] / panel.width, right=1 - inches["right"] / panel.width,
                                    bottom=inches["bottom"] / height, top=1 - inches["top"] / height)
             self.figures.append(figure)
-            self.axes.append(_fixed_layout_axes(figure, panel.label_offsets))
+            self.axes.extend(_fixed_layout_axes(figure, panel.label_offsets))
             self.images.append(widgets.Image(format="svg+xml", layout=widgets.Layout(
                 width=f"{100 * panel.width / total:.3f}%", max_width=f"{panel.width * 72 * max_scale:.0f}px")))
         self.info = widgets.HTMLMath()
@@ -236,8 +237,8 @@ def _wipe(ax) -> None:
     ax.set_autoscale_on(True)
 
 
-def _fixed_layout_axes(figure: Figure, label_offsets=None):
-    """An Axes filling the figure's margins, with its title and labels at fixed places.
+def _fixed_layout_axes(figure: Figure, label_offsets=None, ncols: int = 1) -> list:
+    """One row of Axes in the figure's margins, with titles and labels at fixed places.
 
     By default matplotlib measures every tick label at each draw, to decide
     whether the title must move up and where the axis labels go: a fifth of
@@ -245,14 +246,15 @@ def _fixed_layout_axes(figure: Figure, label_offsets=None):
     distances (points, x then y) are given, so nothing needs measuring.
     """
     with matplotlib.rc_context({"axes.titley": 1.0}):
-        ax = figure.subplots()
+        axes = list(figure.subplots(1, ncols, squeeze=False)[0])
     if label_offsets is not None:
         below, left = label_offsets
-        ax.xaxis.set_label_coords(
-            0.5, 0, transform=ax.transAxes + ScaledTranslation(0, -below / 72, figure.dpi_scale_trans))
-        ax.yaxis.set_label_coords(
-            0, 0.5, transform=ax.transAxes + ScaledTranslation(-left / 72, 0, figure.dpi_scale_trans))
-    return ax
+        for ax in axes:
+            ax.xaxis.set_label_coords(
+                0.5, 0, transform=ax.transAxes + ScaledTranslation(0, -below / 72, figure.dpi_scale_trans))
+            ax.yaxis.set_label_coords(
+                0, 0.5, transform=ax.transAxes + ScaledTranslation(-left / 72, 0, figure.dpi_scale_trans))
+    return axes
 
 
 def _render(figure: Figure, fmt: str, dpi: int = 72) -> bytes:
@@ -307,7 +309,8 @@ def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
 
     def compute(nu, lam):
         densities = tails.compute_densities(nu)
-        ratios = tails.compute_tail_ratios((nu,), lam, x_gauss=tails.compute_tail_ratios((nu,), lam)["x_t"])
+        x = np.linspace(0.0, 20.0, 400)  # both ratios on one axis
+        ratios = tails.compute_tail_ratios((nu,), lam, x_t=x, x_gauss=x)
         expr = _student_t_limit_expr()
         value = float(expr.subs({tails.LAMBDA: lam, tails.NU: nu}))
         info = (
@@ -495,8 +498,7 @@ class AgentDashboard(widgets.VBox):
         # would cost several times the whole agent step at each redraw.
         self.metrics_figure = Figure(figsize=(14, 2.5))
         self.metrics_figure.subplots_adjust(left=0.04, right=0.99, bottom=0.2, top=0.86, wspace=0.28)
-        with matplotlib.rc_context({"axes.titley": 1.0}):  # titles that need no measuring
-            self.metrics_axes = list(self.metrics_figure.subplots(1, len(_LIVE_METRICS)))
+        self.metrics_axes = _fixed_layout_axes(self.metrics_figure, ncols=len(_LIVE_METRICS))
         self.metrics_image = widgets.Image(format="png", layout=widgets.Layout(width="100%"))
         sides = []
         for model, label in (("tp", "Student-t process"), ("gp", "Gaussian process")):
