@@ -56,6 +56,11 @@ __all__ = [
     "backup_share",
     "SUMMARY_METRICS",
     "RECORD_COLUMNS",
+    "PRESETS",
+    "PRESET_DOCS",
+    "PRESET_FIELDS",
+    "preset_of",
+    "stuck_share",
 ]
 
 
@@ -88,6 +93,9 @@ class ExperimentConfig:
     k_prior: int = _field(sarsp.K_PRIOR, "random rows in each strategic prior (paper's text: 100; the reference "
                           "code, which produced the paper's figures: 400)")
     n_matching: int = _field(sarsp.N_MATCHING, "rows matching each query added to the prior, at most (paper: 10)")
+    prior_draw: str = _field("per_action", "how strategic priors are drawn: 'per_action' (a fresh prior for every "
+                             "action and model, as the reference code) or 'per_step' (one per model and step, shared "
+                             "by the four actions, as the printed Algorithm 1)", choices=sarsp.PRIOR_DRAWS)
     cost_outliers: bool = _field(True, "inject outliers into the cost model's data (paper: yes)")
     reward_outliers: bool = _field(True, "inject outliers into the reward model's data (paper: yes)")
     seed: int = _field(0, "seed of every random choice of the run")
@@ -106,9 +114,15 @@ class ExperimentConfig:
     optimizer_steps: int = _field(50, "Adam steps, or L-BFGS-B's iteration cap (paper: 50 Adam steps)")
     prior: str | None = _field("lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), reference code) "
                                "or None (plain marginal likelihood)", choices=("lognormal", None))
-    fit_points: int | None = _field(sarsp.FIT_POINTS, "rows drawn at random for each hyperparameter fit (None: "
-                                    "all, as the reference code, ~4,700 rows and far slower)")
-    retrain: bool = _field(True, "retrain the cost model after a corrective update (Algorithm 1)")
+    cost_fit_points: int | None = _field(sarsp.COST_FIT_POINTS, "rows of the cost model's data for each "
+                                         "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
+                                         "fast, the rows hold ~800 distinct inputs)")
+    reward_fit_points: int | None = _field(sarsp.REWARD_FIT_POINTS, "rows drawn at random for the reward model's "
+                                           "hyperparameter fit (None: all ~4,900, as the reference code, about "
+                                           "4 minutes a fit)")
+    retrain: str = _field("if_changed", "when a corrective update retrains the cost model: 'if_changed' (only "
+                          "when it changed the data, as the reference code), 'always' (the printed Algorithm 1) "
+                          "or 'never'", choices=sarsp.RETRAIN_RULES)
 
     def __post_init__(self):
         check_choice("model", self.model, ("tp", "gp"))
@@ -126,7 +140,9 @@ class ExperimentConfig:
         check_positive("variance_threshold", self.variance_threshold)
         check_int("k_prior", self.k_prior, 1)
         check_int("n_matching", self.n_matching, 0)
-        for name in ("cost_outliers", "reward_outliers", "retrain"):
+        check_choice("prior_draw", self.prior_draw, sarsp.PRIOR_DRAWS)
+        check_choice("retrain", self.retrain, sarsp.RETRAIN_RULES)
+        for name in ("cost_outliers", "reward_outliers"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be True or False, got {name}={getattr(self, name)!r}")
         check_int("seed", self.seed, 0)
@@ -140,11 +156,35 @@ class ExperimentConfig:
         check_positive("learning_rate", self.learning_rate)
         check_int("optimizer_steps", self.optimizer_steps, 1)
         check_choice("prior", self.prior, ("lognormal", None))
-        check_int("fit_points", self.fit_points, 2, allow_none=True)
+        check_int("cost_fit_points", self.cost_fit_points, 2, allow_none=True)
+        check_int("reward_fit_points", self.reward_fit_points, 2, allow_none=True)
 
     def replace(self, **changes) -> "ExperimentConfig":
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
+
+    @classmethod
+    def from_preset(cls, name: str = "default", **changes) -> "ExperimentConfig":
+        """The config of a named preset (see ``PRESETS``), with some fields changed.
+
+        Examples
+        --------
+        >>> ExperimentConfig.from_preset("reference").k_prior
+        400
+        >>> ExperimentConfig.from_preset("paper_text", episodes=20).prior_draw
+        'per_step'
+        """
+        check_choice("preset", name, tuple(PRESETS))
+        return cls(**{**PRESETS[name], **changes})
+
+    @property
+    def preset(self) -> str:
+        """The preset whose settings this config has (``PRESET_FIELDS``), or ``"custom"``.
+
+        Fields outside ``PRESET_FIELDS`` (the configuration m, p, nss, the
+        seed, the number of episodes) do not count.
+        """
+        return preset_of(self)
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -156,6 +196,59 @@ class ExperimentConfig:
         if unknown:
             raise ValueError(f"unknown ExperimentConfig fields {unknown}; valid fields are {sorted(known)}")
         return cls(**values)
+
+
+#: the settings a preset fixes: how SARSP is run, not which configuration
+PRESET_FIELDS = (
+    "prior_draw",
+    "k_prior",
+    "n_matching",
+    "predictive",
+    "n_samples",
+    "cost_fit_points",
+    "reward_fit_points",
+    "retrain",
+    "placement",
+    "max_steps",
+    "noise_convention",
+)
+
+_DEFAULTS = {f.name: f.default for f in fields(ExperimentConfig)}
+
+#: named sets of SARSP settings, each documented in ``PRESET_DOCS``
+PRESETS = {
+    # the package's defaults: the reference code's strategic prior, at teaching speed
+    "default": {name: _DEFAULTS[name] for name in PRESET_FIELDS},
+    # everything as the authors' code that produced the paper's figures
+    "reference": dict(prior_draw="per_action", k_prior=400, n_matching=10, predictive="sample", n_samples=150,
+                      cost_fit_points=None, reward_fit_points=None, retrain="if_changed", placement="reference",
+                      max_steps=101, noise_convention="tfp"),
+    # the algorithm as the paper prints it
+    "paper_text": dict(prior_draw="per_step", k_prior=100, n_matching=10, predictive="closed_form",
+                       n_samples=150, cost_fit_points=None, reward_fit_points=None, retrain="always",
+                       placement="full", max_steps=None, noise_convention="tfp"),
+}
+
+PRESET_DOCS = {
+    "default": "the reference code's strategic prior (a fresh prior per action) at teaching speed: k = 100, "
+               "closed-form predictions, exact whole-buffer cost fits, reward fits on 1,000 random rows, "
+               "the paper's full grid and T_max = n^2",
+    "reference": "everything as the authors' code that produced the paper's figures: a prior per action, "
+                 "k = 400, 150-draw sampled predictions, whole-buffer fits of both models, retrain only when "
+                 "the data changed, placement off the last row and column, at most 101 steps an episode "
+                 "(about 5 to 10 minutes a run on one core)",
+    "paper_text": "the algorithm as the paper prints it: one prior per step shared by the four actions, "
+                  "k = 100, hyperparameters fitted on all the data, retrain after every corrective update, "
+                  "the full grid and T_max = n^2",
+}
+
+
+def preset_of(config: "ExperimentConfig") -> str:
+    """The name of the preset whose ``PRESET_FIELDS`` all equal the config's, or ``"custom"``."""
+    for name, values in PRESETS.items():
+        if all(getattr(config, key) == value for key, value in values.items()):
+            return name
+    return "custom"
 
 
 #: summary metrics, the paper's order (Tables 2-4)
@@ -176,6 +269,7 @@ RECORD_COLUMNS = {
     "backup_rate": "this episode: share of decisions where no action was safe and the backup chose",
     "corrective_updates": "running number of corrective updates of the cost model's data",
     "retrains": "running number of cost-model retrains",
+    "final_cells": "this episode: distinct cells among the agent's last 10 positions (<= 2 on a failure: trapped)",
     "episode_reward": "this episode: summed reward",
     "episode_cost": "this episode: violations",
     "episode_steps": "this episode: steps",
@@ -231,7 +325,7 @@ def make_model(config: ExperimentConfig):
         learning_rate=config.learning_rate,
         max_iter=config.optimizer_steps,
         prior=config.prior,
-        max_fit_points=None,  # the agent draws the fit subset
+        max_fit_points=None,  # the agent draws the fit subsets
     )
     if config.model == "tp":
         return StudentTProcess(RBF(1.0, 1.0), nu=config.nu, noise_convention=config.noise_convention, **common)
@@ -239,6 +333,9 @@ def make_model(config: ExperimentConfig):
 
 
 _STREAMS = ("world", "offline", "outliers", "shift", "episodes", "agent")
+
+#: positions at the end of an episode inspected for a trap (``final_cells``)
+FINAL_WINDOW = 10
 
 
 def _streams(seed: int) -> dict:
@@ -333,9 +430,11 @@ class Experiment:
             variance_threshold=config.variance_threshold,
             k_prior=config.k_prior,
             n_matching=config.n_matching,
+            prior_draw=config.prior_draw,
             predictive=config.predictive,
             n_samples=config.n_samples,
-            fit_points=config.fit_points,
+            cost_fit_points=config.cost_fit_points,
+            reward_fit_points=config.reward_fit_points,
             retrain=config.retrain,
             rng=prepared.agent_seed,
         )
@@ -351,7 +450,6 @@ class Experiment:
         self.act_seconds: list[float] = []  # one decision (both models, 4 actions)
         self.step_seconds: list[float] = []  # decision, environment step and learn (with any retrain)
         self.episodes: list[dict] = []
-        self.retrains = 0
         self._observation = None
         self.trajectory: list[tuple] = []
 
@@ -390,8 +488,7 @@ class Experiment:
         next_observation, reward, terminated, truncated, info = self.env.step(action)
         outcome = self.agent.learn(observation, action, info, decision)
         self.step_seconds.append(time.perf_counter() - start)
-        if outcome.retrain_seconds:
-            self.retrains += 1
+        if outcome.retrained:
             self.timings["retrain_seconds"] += outcome.retrain_seconds
 
         ep = self._episode
@@ -439,7 +536,8 @@ class Experiment:
                 "safe_action_variance": float(np.mean(ep["safe_variances"])) if ep["safe_variances"] else math.nan,
                 "backup_rate": ep["backups"] / ep["steps"],
                 "corrective_updates": self.agent.corrective_updates,
-                "retrains": self.retrains,
+                "retrains": self.agent.retrains,
+                "final_cells": len(set(self.trajectory[-FINAL_WINDOW:])),
             }
         )
         self._observation = None
@@ -512,6 +610,7 @@ class ExperimentResult:
         atomic_write_text(directory / "records.csv", table.to_csv(index=False))
         payload = {
             "config": self.config.to_dict(),
+            "preset": self.config.preset,
             "summary": self.summary,
             "timings": self.timings,
             "sarsp_edu_version": __version__,
@@ -593,6 +692,19 @@ def backup_share(records: pd.DataFrame) -> float:
     """Share of all decisions in ``records`` taken by the backup rule (no action was safe)."""
     steps = records["episode_steps"].sum()
     return float((records["backup_rate"] * records["episode_steps"]).sum() / steps) if steps else math.nan
+
+
+def stuck_share(records: pd.DataFrame) -> float:
+    """Share of failed episodes (goal not reached) that ended trapped on at most 2 cells.
+
+    A greedy agent that pushes into a wall, or steps back and forth between
+    two cells, until the step limit (see ``final_cells``).  NaN when no
+    episode failed.
+    """
+    failed = ~records["task_completed"].astype(bool)
+    if not failed.any():
+        return math.nan
+    return float((records.loc[failed, "final_cells"] <= 2).mean())
 
 
 def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool:

@@ -128,10 +128,16 @@ class ObservationBuffer:
     def update(self, x, target: float) -> str:
         """Overwrite the rows with input ``x``, or add one if there is none.
 
-        Returns ``"overwritten"`` or ``"added"``.  (A new input is always
-        under its cap, so the add cannot be refused.)
+        Returns ``"overwritten"`` when a stored target changed,
+        ``"unchanged"`` when every row with input ``x`` already held
+        ``target`` (nothing to learn), or ``"added"``.  (A new input is
+        always under its cap, so the add cannot be refused.)
         """
-        if self.overwrite(x, target):
+        rows = self._rows.get(self._key(x), [])
+        if rows:
+            if np.all(self._y[rows] == float(target)):
+                return "unchanged"
+            self.overwrite(x, target)
             return "overwritten"
         self.add(x, target)
         return "added"

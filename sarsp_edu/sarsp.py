@@ -3,7 +3,10 @@
 At every step the agent
 
 1. draws a *strategic prior* for each model: ``k`` random rows of its
-   training set plus up to ``n`` rows whose input equals the query;
+   training set plus up to ``n`` rows whose input equals the query; by
+   default a fresh one for every action, as the paper's reference code does
+   (``prior_draw="per_action"``), or one per step shared by the four
+   actions, as the printed Algorithm 1 reads (``prior_draw="per_step"``);
 2. predicts, for every action, the cost signal (distance to danger) with its
    variance, and the reward;
 3. overrides the actions it has learned are unsafe (``S_u``): cost -inf,
@@ -32,9 +35,16 @@ from .gridworld import cost_inputs, reward_inputs
 from .offline import OfflineData
 from .processes import as_generator, draw_subset
 
-__all__ = ["SARSPAgent", "Decision", "LearnOutcome"]
+__all__ = ["SARSPAgent", "Decision", "LearnOutcome", "PRIOR_DRAWS", "RETRAIN_RULES"]
 
 _PREDICTIVE = ("closed_form", "sample")
+#: how strategic priors are drawn: a fresh one for every action (the reference
+#: code) or one per step shared by the four actions (the printed Algorithm 1)
+PRIOR_DRAWS = ("per_action", "per_step")
+#: when the corrective update retrains the cost model: only when it changed a
+#: stored target or added a row (the reference code), after every corrective
+#: update (the printed Algorithm 1), or never
+RETRAIN_RULES = ("if_changed", "always", "never")
 
 # Defaults of Algorithm 1, read by ExperimentConfig too (one source of truth).
 #: safety threshold on the predicted distance to danger (paper: 1)
@@ -47,10 +57,15 @@ K_PRIOR = 100
 N_MATCHING = 10
 #: draws per prediction in the reference code's Monte Carlo estimate
 N_SAMPLES = 150
-#: rows drawn at random for each hyperparameter fit (the reference code used
-#: all, ~4,700; 500 gives the same hyperparameters to within the run-to-run
-#: spread at a 50th of the cost, see benchmarks/)
-FIT_POINTS = 500
+#: rows of the cost model's data used for each hyperparameter fit (None: all,
+#: as the reference code; exact and fast, because the ~4,700 rows hold only
+#: ~800 distinct inputs, see processes._group)
+COST_FIT_POINTS = None
+#: rows drawn at random for the reward model's hyperparameter fit (None: all
+#: ~4,900, as the reference code: 50 steps of a 4,900-point factorisation, about
+#: four minutes; 1,000 rows give nearly the same hyperparameters in 2 s, see
+#: benchmarks/bench_fits.py)
+REWARD_FIT_POINTS = 1000
 
 
 @dataclass
@@ -76,8 +91,10 @@ class Decision:
     action : int
     backup : bool
         True when no action was safe and the backup rule chose.
-    prior_size : tuple of int
-        Rows in the cost and reward priors.
+    prior_size : tuple of ndarray
+        Rows in each action's cost and reward prior, two arrays of shape (4,)
+        (with ``prior_draw="per_step"`` the four entries are those of the
+        one shared prior).
     """
 
     position: tuple
@@ -106,7 +123,8 @@ class LearnOutcome:
     violation: bool = False
     added_to_unsafe: bool = False
     corrected: bool = False
-    buffer_update: str | None = None  # "overwritten" or "added"
+    buffer_update: str | None = None  # "overwritten", "added" or "unchanged"
+    retrained: bool = False
     retrain_seconds: float = 0.0
 
 
@@ -152,8 +170,8 @@ class SARSPAgent:
     ----------
     cost_model, reward_model : GaussianProcess or StudentTProcess
         Unfitted or fitted; :meth:`fit` trains them on the data.  Their
-        ``max_fit_points`` is ignored: the agent draws the fit subset itself
-        (``fit_points``).
+        ``max_fit_points`` is ignored: the agent draws the fit subsets itself
+        (``cost_fit_points``, ``reward_fit_points``).
     data : OfflineData
         The offline training sets.  The agent works on a copy: its corrective
         updates never touch the caller's data.
@@ -166,20 +184,32 @@ class SARSPAgent:
         Random rows in each strategic prior (paper: 100; the reference code
         used 400).
     n_matching : int, default 10
-        At most this many rows whose input equals each action's query are
-        added (paper and reference: 10).
+        At most this many rows whose input equals an action's query are
+        added to its prior (paper and reference: 10).
+    prior_draw : {"per_action", "per_step"}, default "per_action"
+        ``"per_action"``: each action's prediction, for each model, is
+        conditioned on its own fresh prior (``k_prior`` random rows plus that
+        action's matching rows), as the reference code that produced the
+        paper's figures does.  ``"per_step"``: one prior per model and step,
+        shared by the four actions (``k_prior`` random rows plus the matching
+        rows of all four), as the printed Algorithm 1 draws one chi_c and one
+        chi_r per step.  The difference decides how the agents behave (see
+        Notes).
     predictive : {"closed_form", "sample"}, default "closed_form"
         ``"closed_form"``: exact predictive mean and variance, observation
         noise included.  ``"sample"``: the reference implementation's Monte
         Carlo estimate, the sample mean and variance of ``n_samples`` draws
         from the posterior predictive.
     n_samples : int, default 150
-    fit_points : int or None, default 500
-        Rows of a training set used to fit hyperparameters (a random subset;
-        ``None``: all, as the reference code).  Each fit starts from the
-        models' constructor values.
-    retrain : bool, default True
-        Whether the corrective update retrains the cost model.
+    cost_fit_points, reward_fit_points : int or None, default None and 1000
+        Rows of each training set used to fit its hyperparameters: a random
+        subset of that size, or all of them (``None``, the reference code).
+        Every fit starts from the models' constructor values.
+    retrain : {"if_changed", "always", "never"}, default "if_changed"
+        When a corrective update retrains the cost model: only if it changed
+        a stored target or added a row (the reference code: retraining on
+        unchanged data would only repeat the last fit), after every
+        corrective update, or never.
     unsafe_pairs : iterable of ((x, y), action), optional
         An initial ``S_u``; default empty.
     rng : None, int or numpy.random.Generator
@@ -187,11 +217,13 @@ class SARSPAgent:
 
     Notes
     -----
-    The strategic prior is shared by the four actions: ``k`` random rows plus,
-    for each action, up to ``n`` rows matching that action's input; the model
-    is conditioned once and predicts all actions together (paper Algorithm 1
-    matches rows on the state ``S_t``; with the action part of the input, the
-    rows of all four actions are exactly those).
+    With one prior shared by the four actions, the four predictions of a
+    step share their random rows, the ranking of the actions changes little
+    from step to step, and a greedy agent can be trapped (pushing into a
+    wall, or stepping back and forth between two cells) until the episode's
+    step limit.  A prior per action makes every comparison between actions
+    a little random, which breaks such loops.  ``REPRODUCTION.md`` measures
+    the effect.
 
     The corrective update follows the reference implementation: only after a
     step that violated the constraint, and only if the re-predicted cost of
@@ -213,10 +245,12 @@ class SARSPAgent:
         variance_threshold: float = VARIANCE_THRESHOLD,
         k_prior: int = K_PRIOR,
         n_matching: int = N_MATCHING,
+        prior_draw: str = "per_action",
         predictive: str = "closed_form",
         n_samples: int = N_SAMPLES,
-        fit_points: int | None = FIT_POINTS,
-        retrain: bool = True,
+        cost_fit_points: int | None = COST_FIT_POINTS,
+        reward_fit_points: int | None = REWARD_FIT_POINTS,
+        retrain: str = "if_changed",
         unsafe_pairs=None,
         rng=None,
     ):
@@ -226,10 +260,12 @@ class SARSPAgent:
         self.variance_threshold = check_positive("variance_threshold", variance_threshold)
         self.k_prior = check_int("k_prior", k_prior, 1)
         self.n_matching = check_int("n_matching", n_matching, 0)
+        self.prior_draw = check_choice("prior_draw", prior_draw, PRIOR_DRAWS)
         self.predictive = check_choice("predictive", predictive, _PREDICTIVE)
         self.n_samples = check_int("n_samples", n_samples, 2)
-        self.fit_points = check_int("fit_points", fit_points, 2, allow_none=True)
-        self.retrain = bool(retrain)
+        self.cost_fit_points = check_int("cost_fit_points", cost_fit_points, 2, allow_none=True)
+        self.reward_fit_points = check_int("reward_fit_points", reward_fit_points, 2, allow_none=True)
+        self.retrain = check_choice("retrain", retrain, RETRAIN_RULES)
         self.rng = as_generator(rng)
         data = data.copy()
         self.cost_data = data.cost
@@ -238,32 +274,50 @@ class SARSPAgent:
         for position, action in unsafe_pairs or ():
             self.unsafe_pairs.add((tuple(int(v) for v in position), int(action)))
         self.corrective_updates = 0
+        self.retrains = 0
 
     # -- training -------------------------------------------------------------
-    def _fit(self, model, buffer):
-        rows = draw_subset(len(buffer), self.fit_points, self.rng)
+    def _fit(self, model, buffer, fit_points):
+        rows = draw_subset(len(buffer), fit_points, self.rng)
         model.fit(buffer.X[rows], buffer.y[rows])
 
     def fit(self) -> "SARSPAgent":
         """Offline training: fit both models' hyperparameters on the data."""
-        self._fit(self.cost_model, self.cost_data)
-        self._fit(self.reward_model, self.reward_data)
+        self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
+        self._fit(self.reward_model, self.reward_data, self.reward_fit_points)
         return self
 
     # -- prediction -------------------------------------------------------------
-    def _prior(self, buffer, queries: np.ndarray) -> np.ndarray:
-        """Rows of the strategic prior: k random rows and up to n matches per query."""
-        n = len(buffer)
-        parts = [self.rng.choice(n, size=min(self.k_prior, n), replace=False)]
-        if self.n_matching:
-            for query in queries:
-                rows = buffer.rows_of(query)
-                if len(rows) > self.n_matching:
-                    rows = self.rng.choice(rows, size=self.n_matching, replace=False)
-                parts.append(rows)
-        return np.unique(np.concatenate(parts))
+    def _matches(self, buffer, query) -> np.ndarray:
+        rows = buffer.rows_of(query)
+        if len(rows) > self.n_matching:
+            rows = self.rng.choice(rows, size=self.n_matching, replace=False)
+        return rows
 
-    def strategic_prior(self, observation, model: str = "cost") -> np.ndarray:
+    def _priors(self, buffer, queries: np.ndarray) -> list:
+        """Row indices of the strategic prior of each query (see ``prior_draw``).
+
+        ``per_action``: for each query, ``k`` fresh random rows plus up to
+        ``n`` of its matching rows.  ``per_step``: one set, ``k`` random rows
+        plus up to ``n`` matching rows of every query, returned once per query.
+        """
+        n = len(buffer)
+        k = min(self.k_prior, n)
+        if self.prior_draw == "per_action":
+            priors = []
+            for query in queries:
+                rows = self.rng.choice(n, size=k, replace=False)
+                if self.n_matching:
+                    rows = np.union1d(rows, self._matches(buffer, query))
+                priors.append(rows)
+            return priors
+        parts = [self.rng.choice(n, size=k, replace=False)]
+        if self.n_matching:
+            parts += [self._matches(buffer, query) for query in queries]
+        shared = np.unique(np.concatenate(parts))
+        return [shared] * len(queries)
+
+    def strategic_prior(self, observation, model: str = "cost") -> list:
         """Rows of one model's training set that a decision would condition on (a fresh draw).
 
         Parameters
@@ -273,24 +327,52 @@ class SARSPAgent:
 
         Returns
         -------
-        ndarray of int
-            Row indices into ``cost_data`` or ``reward_data``: ``k_prior``
-            random rows plus up to ``n_matching`` rows matching each action's input.
+        list of 4 ndarrays of int
+            For each action (RIGHT, DOWN, LEFT, UP), row indices into
+            ``cost_data`` or ``reward_data``: ``k_prior`` random rows plus up to
+            ``n_matching`` rows matching the action's input.  With
+            ``prior_draw="per_step"`` the four are one shared array, which
+            holds the matching rows of every action.
         """
         check_choice("model", model, ("cost", "reward"))
         if model == "cost":
-            return self._prior(self.cost_data, cost_inputs(observation))
-        return self._prior(self.reward_data, reward_inputs(observation))
+            return self._priors(self.cost_data, cost_inputs(observation))
+        return self._priors(self.reward_data, reward_inputs(observation))
 
     def _predict(self, model, buffer, queries):
-        rows = self._prior(buffer, queries)
-        conditioned = model.condition(buffer.X[rows], buffer.y[rows])
-        if self.predictive == "closed_form":
-            mean, var = conditioned.predict(queries, return_var=True, include_noise=True)
+        """Mean, variance and prior sizes of each query, each from its own prior."""
+        priors = self._priors(buffer, queries)
+        X, y = buffer.X, buffer.y
+        if self.prior_draw == "per_action":
+            sets = priors
+            query_sets = queries[:, None, :]  # one query per prior
         else:
-            draws = conditioned.sample_y(queries, self.n_samples, rng=self.rng, include_noise=True)
-            mean, var = draws.mean(axis=1), draws.var(axis=1, ddof=1)
-        return mean, var, len(rows)
+            sets = priors[:1]
+            query_sets = queries[None, :, :]  # the four queries share one prior
+        mean, var, df = model.predict_batch([X[r] for r in sets], [y[r] for r in sets], query_sets,
+                                            include_noise=True)
+        mean, var = mean.reshape(-1), var.reshape(-1)
+        df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
+        if self.predictive == "sample":
+            mean, var = self._sample_moments(mean, var, df)
+        return mean, var, np.array([len(r) for r in priors])
+
+    def _sample_moments(self, mean, var, df):
+        """Sample mean and variance of ``n_samples`` draws from each predictive distribution.
+
+        The reference code's estimate: normal draws for the GP; for the TP a
+        Student-t with ``df`` degrees of freedom and variance ``var``,
+        ``mean + sqrt(var (df - 2) / W) z`` with ``W ~ chi2(df)``.
+        """
+        z = self.rng.standard_normal((mean.shape[0], self.n_samples))
+        scale = np.sqrt(var)[:, None]
+        heavy = np.isfinite(df)
+        if heavy.any():
+            chi2 = self.rng.chisquare(df[heavy][:, None], size=(int(heavy.sum()), self.n_samples))
+            scale = np.broadcast_to(scale, z.shape).copy()
+            scale[heavy] *= np.sqrt((df[heavy][:, None] - 2.0) / chi2)
+        draws = mean[:, None] + scale * z
+        return draws.mean(axis=1), draws.var(axis=1, ddof=1)
 
     def predict(self, observation):
         """Per-action predictions ``(mu_cost, var_cost, mu_reward, var_reward)`` with fresh priors."""
@@ -357,7 +439,7 @@ class SARSPAgent:
         pair = (position, int(action))
         outcome.added_to_unsafe = pair not in self.unsafe_pairs
         self.unsafe_pairs.add(pair)
-        # Re-predict from the same state, without the S_u override.
+        # Re-predict from the same state (fresh priors), without the S_u override.
         x_cost = cost_inputs(observation)
         mu_cost, var_cost, _ = self._predict(self.cost_model, self.cost_data, x_cost)
         was_backup = decision.backup if decision is not None else False
@@ -367,8 +449,11 @@ class SARSPAgent:
             outcome.corrected = True
             outcome.buffer_update = self.cost_data.update(x_cost[action], info["distance_to_unsafe"])
             self.corrective_updates += 1
-            if self.retrain:
+            changed = outcome.buffer_update != "unchanged"
+            if self.retrain == "always" or (self.retrain == "if_changed" and changed):
                 start = time.perf_counter()
-                self._fit(self.cost_model, self.cost_data)
+                self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
                 outcome.retrain_seconds = time.perf_counter() - start
+                outcome.retrained = True
+                self.retrains += 1
         return outcome

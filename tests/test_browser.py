@@ -144,7 +144,7 @@ from sarsp_edu import ExperimentConfig
 from sarsp_edu.widgets import agent_dashboard
 
 agent_dashboard(episodes=30, n_switch_states=2,
-                config=ExperimentConfig(grid_size=7, n_unsafe=6, offline_episodes=20, fit_points=150,
+                config=ExperimentConfig(grid_size=7, n_unsafe=6, offline_episodes=20, cost_fit_points=150, reward_fit_points=150,
                                         optimizer_steps=20))
 """
 

@@ -9,7 +9,7 @@ import pytest
 from sarsp_edu.cli import build_parser, main
 
 TINY = ["--grid-size", "5", "--n-unsafe", "3", "--nss", "1", "--episodes", "2", "--offline-episodes", "5",
-        "--fit-points", "50", "--k-prior", "20", "--optimizer-steps", "3", "--quiet"]
+        "--cost-fit-points", "50", "--reward-fit-points", "50", "--k-prior", "20", "--optimizer-steps", "3", "--quiet"]
 
 
 def test_run_prints_a_summary_and_saves(tmp_path, capsys):
@@ -60,8 +60,8 @@ def test_bad_values_are_usage_errors(argv, message, capsys):
 
 
 def test_none_values_parse():
-    args = build_parser().parse_args(["run", "--fit-points", "none", "--prior", "None", "--max-steps", "30"])
-    assert args.fit_points is None and args.prior is None and args.max_steps == 30
+    args = build_parser().parse_args(["run", "--reward-fit-points", "none", "--prior", "None", "--max-steps", "30"])
+    assert args.reward_fit_points is None and args.prior is None and args.max_steps == 30
 
 
 def test_console_script_help_and_info():

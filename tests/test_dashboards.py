@@ -322,7 +322,7 @@ def test_curve_and_macro_plots():
 # --------------------------------------------------------------------------
 # the live agent dashboard
 # --------------------------------------------------------------------------
-SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, fit_points=80, optimizer_steps=5, k_prior=30)
+SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80, optimizer_steps=5, k_prior=30)
 
 
 @pytest.fixture

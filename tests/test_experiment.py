@@ -12,7 +12,7 @@ from sarsp_edu.experiment import RECORD_COLUMNS, SUMMARY_METRICS, Comparison, Ex
 
 TINY = ExperimentConfig(
     grid_size=5, n_unsafe=3, n_switch_states=1, episodes=4, offline_episodes=6,
-    fit_points=60, k_prior=30, optimizer_steps=5, seed=3,
+    cost_fit_points=60, reward_fit_points=60, k_prior=30, optimizer_steps=5, seed=3,
 )
 
 
@@ -214,7 +214,10 @@ def test_failed_write_leaves_nothing_behind(tmp_path, monkeypatch):
         (dict(predictive="mc"), "predictive"),
         (dict(noise_convention="gpy"), "noise_convention"),
         (dict(optimizer="sgd"), "optimizer"),
-        (dict(fit_points=1), "fit_points"),
+        (dict(reward_fit_points=1), "reward_fit_points"),
+        (dict(cost_fit_points=0), "cost_fit_points"),
+        (dict(prior_draw="per_episode"), "prior_draw"),
+        (dict(retrain=True), "retrain"),
         (dict(cost_outliers="yes"), "cost_outliers must be True or False"),
     ],
 )
@@ -241,3 +244,52 @@ def test_defaults_are_the_papers():
     assert (c.outlier_magnitude, c.outlier_proportion, c.n_switch_states, c.episodes) == (40.0, 0.2, 2, 250)
     assert (c.nu, c.d, c.variance_threshold, c.cost_outliers, c.reward_outliers) == (3.0, 1.0, 0.8, True, True)
     assert (c.optimizer, c.learning_rate, c.optimizer_steps, c.prior) == ("adam", 0.1, 50, "lognormal")
+
+
+# --------------------------------------------------------------------------
+# presets
+# --------------------------------------------------------------------------
+from sarsp_edu.experiment import PRESET_DOCS, PRESET_FIELDS, PRESETS, preset_of  # noqa: E402
+
+
+@pytest.mark.parametrize("name", sorted(PRESETS))
+def test_presets_set_exactly_the_fields_they_document(name):
+    values = PRESETS[name]
+    assert set(values) == set(PRESET_FIELDS)
+    config = ExperimentConfig.from_preset(name, episodes=3, seed=5)
+    assert {key: getattr(config, key) for key in PRESET_FIELDS} == values
+    assert config.preset == name and config.episodes == 3 and config.seed == 5
+    doc = PRESET_DOCS[name]
+    assert f"k = {values['k_prior']}" in doc
+    assert ("per action" in doc) == (values["prior_draw"] == "per_action")
+    assert ("per step" in doc) == (values["prior_draw"] == "per_step")
+
+
+def test_default_preset_is_the_dataclass_defaults():
+    assert ExperimentConfig().preset == "default"
+    assert ExperimentConfig.from_preset() == ExperimentConfig()
+
+
+def test_reference_preset_is_the_reference_code():
+    config = ExperimentConfig.from_preset("reference")
+    assert (config.prior_draw, config.k_prior, config.predictive, config.n_samples) == ("per_action", 400, "sample", 150)
+    assert config.cost_fit_points is None and config.reward_fit_points is None
+    assert (config.placement, config.max_steps, config.retrain) == ("reference", 101, "if_changed")
+
+
+def test_a_changed_setting_is_custom_and_configuration_fields_are_not_settings():
+    assert ExperimentConfig(outlier_magnitude=80, n_switch_states=10).preset == "default"
+    assert ExperimentConfig(k_prior=400).preset == "custom"
+    assert preset_of(ExperimentConfig.from_preset("paper_text").replace(prior_draw="per_action")) == "custom"
+
+
+def test_unknown_preset_is_named():
+    with pytest.raises(ValueError, match="preset must be one of"):
+        ExperimentConfig.from_preset("fast")
+
+
+def test_saved_result_says_its_preset(tmp_path):
+    result = run_experiment(TINY.replace(episodes=1))
+    result.save(tmp_path / "r")
+    payload = json.loads((tmp_path / "r" / "result.json").read_text())
+    assert payload["preset"] == "custom" and payload["config"]["prior_draw"] == "per_action"

@@ -193,11 +193,14 @@ def test_prior_gradient_matches_finite_differences():
     X, y = make_data(0, n=15, d=2)
     from sarsp_edu.kernels import squared_distances
 
+    from sarsp_edu.processes import _group
+
     model = StudentTProcess(optimizer=None).fit(X, y)
-    D2 = squared_distances(X)
+    data = _group(X, y)
+    D2 = squared_distances(data.X)
     theta = np.array([0.3, -0.2, -1.0])
-    _, grad = model._log_joint(theta, D2, y)
-    fd = approx_fprime(theta, lambda t: model._log_joint(t, D2, y)[0], 1e-6)
+    _, grad = model._log_joint(theta, D2, data)
+    fd = approx_fprime(theta, lambda t: model._log_joint(t, D2, data)[0], 1e-6)
     np.testing.assert_allclose(grad, fd, rtol=1e-4, atol=1e-5)
 
 
@@ -284,12 +287,20 @@ def test_outliers_times_80_fit_and_predict_finitely(model_cls):
     assert np.isfinite(model.log_marginal_likelihood())
 
 
-def test_duplicated_inputs_with_tiny_noise_get_jitter():
-    X = np.zeros((5, 2))
+def test_near_duplicate_inputs_with_tiny_noise_get_jitter():
+    X = np.arange(5.0).reshape(-1, 1) * 1e-12 * np.ones((1, 2))  # distinct rows, numerically one point
     y = np.arange(5.0)
     gp = GaussianProcess(noise_variance=1e-160, optimizer=None).fit(X, y)
     assert gp.jitter_ > 0
     assert np.all(np.isfinite(gp.predict(X, return_var=True)[1]))
+
+
+def test_exact_duplicates_are_folded_and_need_no_jitter():
+    X = np.zeros((5, 2))
+    y = np.arange(5.0)
+    gp = GaussianProcess(noise_variance=1e-160, optimizer=None).fit(X, y)
+    assert gp.jitter_ == 0 and gp.X_unique_.shape == (1, 2) and gp.counts_.tolist() == [5.0]
+    assert gp.predict(X[:1])[0] == pytest.approx(2.0)  # the mean of the five targets
 
 
 @settings(max_examples=40, deadline=None)
@@ -405,3 +416,106 @@ def test_predict_with_wrong_number_of_features():
 def test_initial_value_outside_bounds():
     with pytest.raises(ValueError, match="noise_variance=1e-08 lies outside bounds"):
         GaussianProcess(noise_variance=1e-8).fit(np.zeros((3, 1)), np.zeros(3))
+
+
+# --------------------------------------------------------------------------
+# repeated inputs folded together: exact, at the distinct inputs' size
+# --------------------------------------------------------------------------
+def repeated_rows(seed, n_distinct=40, max_copies=12):
+    """Cost-buffer-like data: integer inputs, each repeated 1 to 12 times with different targets."""
+    rng = np.random.default_rng(seed)
+    U = np.unique(rng.integers(0, 6, size=(n_distinct, 5)).astype(float), axis=0)
+    copies = rng.integers(1, max_copies + 1, size=len(U))
+    X = np.repeat(U, copies, axis=0)
+    y = np.hypot(X[:, 1] - X[:, 3], X[:, 2] - X[:, 4]) + 0.3 * rng.standard_normal(len(X))
+    order = rng.permutation(len(X))  # copies scattered through the rows, as in a buffer
+    return X[order], y[order]
+
+
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_grouped_likelihood_and_gradient_equal_the_expanded_rows(model_cls):
+    from sarsp_edu.kernels import squared_distances
+    from sarsp_edu.processes import _group, _Groups
+
+    X, y = repeated_rows(0)
+    grouped = _group(X, y)
+    assert len(grouped.counts) < len(X) / 3  # the folding does something here
+    plain = _Groups(X, np.ones(len(X)), y, 0.0, len(X))  # every row on its own: the textbook path
+    model = model_cls(optimizer=None).fit(X, y)
+    for theta in (np.array([0.3, -0.2, -1.0]), np.array([1.2, 0.5, -3.0]), np.array([-0.5, 1.0, 0.7])):
+        v_g, g_g = model._lml_from_distances(theta, squared_distances(grouped.X), grouped, True)
+        v_p, g_p = model._lml_from_distances(theta, squared_distances(X), plain, True)
+        assert v_g == pytest.approx(v_p, rel=1e-8, abs=1e-8)
+        np.testing.assert_allclose(g_g, g_p, rtol=1e-8, atol=1e-8 * np.abs(g_p).max())
+
+
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_grouped_model_equals_scipy_density_and_predicts_as_the_expanded_rows(model_cls):
+    X, y = repeated_rows(1)
+    kernel, noise = RBF(1.3, 1.7), 0.2
+    model = model_cls(kernel, noise_variance=noise, optimizer=None).fit(X, y)
+    assert model.X_unique_.shape[0] < X.shape[0] and model.counts_.sum() == X.shape[0]
+    K = kernel(X) + noise * np.eye(len(X))
+    if model_cls is GaussianProcess:
+        expected = stats.multivariate_normal(np.zeros(len(X)), K).logpdf(y)
+    else:
+        expected = stats.multivariate_t(np.zeros(len(X)), (3.0 - 2.0) / 3.0 * K, df=3.0).logpdf(y)
+    assert model.log_marginal_likelihood() == pytest.approx(expected, rel=1e-9)
+    # prediction with the rows expanded, by the textbook formulas
+    Xq = np.array([[0, 1, 2, 3, 4.0], [3, 3, 3, 0, 0.0], [1.5, 2, 2.5, 0, 5]])
+    k_star = kernel(Xq, X)
+    mean = k_star @ np.linalg.solve(K, y)
+    latent = kernel.diag(Xq) - np.einsum("ij,ji->i", k_star, np.linalg.solve(K, k_star.T))
+    if model_cls is StudentTProcess:
+        beta = y @ np.linalg.solve(K, y)
+        latent = latent * (3.0 + beta - 2.0) / (3.0 + len(X) - 2.0)
+        assert model.beta_ == pytest.approx(beta, rel=1e-9)
+    got_mean, got_var = model.predict(Xq, return_var=True)
+    np.testing.assert_allclose(got_mean, mean, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(got_var, latent, rtol=1e-7, atol=1e-10)
+
+
+def test_fit_on_repeated_rows_equals_fit_on_the_expanded_rows():
+    """Adam's path is the same whether the likelihood is folded or not."""
+    from sarsp_edu.processes import _Groups
+    import sarsp_edu.processes as processes
+
+    X, y = repeated_rows(2, n_distinct=25)
+    folded = StudentTProcess(max_iter=10).fit(X, y)
+    original = processes._group
+    try:
+        processes._group = lambda X, y: _Groups(X, np.ones(len(X)), y, 0.0, len(X))
+        expanded = StudentTProcess(max_iter=10).fit(X, y)
+    finally:
+        processes._group = original
+    np.testing.assert_allclose(folded.theta_, expanded.theta_, rtol=1e-8)
+    np.testing.assert_allclose(folded.objective_trace_, expanded.objective_trace_, rtol=1e-9)
+
+
+@pytest.mark.parametrize("model_cls,convention", [(GaussianProcess, None), (StudentTProcess, "tfp"),
+                                                  (StudentTProcess, "shah")])
+@pytest.mark.parametrize("include_noise", [False, True])
+def test_predict_batch_equals_condition_then_predict(model_cls, convention, include_noise):
+    X, y = repeated_rows(3)
+    extra = {} if convention is None else {"noise_convention": convention}
+    model = model_cls(RBF(2.0, 1.5), noise_variance=0.3, optimizer=None, **extra).fit(X, y)
+    rng = np.random.default_rng(0)
+    sets = [np.sort(rng.choice(len(X), size=size, replace=False)) for size in (30, 45, 12, 45)]
+    X_query = rng.integers(0, 6, size=(4, 3, 5)).astype(float)
+    mean, var, df = model.predict_batch([X[r] for r in sets], [y[r] for r in sets], X_query, include_noise)
+    assert mean.shape == var.shape == (4, 3) and df.shape == (4,)
+    for b, rows in enumerate(sets):
+        conditioned = model.condition(X[rows], y[rows])
+        m, v = conditioned.predict(X_query[b], return_var=True, include_noise=include_noise)
+        np.testing.assert_allclose(mean[b], m, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(var[b], v, rtol=1e-8, atol=1e-12)
+        assert df[b] == (np.inf if model_cls is GaussianProcess else 3.0 + len(rows))
+
+
+def test_predict_batch_checks_shapes():
+    X, y = repeated_rows(3)
+    model = GaussianProcess(optimizer=None).fit(X, y)
+    with pytest.raises(ValueError, match="X_query must have shape"):
+        model.predict_batch([X], [y], np.zeros((2, 1, 5)))
+    with pytest.raises(ValueError, match="X_query must have shape"):
+        model.predict_batch([X], [y], np.zeros((1, 5)))

@@ -161,16 +161,79 @@ def test_the_agent_works_on_a_copy_of_the_data():
     np.testing.assert_array_equal(data.cost.y, before)  # ... the caller's did not
 
 
-def test_prior_holds_random_rows_and_the_matches():
-    agent = tiny_agent(5.0, k_prior=2)
+def test_per_step_prior_holds_random_rows_and_every_actions_matches():
+    agent = tiny_agent(5.0, k_prior=2, prior_draw="per_step")
     queries = np.array([[0, 2, 2, 3, 2.0], [1, 2, 2, 3, 2.0]])
-    rows = agent._prior(agent.cost_data, queries)
+    priors = agent._priors(agent.cost_data, queries)
+    assert len(priors) == 2 and priors[0] is priors[1]  # one set, shared
     for query in queries:
-        assert set(agent.cost_data.rows_of(query)) <= set(rows)
-    assert len(rows) <= 2 + 6
-    agent = tiny_agent(5.0, k_prior=2, n_matching=2)
-    rows = agent._prior(agent.cost_data, queries[:1])
+        assert set(agent.cost_data.rows_of(query)) <= set(priors[0])
+    assert len(priors[0]) <= 2 + 6
+    agent = tiny_agent(5.0, k_prior=2, n_matching=2, prior_draw="per_step")
+    rows = agent._priors(agent.cost_data, queries[:1])[0]
     assert len(set(agent.cost_data.rows_of(queries[0])) & set(rows)) >= 2
+
+
+def test_per_action_prior_holds_its_own_matches_only():
+    agent = tiny_agent(5.0, k_prior=1, n_matching=10)
+    queries = np.array([[0, 2, 2, 3, 2.0], [1, 2, 2, 3, 2.0]])
+    first, second = agent._priors(agent.cost_data, queries)
+    assert set(agent.cost_data.rows_of(queries[0])) <= set(first)
+    assert set(agent.cost_data.rows_of(queries[1])) <= set(second)
+    assert len(first) <= 1 + 3 and len(second) <= 1 + 3 + 5  # one random row plus the matches
+
+
+def large_buffer_agent(prior_draw, n=1000, k=100):
+    cost = ObservationBuffer(5, max_duplicates=12)
+    reward = ObservationBuffer(5, max_duplicates=1)
+    for i in range(n):
+        cost.add([i % 4, i, 0, 0, 0], 1.0)
+        reward.add([i % 4, i, 0, 0, 0], -1.0)
+    data = OfflineData(cost=cost, reward=reward, episodes=1, transitions=n, visits=np.zeros((10, 10)))
+    def model():
+        return GaussianProcess(RBF(1.0, 1.0), noise_variance=0.1, optimizer=None)
+
+    return SARSPAgent(model(), model(), data, k_prior=k, n_matching=0, prior_draw=prior_draw,
+                      cost_fit_points=50, reward_fit_points=50, rng=0).fit()
+
+
+def test_per_action_priors_draw_independent_rows_per_action():
+    """Four actions' random rows overlap as independent draws do (k^2 / n), not wholly."""
+    n, k = 1000, 100
+    agent = large_buffer_agent("per_action", n, k)
+    overlaps = []
+    for _ in range(100):
+        priors = agent.strategic_prior(OBS, "cost")
+        assert [len(p) for p in priors] == [k] * 4 and len({id(p) for p in priors}) == 4
+        overlaps += [len(np.intersect1d(priors[i], priors[j])) for i in range(4) for j in range(i + 1, 4)]
+    # hypergeometric: mean k^2 / n = 10, sd ~ 2.85, so the mean of 600 pairs is 10 +- 0.12
+    assert np.mean(overlaps) == pytest.approx(k * k / n, abs=0.6)
+    # the reward model draws its own priors too
+    assert not np.array_equal(agent.strategic_prior(OBS, "reward")[0], agent.strategic_prior(OBS, "cost")[0])
+
+
+def test_per_step_prior_is_one_set_for_the_four_actions():
+    agent = large_buffer_agent("per_step")
+    priors = agent.strategic_prior(OBS, "cost")
+    assert all(p is priors[0] for p in priors) and len(priors[0]) == 100
+    _, decision = agent.act(OBS)
+    assert decision.prior_size[0].tolist() == [100] * 4
+
+
+def test_per_action_predictions_equal_conditioning_each_prior_on_its_own():
+    """The batched prediction is the model conditioned on each action's prior."""
+    from sarsp_edu.gridworld import cost_inputs
+
+    agent = tiny_agent(5.0, StudentTProcess, k_prior=5)
+    state = agent.rng.bit_generator.state
+    mu, var, sizes = agent._predict(agent.cost_model, agent.cost_data, cost_inputs(OBS))
+    agent.rng.bit_generator.state = state  # the same priors again
+    priors = agent._priors(agent.cost_data, cost_inputs(OBS))
+    for a, rows in enumerate(priors):
+        model = agent.cost_model.condition(agent.cost_data.X[rows], agent.cost_data.y[rows])
+        m, v = model.predict(cost_inputs(OBS)[a : a + 1], return_var=True, include_noise=True)
+        assert mu[a] == pytest.approx(m[0], rel=1e-9) and var[a] == pytest.approx(v[0], rel=1e-8)
+        assert sizes[a] == len(rows)
 
 
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
@@ -189,7 +252,7 @@ def test_decision_record():
     assert decision.position == (2, 2) and decision.action == action
     for name in ("mu_cost", "var_cost", "mu_reward", "var_reward", "known_unsafe", "safe"):
         assert getattr(decision, name).shape == (4,)
-    assert decision.prior_size[0] == len(agent.cost_data)
+    assert decision.prior_size[0].tolist() == [len(agent.cost_data)] * 4  # k = 100 exceeds the tiny data
     assert set(decision.scores) == {"mu_cost", "var_cost", "mu_reward"}
 
 
@@ -202,7 +265,9 @@ def test_decision_record():
         (dict(n_matching=-1), "n_matching"),
         (dict(predictive="mc"), "predictive must be one of"),
         (dict(n_samples=1), "n_samples"),
-        (dict(fit_points=1), "fit_points"),
+        (dict(reward_fit_points=1), "reward_fit_points"),
+        (dict(prior_draw="per_episode"), "prior_draw"),
+        (dict(retrain=True), "retrain"),
     ],
 )
 def test_bad_agent_arguments(kwargs, match):
@@ -212,9 +277,37 @@ def test_bad_agent_arguments(kwargs, match):
 
 def test_public_strategic_prior():
     agent = tiny_agent(5.0, k_prior=2)
-    rows = agent.strategic_prior(OBS, "cost")
+    priors = agent.strategic_prior(OBS, "cost")
     for a in range(4):
-        assert set(agent.cost_data.rows_of([a, 2, 2, 3, 2])) <= set(rows)
-    assert set(agent.reward_data.rows_of([0, 2, 2, 5, 5])) <= set(agent.strategic_prior(OBS, "reward"))
+        assert set(agent.cost_data.rows_of([a, 2, 2, 3, 2])) <= set(priors[a])
+    assert set(agent.reward_data.rows_of([0, 2, 2, 5, 5])) <= set(agent.strategic_prior(OBS, "reward")[0])
     with pytest.raises(ValueError, match="model must be one of 'cost', 'reward'"):
         agent.strategic_prior(OBS, "value")
+
+
+# --------------------------------------------------------------------------
+# when the corrective update retrains
+# --------------------------------------------------------------------------
+def violate_right(agent):
+    """A violation after RIGHT from (2, 2), observed 0.5 from danger."""
+    _, decision = agent.act(OBS)
+    return agent.learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.5}, decision)
+
+
+def test_retrain_if_changed_skips_an_update_that_changes_nothing():
+    # d = 0.1: a prediction of 0.5 still "says safe", so the update fires twice
+    agent = tiny_agent(5.0, d=0.1)  # default retrain="if_changed"
+    first = violate_right(agent)
+    assert first.corrected and first.buffer_update == "overwritten" and first.retrained
+    second = violate_right(agent)  # the stored targets already hold 0.5
+    assert second.corrected and second.buffer_update == "unchanged" and not second.retrained
+    assert agent.corrective_updates == 2 and agent.retrains == 1
+
+
+@pytest.mark.parametrize("rule, retrains", [("always", 2), ("never", 0)])
+def test_retrain_always_and_never(rule, retrains):
+    agent = tiny_agent(5.0, d=0.1, retrain=rule)
+    violate_right(agent)
+    outcome = violate_right(agent)
+    assert outcome.buffer_update == "unchanged" and outcome.retrained == (rule == "always")
+    assert agent.corrective_updates == 2 and agent.retrains == retrains

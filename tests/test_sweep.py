@@ -11,7 +11,7 @@ from sarsp_edu.experiment import SUMMARY_METRICS
 from sarsp_edu.sweep import SweepResults, cell_config, cell_seed, frame_to_markdown, tables_markdown
 
 TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
-                        fit_points=50, k_prior=20, optimizer_steps=3)
+                        cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
 GRID = dict(magnitudes=(40, 80), proportions=(0.2,), n_switch_states=(1, 2))
 
 
