@@ -46,9 +46,16 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
     Defaults are left to the dataclass (one source of truth): a flag not
     given is not passed on.
     """
-    from .experiment import ExperimentConfig
+    from .experiment import PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
 
-    group = parser.add_argument_group("experiment settings (every default is the paper's)")
+    preset_fields = set(PRESET_FIELDS)
+
+    group = parser.add_argument_group(
+        "experiment settings (defaults: the 'default' preset; a flag given overrides the preset)")
+    group.add_argument(
+        "--preset", choices=list(PRESET_DOCS), default="default",
+        help="a named set of SARSP settings: " + "; ".join(f"'{k}': {v}" for k, v in PRESET_DOCS.items())
+        + " [default: default]")
     for f in dataclasses.fields(ExperimentConfig):
         if f.name in skip:
             continue
@@ -56,6 +63,8 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
         if "flag" in f.metadata:
             names.insert(0, f"--{f.metadata['flag']}")
         help_text = f"{f.metadata['help']} [default: {f.default}]"
+        if f.name in preset_fields:
+            help_text = help_text[:-1] + ", or the preset's]"
         kwargs = dict(dest=f.name, default=argparse.SUPPRESS, help=help_text)
         if f.type == "bool":
             kwargs["action"] = argparse.BooleanOptionalAction
@@ -69,13 +78,13 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
 
 
 def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace):
-    """Build the config, turning a bad value into a usage error that names it."""
+    """Build the config (the preset, then the flags given), turning a bad value into a usage error."""
     from .experiment import ExperimentConfig
 
     names = {f.name for f in dataclasses.fields(ExperimentConfig)}
     values = {k: v for k, v in vars(args).items() if k in names}
     try:
-        return ExperimentConfig(**values)
+        return ExperimentConfig.from_preset(getattr(args, "preset", "default"), **values)
     except ValueError as exc:
         parser.error(str(exc))
 
@@ -92,9 +101,7 @@ def _run(args, parser) -> int:
     import pandas as pd
 
     table = pd.DataFrame({config.model.upper(): result.summary}).loc[list(SUMMARY_METRICS)]
-    print(f"SARSP with a {'Student-t' if config.model == 'tp' else 'Gaussian'} process, "
-          f"m={config.outlier_magnitude:g} p={config.outlier_proportion:g} nss={config.n_switch_states} "
-          f"episodes={config.episodes} seed={config.seed}")
+    print(f"SARSP with a {'Student-t' if config.model == 'tp' else 'Gaussian'} process, {_describe(config)}")
     print(_format_table(table))
     records = result.records
     print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "
@@ -112,8 +119,7 @@ def _compare(args, parser) -> int:
         comparison = compare(config, progress=not args.quiet, a=args.a)
     except ValueError as exc:
         parser.error(str(exc))
-    print(f"TP vs GP, paired: m={config.outlier_magnitude:g} p={config.outlier_proportion:g} "
-          f"nss={config.n_switch_states} episodes={config.episodes} seed={config.seed}")
+    print(f"TP vs GP, paired: {_describe(config)}")
     print(_format_table(comparison.table()))
     verdict = comparison.verdict
     print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
@@ -143,7 +149,7 @@ def _sweep(args, parser) -> int:
     except ValueError as exc:
         parser.error(str(exc))
     tables = summary_tables(results)
-    print(f"{len(results)} cells, each a paired TP-vs-GP run of {config.episodes} episodes")
+    print(f"{len(results)} cells, each a paired TP-vs-GP run of {config.episodes} episodes; preset {config.preset}")
     print(_format_table(tables["mean"]))
     if args.out:
         print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {args.out}")
@@ -171,7 +177,53 @@ def _tables(args, parser) -> int:
     return 0
 
 
+def _describe(config) -> str:
+    """One line: the configuration, the preset and the settings that differ from it."""
+    from .experiment import PRESETS, PRESET_FIELDS
+
+    text = (f"m={config.outlier_magnitude:g} p={config.outlier_proportion:g} nss={config.n_switch_states} "
+            f"episodes={config.episodes} seed={config.seed}; preset {config.preset}")
+    if config.preset == "custom":
+        closest = min(PRESETS, key=lambda name: sum(getattr(config, k) != v for k, v in PRESETS[name].items()))
+        changed = [f"{k}={getattr(config, k)!r}" for k in PRESET_FIELDS if getattr(config, k) != PRESETS[closest][k]]
+        text += f" ('{closest}' with {', '.join(changed)})"
+    return text
+
+
+def _ablation(args, parser) -> int:
+    import shlex
+
+    from .ablation import ABLATION_SETTINGS, AblationResults, run_ablation
+
+    if args.list:
+        for name, setting in ABLATION_SETTINGS.items():
+            print(f"{name}: {setting or 'the default preset'}")
+        return 0
+    unknown = [name for name in args.settings or () if name not in ABLATION_SETTINGS]
+    if unknown:
+        parser.error(f"unknown setting(s) {unknown}; 'sarsp-edu ablation --list' names them")
+    settings = {name: ABLATION_SETTINGS[name] for name in (args.settings or ABLATION_SETTINGS)}
+    if args.cells:
+        if len(args.cells) % 3:
+            parser.error(f"--cells takes m p nss triples, got {len(args.cells)} numbers")
+        cells = [(args.cells[i], args.cells[i + 1], int(args.cells[i + 2])) for i in range(0, len(args.cells), 3)]
+    else:
+        from .ablation import ABLATION_CELLS as cells
+    command = "sarsp-edu " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if args.record_command else None
+    try:
+        results = run_ablation(settings, cells=cells, seeds=args.seeds, episodes=args.episodes,
+                               results_dir=args.out, n_jobs=args.jobs, progress=not args.quiet, command=command)
+    except ValueError as exc:
+        parser.error(str(exc))
+    if args.out:
+        results = AblationResults.load(args.out)
+    print(_format_table(results.table()))
+    return 0
+
+
 def _info(args, parser) -> int:
+    from .experiment import PRESET_DOCS, PRESETS
+
     print(f"sarsp_edu {__version__}")
     print(f"python {platform.python_version()} ({sys.executable})")
     for name in _REPORTED:
@@ -180,6 +232,10 @@ def _info(args, parser) -> int:
         except importlib.metadata.PackageNotFoundError:
             version = "not installed"
         print(f"{name} {version}")
+    print("\npresets (sarsp-edu run|compare|sweep|ablation --preset NAME):")
+    for name, values in PRESETS.items():
+        print(f"  {name}: {PRESET_DOCS[name]}")
+        print("    " + ", ".join(f"{k}={v!r}" for k, v in values.items()))
     return 0
 
 
@@ -253,7 +309,25 @@ def build_parser() -> argparse.ArgumentParser:
     tables.add_argument("--markdown", metavar="FILE", help="where to write the Markdown [default: RESULTS_DIR/tables.md]")
     tables.set_defaults(func=_tables, parser=tables)
 
-    info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies")
+    ablation = sub.add_parser(
+        "ablation",
+        help="run the paired comparison under a list of settings and tabulate what each changes",
+        description="Run the TP-vs-GP comparison of a few configurations and seeds once per setting (a preset "
+        "with some fields changed) and tabulate TSR, steps, total cost, cost rate, backup share and trapped "
+        "failures with 95%% intervals. With --out every run is stored and a rerun resumes.",
+    )
+    ablation.add_argument("--settings", nargs="+", metavar="NAME", help="setting names [default: all; see --list]")
+    ablation.add_argument("--list", action="store_true", help="list the settings and exit")
+    ablation.add_argument("--cells", type=float, nargs="+", metavar="M P NSS",
+                          help="configurations as m p nss triples [default: 40 0.2 2 60 0.3 6 80 0.4 10]")
+    ablation.add_argument("--seeds", type=int, nargs="+", default=[0, 1], help="seeds [default: 0 1]")
+    ablation.add_argument("--episodes", type=int, default=80, help="episodes per run [default: 80]")
+    ablation.add_argument("--jobs", type=int, default=1, help="local worker processes [default: 1]")
+    ablation.add_argument("--out", metavar="DIR", help="results folder (runs stored as they finish)")
+    ablation.add_argument("--quiet", action="store_true", help="no progress bars")
+    ablation.set_defaults(func=_ablation, parser=ablation, record_command=True)
+
+    info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies, and the presets")
     info.set_defaults(func=_info, parser=info)
     return parser
 

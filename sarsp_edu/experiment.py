@@ -191,6 +191,20 @@ class ExperimentConfig:
 
     @classmethod
     def from_dict(cls, values: dict) -> "ExperimentConfig":
+        """A config from ``to_dict``'s output, also from results stored by sarsp_edu 0.1.
+
+        Version 0.1 had one ``fit_points`` for both models, a boolean
+        ``retrain`` (True: after every corrective update) and always one
+        prior per step; such a config is read with exactly those settings.
+        """
+        values = dict(values)
+        if "fit_points" in values:  # written by sarsp_edu 0.1
+            points = values.pop("fit_points")
+            values.setdefault("cost_fit_points", points)
+            values.setdefault("reward_fit_points", points)
+            values.setdefault("prior_draw", "per_step")
+            if isinstance(values.get("retrain"), bool):
+                values["retrain"] = "always" if values["retrain"] else "never"
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(values) - known)
         if unknown:

@@ -41,7 +41,7 @@ from scipy.linalg import lapack as _lapack
 from ._validation import check_choice, check_int, check_nu, check_positive
 from .kernels import RBF, squared_distances
 
-__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator", "draw_subset"]
+__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator", "draw_subset", "draw_rows"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
 _OPTIMIZERS = ("adam", "lbfgs", None)
@@ -65,6 +65,23 @@ def as_generator(rng) -> np.random.Generator:
     raise ValueError(
         f"rng must be None, an int seed or a numpy.random.Generator, got rng={rng!r}"
     )
+
+
+def draw_rows(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
+    """``min(k, n)`` distinct indices of ``range(n)``, uniformly at random, sorted.
+
+    Draws with replacement and redraws the repeats: the first ``k`` distinct
+    values of a sequence of uniform draws form a uniformly random ``k``-subset
+    (by symmetry between the values).  For ``k`` much smaller than ``n`` this
+    avoids ``Generator.choice``'s permutation of all ``n`` indices, which
+    dominated the strategic prior's cost.
+    """
+    if k >= n:
+        return np.arange(n)
+    rows = np.unique(rng.integers(n, size=k))
+    while rows.shape[0] < k:
+        rows = np.unique(np.concatenate([rows, rng.integers(n, size=k - rows.shape[0])]))
+    return rows
 
 
 def draw_subset(n: int, max_points: int | None, rng) -> np.ndarray:
@@ -638,12 +655,13 @@ class _ProcessRegressor:
         for b in range(B):
             X_b, y_b = X[b], y[b]
             n = y_b.shape[0]
-            K = kernel.from_squared_distances(squared_distances(X_b))
+            # one pass for K(X_b, X_b) and K(X*, X_b): the rows of [X_b; X*] against X_b
+            both = kernel.from_squared_distances(squared_distances(np.concatenate([X_b, X_query[b]]), X_b))
+            K, K_star = both[:n], both[n:]  # (n, n) and (q, n)
             K.flat[:: n + 1] += s2
             L = _potrf(K)
             if L is None:
                 L, _ = cholesky_with_jitter(K)
-            K_star = kernel.from_squared_distances(squared_distances(X_query[b], X_b))  # (q, n)
             rhs = np.empty((n, q + 1))
             rhs[:, 0] = y_b
             rhs[:, 1:] = K_star.T

@@ -33,7 +33,7 @@ import numpy as np
 from ._validation import check_choice, check_int, check_positive
 from .gridworld import cost_inputs, reward_inputs
 from .offline import OfflineData
-from .processes import as_generator, draw_subset
+from .processes import as_generator, draw_rows, draw_subset
 
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome", "PRIOR_DRAWS", "RETRAIN_RULES"]
 
@@ -302,16 +302,15 @@ class SARSPAgent:
         plus up to ``n`` matching rows of every query, returned once per query.
         """
         n = len(buffer)
-        k = min(self.k_prior, n)
         if self.prior_draw == "per_action":
             priors = []
             for query in queries:
-                rows = self.rng.choice(n, size=k, replace=False)
+                rows = draw_rows(n, self.k_prior, self.rng)
                 if self.n_matching:
                     rows = np.union1d(rows, self._matches(buffer, query))
                 priors.append(rows)
             return priors
-        parts = [self.rng.choice(n, size=k, replace=False)]
+        parts = [draw_rows(n, self.k_prior, self.rng)]
         if self.n_matching:
             parts += [self._matches(buffer, query) for query in queries]
         shared = np.unique(np.concatenate(parts))

@@ -216,6 +216,15 @@ def _prepare_folder(results_dir: Path, base: ExperimentConfig) -> set:
     return done
 
 
+def _check_cell(base: ExperimentConfig, cell) -> None:
+    if len(cell) != 3:
+        raise ValueError(f"cells must hold (m, p, nss) triples, got {cell!r}")
+    m, p, nss = cell
+    check_positive("m", m)
+    check_fraction("p", p)
+    base.replace(n_switch_states=nss)
+
+
 def _grid(name, values, check):
     values = tuple(values)
     if not values:
@@ -234,6 +243,7 @@ def run_sweep(
     proportions=PAPER_PROPORTIONS,
     n_switch_states=PAPER_SWITCH_STATES,
     seeds=(0,),
+    cells=None,
     results_dir=None,
     n_jobs: int = 1,
     scheduler=None,
@@ -252,6 +262,9 @@ def run_sweep(
         The grid; defaults are the paper's 3 x 3 x 5 = 45 configurations.
     seeds : sequence of int, default (0,)
         Sweep seeds; each cell's run seed derives from one of them and the cell.
+    cells : sequence of (m, p, nss), optional
+        Run these configurations instead of the grid of ``magnitudes`` x
+        ``proportions`` x ``n_switch_states`` (an ablation's few cells).
     results_dir : path, optional
         A folder to store each finished cell in (atomically, as it finishes).
         A rerun skips the cells already there; a folder holding a sweep with
@@ -272,18 +285,21 @@ def run_sweep(
         Every cell of the grid: those run now and those found in ``results_dir``.
     """
     base = ExperimentConfig() if config is None else config
-    magnitudes = _grid("magnitudes", magnitudes, lambda v: check_positive("magnitudes", v))
-    proportions = _grid("proportions", proportions, lambda v: check_fraction("proportions", v))
-    n_switch_states = _grid("n_switch_states", n_switch_states,
-                            lambda v: base.replace(n_switch_states=v))
     seeds = _grid("seeds", seeds, lambda v: check_int("seeds", v, 0))
+    if cells is None:
+        magnitudes = _grid("magnitudes", magnitudes, lambda v: check_positive("magnitudes", v))
+        proportions = _grid("proportions", proportions, lambda v: check_fraction("proportions", v))
+        n_switch_states = _grid("n_switch_states", n_switch_states,
+                                lambda v: base.replace(n_switch_states=v))
+        cells = [(m, p, nss) for m in magnitudes for p in proportions for nss in n_switch_states]
+    else:
+        cells = _grid("cells", [tuple(cell) for cell in cells], lambda cell: _check_cell(base, cell))
     if scheduler is None:
         check_int("n_jobs", n_jobs, -1)
         if n_jobs == 0:
             raise ValueError("n_jobs must be a positive integer or -1 (one per core), got n_jobs=0")
     _check_a(a)
-    keys = [(float(m), float(p), int(nss), int(seed))
-            for seed in seeds for m in magnitudes for p in proportions for nss in n_switch_states]
+    keys = [(float(m), float(p), int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
 
     results = SweepResults(base, a=a)
     folder = None if results_dir is None else Path(results_dir)

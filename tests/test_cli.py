@@ -91,3 +91,30 @@ def test_tables_of_a_missing_folder(tmp_path, capsys):
         main(["tables", str(tmp_path)])
     assert exit_info.value.code == 2
     assert "not a sweep results folder" in capsys.readouterr().err
+
+
+def test_preset_flag_then_overrides(capsys):
+    from sarsp_edu.cli import config_from_args
+
+    parser = build_parser()
+    args = parser.parse_args(["run", "--preset", "reference", "--k-prior", "50"])
+    config = config_from_args(args.parser, args)
+    assert config.prior_draw == "per_action" and config.predictive == "sample" and config.k_prior == 50
+    assert config.preset == "custom"
+    args = parser.parse_args(["compare", "--preset", "paper_text"])
+    assert config_from_args(args.parser, args).preset == "paper_text"
+
+
+def test_info_lists_the_presets(capsys):
+    assert main(["info"]) == 0
+    out = capsys.readouterr().out
+    for name in ("default", "reference", "paper_text"):
+        assert f"  {name}: " in out
+
+
+def test_ablation_list_and_bad_setting(capsys):
+    assert main(["ablation", "--list"]) == 0
+    assert "reference preset" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["ablation", "--settings", "no such setting"])
+    assert "unknown setting" in capsys.readouterr().err

@@ -293,3 +293,15 @@ def test_saved_result_says_its_preset(tmp_path):
     result.save(tmp_path / "r")
     payload = json.loads((tmp_path / "r" / "result.json").read_text())
     assert payload["preset"] == "custom" and payload["config"]["prior_draw"] == "per_action"
+
+
+def test_configs_stored_by_version_0_1_keep_their_settings():
+    legacy = ExperimentConfig().to_dict()
+    for key in ("cost_fit_points", "reward_fit_points", "prior_draw"):
+        legacy.pop(key)
+    legacy.update(fit_points=500, retrain=True)
+    config = ExperimentConfig.from_dict(legacy)
+    assert (config.cost_fit_points, config.reward_fit_points) == (500, 500)
+    assert config.prior_draw == "per_step" and config.retrain == "always" and config.preset == "custom"
+    legacy["retrain"] = False
+    assert ExperimentConfig.from_dict(legacy).retrain == "never"

@@ -519,3 +519,17 @@ def test_predict_batch_checks_shapes():
         model.predict_batch([X], [y], np.zeros((2, 1, 5)))
     with pytest.raises(ValueError, match="X_query must have shape"):
         model.predict_batch([X], [y], np.zeros((1, 5)))
+
+
+def test_draw_rows_is_a_uniform_subset():
+    from sarsp_edu.processes import draw_rows
+
+    rng = np.random.default_rng(0)
+    counts = np.zeros(50)
+    for _ in range(4000):
+        rows = draw_rows(50, 10, rng)
+        assert len(rows) == 10 and len(np.unique(rows)) == 10 and np.all(np.diff(rows) > 0)
+        counts[rows] += 1
+    # each index is in a subset with probability 10/50: 800 +- 25 of 4000
+    assert stats.chisquare(counts).pvalue > 1e-3
+    assert draw_rows(5, 10, rng).tolist() == [0, 1, 2, 3, 4]

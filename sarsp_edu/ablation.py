@@ -1,0 +1,211 @@
+"""Which part of SARSP carries which effect: the paired comparison under a list of settings.
+
+An ablation runs the TP-versus-GP comparison of a few configurations and
+seeds once per *setting* (a preset, with some fields changed) and tabulates,
+for each setting and model, the task success rate, the mean episode length,
+the total cost, the cost rate, the share of decisions taken by the backup
+rule and the share of failed episodes that ended trapped on at most two
+cells, each with a 95% interval over the (configuration, seed) runs.
+
+``ABLATION_SETTINGS`` are the rows that explain how the package's old
+behaviour (one prior per step, hyperparameters fitted on 500 rows) differs
+from the reference code's (a prior per action, fits on the whole buffer).
+Each setting's runs are a sweep folder of their own, so an interrupted
+ablation resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from ._io import atomic_write_text
+from ._version import __version__
+from .experiment import PRESETS, ExperimentConfig, backup_share
+from .sweep import SweepResults, run_sweep
+
+__all__ = ["ABLATION_SETTINGS", "ABLATION_CELLS", "AblationResults", "run_ablation", "setting_config"]
+
+#: the three configurations of the measurements in the reproduction issue: mild, middle, severe
+ABLATION_CELLS = ((40.0, 0.2, 2), (60.0, 0.3, 6), (80.0, 0.4, 10))
+
+_OLD_FITS = dict(cost_fit_points=500, reward_fit_points=500)
+
+#: name -> settings: an optional "preset" (default "default") and ExperimentConfig fields to change
+ABLATION_SETTINGS = {
+    "per step, k=100, 500-row fits (the package before)":
+        dict(prior_draw="per_step", k_prior=100, retrain="always", **_OLD_FITS),
+    "per step, k=400, 500-row fits": dict(prior_draw="per_step", k_prior=400, retrain="always", **_OLD_FITS),
+    "per step, k=400, sampled, 500-row fits":
+        dict(prior_draw="per_step", k_prior=400, predictive="sample", retrain="always", **_OLD_FITS),
+    "per action, k=100, 500-row fits": dict(prior_draw="per_action", k_prior=100, retrain="always", **_OLD_FITS),
+    "per action, k=400, 500-row fits": dict(prior_draw="per_action", k_prior=400, retrain="always", **_OLD_FITS),
+    "per step, k=100, default fits": dict(prior_draw="per_step"),
+    "default (per action, k=100, whole cost fit, 1,000-row reward fit)": dict(),
+    "default, retrain after every correction": dict(retrain="always"),
+    "default, k=400": dict(k_prior=400),
+    "default, reference placement and 101-step limit": dict(placement="reference", max_steps=101),
+    "paper_text preset": dict(preset="paper_text"),
+    "reference preset": dict(preset="reference"),
+}
+
+
+def setting_config(setting: dict, **changes) -> ExperimentConfig:
+    """The config of one ablation setting (its preset, its fields, then ``changes``)."""
+    setting = dict(setting)
+    preset = setting.pop("preset", "default")
+    return ExperimentConfig.from_preset(preset, **{**setting, **changes})
+
+
+def _slug(name: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")[:80]
+
+
+def _t_interval(values: np.ndarray, level: float = 0.95) -> tuple:
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if len(values) < 2:
+        return (math.nan, math.nan)
+    half = stats.t.ppf((1 + level) / 2, len(values) - 1) * values.std(ddof=1) / math.sqrt(len(values))
+    return (values.mean() - half, values.mean() + half)
+
+
+@dataclass
+class AblationResults:
+    """The sweeps of an ablation, one per setting.
+
+    Attributes
+    ----------
+    sweeps : dict
+        Setting name -> :class:`~sarsp_edu.sweep.SweepResults`.
+    settings : dict
+        Setting name -> the settings it changed.
+    """
+
+    sweeps: dict = field(default_factory=dict)
+    settings: dict = field(default_factory=dict)
+
+    def runs(self) -> pd.DataFrame:
+        """One row per setting, configuration, seed and model, with the per-run measures."""
+        rows = []
+        for name, sweep in self.sweeps.items():
+            for (m, p, nss, seed), comparison in sorted(sweep.comparisons.items()):
+                for model in ("tp", "gp"):
+                    records = getattr(comparison, model).records
+                    summary = getattr(comparison, model).summary
+                    failed = ~records["task_completed"].astype(bool)
+                    rows.append({
+                        "setting": name, "m": m, "p": p, "nss": nss, "seed": seed, "model": model.upper(),
+                        "task_success_rate": summary["task_success_rate"], "mean_steps": summary["mean_steps"],
+                        "total_cost": summary["total_cost"], "cost_rate": summary["cost_rate"],
+                        "backup_share": 100.0 * backup_share(records),
+                        "failures": int(failed.sum()),
+                        "stuck_failures": int((records.loc[failed, "final_cells"] <= 2).sum()),
+                        "retrains": int(records["retrains"].iloc[-1]),
+                    })
+        return pd.DataFrame(rows)
+
+    def table(self) -> pd.DataFrame:
+        """Per setting and model: each measure's mean over runs with a 95% t-interval, and trapped failures.
+
+        The interval is over the (configuration, seed) runs, so it mixes the
+        configurations' spread with run-to-run noise: read it as a width,
+        not a test.
+        """
+        runs = self.runs()
+        out = []
+        for (name, model), group in runs.groupby(["setting", "model"], sort=False):
+            row = {"setting": name, "model": model, "runs": len(group)}
+            for metric in ("task_success_rate", "mean_steps", "total_cost", "cost_rate", "backup_share"):
+                low, high = _t_interval(group[metric])
+                row[metric] = group[metric].mean()
+                row[f"{metric} 95% CI"] = f"[{low:.3g}, {high:.3g}]"
+            row["trapped failures"] = f"{group['stuck_failures'].sum()} of {group['failures'].sum()}"
+            row["retrains"] = group["retrains"].mean()
+            out.append(row)
+        return pd.DataFrame(out).set_index(["setting", "model"])
+
+    @classmethod
+    def load(cls, results_dir) -> "AblationResults":
+        """Every finished run of an ablation folder written by :func:`run_ablation`."""
+        results_dir = Path(results_dir)
+        meta = results_dir / "ablation.json"
+        if not meta.exists():
+            raise FileNotFoundError(f"{results_dir} is not an ablation results folder (no ablation.json)")
+        payload = json.loads(meta.read_text(encoding="utf-8"))
+        results = cls()
+        for name, entry in payload["settings"].items():
+            folder = results_dir / entry["folder"]
+            results.settings[name] = entry["changes"]
+            if (folder / "sweep.json").exists():
+                results.sweeps[name] = SweepResults.load(folder)
+        return results
+
+
+def run_ablation(
+    settings: dict | None = None,
+    *,
+    cells=ABLATION_CELLS,
+    seeds=(0, 1),
+    episodes: int = 80,
+    results_dir=None,
+    n_jobs: int = 1,
+    progress: bool = False,
+    command: str | None = None,
+) -> AblationResults:
+    """Run the paired TP-versus-GP comparison under each setting.
+
+    Parameters
+    ----------
+    settings : dict, optional
+        Name -> settings (an optional ``"preset"`` and ``ExperimentConfig``
+        fields to change); default ``ABLATION_SETTINGS``.
+    cells : sequence of (m, p, nss), default ``ABLATION_CELLS``
+    seeds : sequence of int, default (0, 1)
+    episodes : int, default 80
+    results_dir : path, optional
+        Store every run there, a sweep folder per setting, with
+        ``ablation.json`` naming the settings, the cells, the seeds and the
+        command; a rerun resumes.
+    n_jobs : int, default 1
+        Local worker processes for each setting's runs.
+    progress : bool, default False
+    command : str, optional
+        The command line that made the results, stored in ``ablation.json``.
+
+    Returns
+    -------
+    AblationResults
+    """
+    settings = dict(ABLATION_SETTINGS if settings is None else settings)
+    if not settings:
+        raise ValueError("settings must name at least one setting, got an empty dict")
+    configs = {}
+    for name, setting in settings.items():
+        preset = dict(setting).get("preset", "default")
+        if preset not in PRESETS:
+            raise ValueError(f"setting {name!r} names preset={preset!r}; valid presets are {sorted(PRESETS)}")
+        configs[name] = setting_config(setting, episodes=episodes)  # validates every field first
+    results = AblationResults(settings={name: dict(s) for name, s in settings.items()})
+    folder = None if results_dir is None else Path(results_dir)
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
+        payload = {
+            "settings": {name: {"folder": _slug(name), "changes": dict(s)} for name, s in settings.items()},
+            "cells": [list(cell) for cell in cells], "seeds": list(seeds), "episodes": episodes,
+            "command": command, "sarsp_edu_version": __version__,
+        }
+        atomic_write_text(folder / "ablation.json", json.dumps(payload, indent=2) + "\n")
+    for name, config in configs.items():
+        results.sweeps[name] = run_sweep(
+            config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,
+            results_dir=None if folder is None else folder / _slug(name),
+        )
+    return results

@@ -1,0 +1,46 @@
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from sarsp_edu.ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_config
+
+TINY = dict(grid_size=5, n_unsafe=3, offline_episodes=6, cost_fit_points=60, reward_fit_points=60, k_prior=20,
+            optimizer_steps=3)
+SETTINGS = {"per action": dict(TINY), "per step": dict(TINY, prior_draw="per_step")}
+
+
+def test_ablation_runs_each_setting_and_resumes(tmp_path):
+    results = run_ablation(SETTINGS, cells=[(40, 0.2, 1)], seeds=(0, 1), episodes=2, results_dir=tmp_path,
+                           command="sarsp-edu ablation ...")
+    table = results.table()
+    assert list(table.index) == [("per action", "TP"), ("per action", "GP"), ("per step", "TP"), ("per step", "GP")]
+    assert (table["runs"] == 2).all()
+    for column in ("task_success_rate", "mean_steps", "total_cost", "cost_rate", "backup_share"):
+        assert column in table and f"{column} 95% CI" in table
+    runs = results.runs()
+    assert (runs["stuck_failures"] <= runs["failures"]).all()
+    payload = json.loads((tmp_path / "ablation.json").read_text())
+    assert payload["command"] == "sarsp-edu ablation ..." and payload["seeds"] == [0, 1]
+    loaded = AblationResults.load(tmp_path)
+    assert loaded.table().equals(table)
+    again = run_ablation(SETTINGS, cells=[(40, 0.2, 1)], seeds=(0, 1), episodes=2, results_dir=tmp_path)
+    assert again.runs().equals(runs)  # everything was stored: nothing ran again, the same numbers
+
+
+def test_settings_are_valid_configs():
+    for name, setting in ABLATION_SETTINGS.items():
+        config = setting_config(setting, episodes=3)
+        assert config.episodes == 3, name
+    assert setting_config(ABLATION_SETTINGS["reference preset"]).preset == "reference"
+    assert setting_config(ABLATION_SETTINGS["default (per action, k=100, whole cost fit, 1,000-row reward fit)"]).preset == "default"
+
+
+def test_bad_settings_are_named():
+    with pytest.raises(ValueError, match="names preset='fast'"):
+        run_ablation({"x": dict(preset="fast")})
+    with pytest.raises(ValueError, match="k_prior"):
+        run_ablation({"x": dict(k_prior=0)})
+    with pytest.raises(ValueError, match="at least one setting"):
+        run_ablation({})
