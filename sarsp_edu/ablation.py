@@ -149,6 +149,37 @@ class AblationResults:
         return results
 
 
+def _write_meta(folder: Path, settings: dict, cells, seeds, episodes: int, command: str | None) -> None:
+    """Write ``ablation.json``, or add these settings and this command to the one there.
+
+    A folder holds one design (cells, seeds, episodes); settings may be added
+    by later calls, each of which appends its command.
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    meta = folder / "ablation.json"
+    design = {"cells": [[float(m), float(p), int(nss)] for m, p, nss in cells], "seeds": [int(s) for s in seeds],
+              "episodes": int(episodes)}
+    entries = {name: {"folder": _slug(name), "changes": dict(s)} for name, s in settings.items()}
+    payload = {**design, "settings": {}, "commands": [], "sarsp_edu_version": __version__}
+    if meta.exists():
+        stored = json.loads(meta.read_text(encoding="utf-8"))
+        differing = [key for key in design if stored.get(key) != design[key]]
+        if differing:
+            raise ValueError(
+                f"{folder} holds an ablation with other {', '.join(differing)} "
+                f"({', '.join(f'{k}={stored.get(k)!r}' for k in differing)}); use another results folder"
+            )
+        for name, entry in entries.items():
+            if name in stored["settings"] and stored["settings"][name] != entry:
+                raise ValueError(f"{folder} holds setting {name!r} with other changes "
+                                 f"{stored['settings'][name]['changes']!r}; use another results folder")
+        payload["settings"], payload["commands"] = stored["settings"], stored.get("commands", [])
+    payload["settings"].update(entries)
+    if command:
+        payload["commands"].append(command)
+    atomic_write_text(meta, json.dumps(payload, indent=2) + "\n")
+
+
 def run_ablation(
     settings: dict | None = None,
     *,
@@ -173,12 +204,12 @@ def run_ablation(
     results_dir : path, optional
         Store every run there, a sweep folder per setting, with
         ``ablation.json`` naming the settings, the cells, the seeds and the
-        command; a rerun resumes.
+        commands; a rerun resumes, and a later call may add settings.
     n_jobs : int, default 1
         Local worker processes for each setting's runs.
     progress : bool, default False
     command : str, optional
-        The command line that made the results, stored in ``ablation.json``.
+        The command line that made the results, added to ``ablation.json``.
 
     Returns
     -------
@@ -196,13 +227,7 @@ def run_ablation(
     results = AblationResults(settings={name: dict(s) for name, s in settings.items()})
     folder = None if results_dir is None else Path(results_dir)
     if folder is not None:
-        folder.mkdir(parents=True, exist_ok=True)
-        payload = {
-            "settings": {name: {"folder": _slug(name), "changes": dict(s)} for name, s in settings.items()},
-            "cells": [list(cell) for cell in cells], "seeds": list(seeds), "episodes": episodes,
-            "command": command, "sarsp_edu_version": __version__,
-        }
-        atomic_write_text(folder / "ablation.json", json.dumps(payload, indent=2) + "\n")
+        _write_meta(folder, settings, cells, seeds, episodes, command)
     for name, config in configs.items():
         results.sweeps[name] = run_sweep(
             config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,

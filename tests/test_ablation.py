@@ -22,7 +22,7 @@ def test_ablation_runs_each_setting_and_resumes(tmp_path):
     runs = results.runs()
     assert (runs["stuck_failures"] <= runs["failures"]).all()
     payload = json.loads((tmp_path / "ablation.json").read_text())
-    assert payload["command"] == "sarsp-edu ablation ..." and payload["seeds"] == [0, 1]
+    assert payload["commands"] == ["sarsp-edu ablation ..."] and payload["seeds"] == [0, 1]
     loaded = AblationResults.load(tmp_path)
     assert loaded.table().equals(table)
     again = run_ablation(SETTINGS, cells=[(40, 0.2, 1)], seeds=(0, 1), episodes=2, results_dir=tmp_path)
@@ -44,3 +44,18 @@ def test_bad_settings_are_named():
         run_ablation({"x": dict(k_prior=0)})
     with pytest.raises(ValueError, match="at least one setting"):
         run_ablation({})
+
+
+def test_a_later_call_adds_settings_and_refuses_another_design(tmp_path):
+    first = {"per action": SETTINGS["per action"]}
+    run_ablation(first, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1, results_dir=tmp_path, command="one")
+    second = {"per step": SETTINGS["per step"]}
+    run_ablation(second, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1, results_dir=tmp_path, command="two")
+    payload = json.loads((tmp_path / "ablation.json").read_text())
+    assert sorted(payload["settings"]) == ["per action", "per step"] and payload["commands"] == ["one", "two"]
+    assert sorted(AblationResults.load(tmp_path).sweeps) == ["per action", "per step"]
+    with pytest.raises(ValueError, match="other episodes"):
+        run_ablation(second, cells=[(40, 0.2, 1)], seeds=(0,), episodes=2, results_dir=tmp_path)
+    with pytest.raises(ValueError, match="other changes"):
+        run_ablation({"per step": dict(TINY, k_prior=5)}, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1,
+                     results_dir=tmp_path)
