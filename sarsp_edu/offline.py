@@ -134,13 +134,13 @@ class ObservationBuffer:
         always under its cap, so the add cannot be refused.)
         """
         rows = self._rows.get(self._key(x), [])
-        if rows:
-            if np.all(self._y[rows] == float(target)):
-                return "unchanged"
-            self.overwrite(x, target)
-            return "overwritten"
-        self.add(x, target)
-        return "added"
+        if not rows:
+            self.add(x, target)
+            return "added"
+        if np.all(self._y[rows] == float(target)):
+            return "unchanged"
+        self._y[rows] = float(target)
+        return "overwritten"
 
     def copy(self) -> "ObservationBuffer":
         other = ObservationBuffer(self.n_features, self.max_duplicates, capacity=max(self._n, 1))

@@ -174,6 +174,14 @@ class _Groups:
     def __init__(self, X, counts, mean, rss, n):
         self.X, self.counts, self.mean, self.rss, self.n = X, counts, mean, rss, n
 
+    def beta_and_log_det(self, L: np.ndarray, alpha: np.ndarray, s2: float) -> tuple:
+        """``y^T K^-1 y`` and ``log|K|`` of all the rows, from the factor ``L`` of ``A`` and ``alpha = A^-1 ybar``."""
+        G = self.counts.shape[0]
+        beta = self.rss / s2 + float(self.mean @ alpha)
+        log_det = (2.0 * float(np.sum(np.log(np.diag(L)))) + (self.n - G) * math.log(s2)
+                   + float(np.sum(np.log(self.counts))))
+        return beta, log_det
+
 
 def _group(X: np.ndarray, y: np.ndarray) -> _Groups:
     """Fold rows with equal inputs into (distinct input, count, mean target) and a residual sum.
@@ -451,8 +459,7 @@ class _ProcessRegressor:
             L, _ = cholesky_with_jitter(K)
         # Rasmussen & Williams Alg. 2.1, line 3, on the group means: alpha = A^-1 ybar
         alpha = cho_solve(L, data.mean)
-        beta = data.rss / s2 + float(data.mean @ alpha)
-        log_det = 2.0 * float(np.sum(np.log(np.diag(L)))) + (n - G) * math.log(s2) + float(np.sum(np.log(data.counts)))
+        beta, log_det = data.beta_and_log_det(L, alpha, s2)
         value, w, extra_grad = self._lml_terms(n, beta, log_det, extra)
         if not eval_gradient:
             return value
@@ -564,12 +571,7 @@ class _ProcessRegressor:
         self.jitter_ = jitter
         # Alg. 2.1, line 3, on the group means
         self.alpha_ = cho_solve(L, data.mean)
-        self.beta_ = data.rss / self.noise_variance_ + float(data.mean @ self.alpha_)
-        log_det = (
-            2.0 * float(np.sum(np.log(np.diag(L))))
-            + (data.n - G) * math.log(self.noise_variance_)
-            + float(np.sum(np.log(data.counts)))
-        )
+        self.beta_, log_det = data.beta_and_log_det(L, self.alpha_, self.noise_variance_)
         self.log_marginal_likelihood_value_, _, _ = self._lml_terms(
             data.n, self.beta_, log_det, self._fitted_extra()
         )
