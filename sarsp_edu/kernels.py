@@ -21,6 +21,12 @@ from ._validation import check_positive
 
 __all__ = ["RBF", "squared_distances"]
 
+# the whole-number lookup of RBF.from_squared_distances: used from this many
+# entries on (below, the checks cost more than they save), for squared
+# distances below the table's largest size (8 MB)
+_TABLE_MIN_SIZE = 256
+_TABLE_MAX_SIZE = 2**20
+
 
 def squared_distances(X: np.ndarray, Y: np.ndarray | None = None) -> np.ndarray:
     """Pairwise squared Euclidean distances.
@@ -109,6 +115,10 @@ class RBF:
             Derivatives with respect to ``theta``.
         """
         inv_l2 = 1.0 / self.length_scale**2
+        if out is None and not eval_gradient and D2.size >= _TABLE_MIN_SIZE:
+            K = self._from_whole_distances(D2)
+            if K is not None:
+                return K
         # in place: this runs once per decision of the agent
         K = np.multiply(D2, -0.5 * inv_l2, out=None if out is None else out[0])
         np.exp(K, out=K)
@@ -122,6 +132,33 @@ class RBF:
         np.multiply(K, D2, out=planes[1])
         planes[1] *= inv_l2
         return K, np.moveaxis(planes, 0, -1)
+
+    def _from_whole_distances(self, D2: np.ndarray):
+        """``K`` by table lookup when every squared distance is a small whole number, else None.
+
+        The grid world's inputs are whole numbers, so are their squared
+        distances, and an agent's decision evaluates the same few hundred
+        distinct values thousands of times.  The table holds
+        ``amplitude**2 exp(-i / (2 length_scale**2))`` for ``i = 0, 1, ...``,
+        computed by the very operations of the general path on the same
+        doubles, so the result is bit for bit the same; the lookup is about
+        twice as fast as the exponential.
+        """
+        index = D2.astype(np.intp)
+        if not np.array_equal(index, D2):
+            return None
+        top = int(index.max())
+        if int(index.min()) < 0 or top >= _TABLE_MAX_SIZE:
+            return None
+        key = (self.amplitude, self.length_scale)  # a table is only valid for its hyperparameters
+        key_then, table = self.__dict__.get("_table", (None, None))
+        if key_then != key or table.shape[0] <= top:
+            size = min(max(1024, 2 * (top + 1)), _TABLE_MAX_SIZE)
+            table = np.multiply(np.arange(size, dtype=float), -0.5 * (1.0 / self.length_scale**2))
+            np.exp(table, out=table)
+            table *= self.amplitude**2
+            self._table = (key, table)
+        return table.take(index)
 
     def __call__(self, X, Y=None, eval_gradient: bool = False):
         """Kernel matrix ``K(X, Y)``.

@@ -8,6 +8,7 @@ from hypothesis.extra.numpy import arrays
 from scipy.optimize import approx_fprime
 
 from sarsp_edu import RBF
+from sarsp_edu.kernels import squared_distances
 
 
 def test_formula_by_hand():
@@ -75,3 +76,33 @@ def test_kernel_matrix_symmetric_psd(X, amplitude, length_scale):
     np.testing.assert_allclose(np.diag(K), amplitude**2, rtol=1e-12)
     eigenvalues = np.linalg.eigvalsh(K)
     assert eigenvalues.min() >= -1e-9 * amplitude**2 * len(X)
+
+
+@pytest.mark.parametrize("amplitude, length_scale", [(1.0, 1.0), (67.12, 0.9632), (102.5, 13.21), (1e-3, 500.0)])
+def test_whole_number_lookup_is_bit_identical(amplitude, length_scale):
+    # grid inputs (whole numbers, outliers scaled by m) take the table path;
+    # it must give exactly the doubles of the exponential it replaces
+    rng = np.random.default_rng(0)
+    X = rng.integers(-40, 400, size=(40, 5)).astype(float)
+    D2 = squared_distances(X)
+    kernel = RBF(amplitude, length_scale)
+    expected = np.exp(D2 * (-0.5 * (1.0 / length_scale**2))) * amplitude**2
+    assert D2.size >= 256
+    K = kernel.from_squared_distances(D2)
+    assert "_table" in kernel.__dict__  # the lookup ran
+    assert np.array_equal(K, expected)
+
+
+def test_lookup_falls_back_and_follows_the_hyperparameters():
+    kernel = RBF(2.0, 1.5)
+    X = np.arange(60.0).reshape(20, 3)
+    D2 = squared_distances(X)
+    first = kernel.from_squared_distances(D2)
+    # fractional distances take the general path and still agree with __call__'s formula
+    half = D2 + 0.5
+    assert np.array_equal(kernel.from_squared_distances(half), np.exp(half * (-0.5 * (1.0 / 1.5**2))) * 4.0)
+    # a changed hyperparameter must not reuse the old table
+    kernel.length_scale = 3.0
+    second = kernel.from_squared_distances(D2)
+    assert not np.array_equal(first, second)
+    assert np.allclose(second, 4.0 * np.exp(-D2 / 18.0), rtol=1e-14)
