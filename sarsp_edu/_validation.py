@@ -7,12 +7,24 @@ import math
 import numbers
 
 
+def _as_float(value) -> float:
+    """``float(value)`` for a number, NaN for anything else.
+
+    Text is refused although ``float("0.2")`` would work: a string that
+    passed validation would stay a string in the object and fail far from
+    here.  Booleans are refused too (``True`` is not a magnitude).
+    """
+    if isinstance(value, (str, bytes, bool)):
+        return math.nan
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
 def check_positive(name: str, value) -> float:
     """A positive finite float."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
+    number = _as_float(value)
     if not (math.isfinite(number) and number > 0):
         raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
     return number
@@ -47,10 +59,7 @@ def check_choice(name: str, value, choices):
 
 def check_range(name: str, value, low: float, high: float, what: str = "") -> float:
     """A float in ``[low, high]``; ``what`` says what the number is, for the message."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
+    number = _as_float(value)
     if not (low <= number <= high):
         detail = f" ({what})" if what else ""
         raise ValueError(f"{name} must lie in [{low:g}, {high:g}]{detail}, got {name}={value!r}")
@@ -64,10 +73,7 @@ def check_fraction(name: str, value) -> float:
 
 def check_nu(nu) -> float:
     """The Student-t degrees of freedom: finite and > 2."""
-    try:
-        number = float(nu)
-    except (TypeError, ValueError):
-        number = math.nan
+    number = _as_float(nu)
     if not (math.isfinite(number) and number > 2):
         raise ValueError(
             f"nu must be a finite number > 2 (the covariance is infinite for nu <= 2), "

@@ -219,6 +219,11 @@ def test_failed_write_leaves_nothing_behind(tmp_path, monkeypatch):
         (dict(prior_draw="per_episode"), "prior_draw"),
         (dict(retrain=True), "retrain"),
         (dict(cost_outliers="yes"), "cost_outliers must be True or False"),
+        # text is not a number, even when float() would read it
+        (dict(outlier_proportion="0.2"), r"outlier_proportion must lie in \[0, 1\], got outlier_proportion='0.2'"),
+        (dict(outlier_magnitude="40"), "outlier_magnitude must be a positive finite number, got outlier_magnitude='40'"),
+        (dict(nu="3"), "nu must be a finite number > 2"),
+        (dict(d=True), "d must be a positive finite number, got d=True"),
     ],
 )
 def test_bad_config_values(changes, match):

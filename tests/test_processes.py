@@ -343,7 +343,7 @@ def test_near_interpolation_with_tiny_noise(seed, n):
 # --------------------------------------------------------------------------
 # bad input
 # --------------------------------------------------------------------------
-@pytest.mark.parametrize("nu", [2.0, 1.5, -3, np.inf, np.nan, "three"])
+@pytest.mark.parametrize("nu", [2.0, 1.5, -3, np.inf, np.nan, "three", "3", True])
 def test_nu_must_exceed_two(nu):
     with pytest.raises(ValueError, match=r"nu must be a finite number > 2.*got nu="):
         StudentTProcess(nu=nu)
@@ -363,6 +363,8 @@ def test_nu_must_exceed_two(nu):
         (dict(bounds=(1.0, 0.5)), "bounds"),
         (dict(kernel="rbf"), "kernel"),
         (dict(rng="seed"), "rng"),
+        (dict(noise_variance="0.1"), "noise_variance"),
+        (dict(learning_rate="0.1"), "learning_rate"),
     ],
 )
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
