@@ -7,6 +7,25 @@ import tempfile
 from pathlib import Path
 
 
+def _permissions(directory: bool = False) -> int:
+    """The mode ``open``/``mkdir`` would give a new file or folder under the current umask.
+
+    ``tempfile`` creates its files 0600 and folders 0700 whatever the umask,
+    which would keep a lecturer's results from the students on a shared
+    server; a renamed temporary must end up as an ordinary file would.
+    """
+    mask = os.umask(0)
+    os.umask(mask)
+    return (0o777 if directory else 0o666) & ~mask
+
+
+def staging_directory(parent, name: str) -> Path:
+    """A new, empty hidden folder in ``parent`` to build ``name`` in before renaming it into place."""
+    staging = Path(tempfile.mkdtemp(prefix=f".{name}.", dir=parent))
+    os.chmod(staging, _permissions(directory=True))
+    return staging
+
+
 def atomic_write_text(path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file and an atomic rename.
 
@@ -17,6 +36,7 @@ def atomic_write_text(path, text: str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, _permissions())
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
             handle.write(text)
             handle.flush()

@@ -17,7 +17,6 @@ import json
 import math
 import os
 import shutil
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,7 +24,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ._io import atomic_write_text
+from ._io import atomic_write_text, staging_directory
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
 from .experiment import (
@@ -175,7 +174,7 @@ def _store_cell(results_dir: Path, key: tuple, comparison: Comparison) -> None:
     cells = results_dir / "cells"
     cells.mkdir(parents=True, exist_ok=True)
     final = cells / _cell_name(*key)
-    staging = Path(tempfile.mkdtemp(prefix=f".{final.name}.", dir=cells))
+    staging = staging_directory(cells, final.name)
     try:
         comparison.save(staging)
         atomic_write_text(staging / "cell.json", json.dumps({"key": list(key)}) + "\n")

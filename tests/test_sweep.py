@@ -219,3 +219,22 @@ def test_curves_and_macro(sweep_dir):
 def test_tables_refuse_an_empty_sweep():
     with pytest.raises(ValueError, match="no finished cell"):
         summary_tables(SweepResults(TINY))
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o077])
+def test_stored_files_honour_the_umask(tmp_path, umask):
+    # atomic writes go through temporary files (0600) and folders (0700);
+    # what is left must have the modes an ordinary write would give
+    import os
+    import stat
+
+    old = os.umask(umask)
+    try:
+        run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1,), results_dir=tmp_path / "s")
+    finally:
+        os.umask(old)
+    paths = [p for p in (tmp_path / "s").rglob("*")]
+    assert any(p.name == "records.csv" for p in paths) and any(p.is_dir() for p in paths)
+    for path in paths:
+        expected = (0o777 if path.is_dir() else 0o666) & ~umask
+        assert stat.S_IMODE(path.stat().st_mode) == expected, path
