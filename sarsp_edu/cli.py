@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import importlib.metadata
+import os
 import platform
 import sys
 
@@ -89,6 +90,54 @@ def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace):
         parser.error(str(exc))
 
 
+#: what marks a folder as holding each command's results
+_MARKERS = {"sweep": "sweep.json", "ablation": "ablation.json", "run": "result.json", "compare": "tp/result.json"}
+
+
+def _check_writable(parser: argparse.ArgumentParser, flag: str, name, path) -> None:
+    """Refuse ``path`` (a folder to make or write in) when its nearest existing ancestor is no writable folder."""
+    ancestor = path
+    while not ancestor.exists():
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        parser.error(f"{flag} {name} cannot be made: {ancestor} is a file")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        parser.error(f"{flag} {name} cannot be written: {ancestor} is not writable")
+
+
+def _check_out(parser: argparse.ArgumentParser, out, command: str) -> None:
+    """Refuse an ``--out`` folder the command could not write to, before any work starts.
+
+    A command writes into a new folder, an empty one, or one holding its own
+    kind of results (a sweep or an ablation resumes there; a run or a
+    comparison replaces the result there).
+    """
+    if out is None:
+        return
+    from pathlib import Path
+
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        parser.error(f"--out {out} is a file; give a folder (new, empty, or holding a {command}'s results)")
+    _check_writable(parser, "--out", out, path)
+    if path.is_dir() and any(path.iterdir()):
+        kind = next((k for k, marker in _MARKERS.items() if (path / marker).exists()), None)
+        if kind != command:
+            holds = f"a {kind}'s results" if kind else "other files"
+            parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
+                         f"or one holding a {command}'s results")
+
+
+def _check_file(parser: argparse.ArgumentParser, flag: str, name) -> None:
+    """Refuse an output file that could not be written, before any work starts."""
+    from pathlib import Path
+
+    path = Path(name)
+    if path.is_dir():
+        parser.error(f"{flag} {name} is a folder; give a file name")
+    _check_writable(parser, flag, name, path.parent)
+
+
 def _format_table(frame) -> str:
     return frame.to_string(float_format=lambda v: f"{v:,.3f}")
 
@@ -97,6 +146,7 @@ def _run(args, parser) -> int:
     from .experiment import SUMMARY_METRICS, backup_share, run_experiment
 
     config = config_from_args(parser, args)
+    _check_out(parser, args.out, "run")
     result = run_experiment(config, progress=not args.quiet)
     import pandas as pd
 
@@ -115,6 +165,7 @@ def _compare(args, parser) -> int:
     from .experiment import compare
 
     config = config_from_args(parser, args)
+    _check_out(parser, args.out, "compare")
     try:
         comparison = compare(config, progress=not args.quiet, a=args.a)
     except ValueError as exc:
@@ -133,6 +184,10 @@ def _sweep(args, parser) -> int:
     from .sweep import run_sweep, summary_tables
 
     config = config_from_args(parser, args)
+    _check_out(parser, args.out, "sweep")
+    if args.out:
+        args.stored = [(args.out, {(float(m), float(p), int(nss), int(seed)) for seed in args.seeds
+                                   for m in args.magnitudes for p in args.proportions for nss in args.nss})]
     try:
         results = run_sweep(
             config,
@@ -157,11 +212,11 @@ def _sweep(args, parser) -> int:
 
 
 def _tables(args, parser) -> int:
-    from pathlib import Path
-
     from ._io import atomic_write_text
     from .sweep import SweepResults, summary_tables, tables_markdown
 
+    if args.markdown:
+        _check_file(parser, "--markdown", args.markdown)
     try:
         results = SweepResults.load(args.results_dir, a=args.a)
         tables = summary_tables(results)
@@ -171,9 +226,9 @@ def _tables(args, parser) -> int:
         if key == "seeds":
             continue
         print(f"\n{key}\n{_format_table(frame)}")
-    path = Path(args.markdown) if args.markdown else Path(args.results_dir) / "tables.md"
-    atomic_write_text(path, tables_markdown(tables) + "\n")
-    print(f"\nMarkdown tables written to {path}")
+    if args.markdown:
+        atomic_write_text(args.markdown, tables_markdown(tables) + "\n")
+        print(f"\nMarkdown tables written to {args.markdown}")
     return 0
 
 
@@ -209,6 +264,14 @@ def _ablation(args, parser) -> int:
         cells = [(args.cells[i], args.cells[i + 1], int(args.cells[i + 2])) for i in range(0, len(args.cells), 3)]
     else:
         from .ablation import ABLATION_CELLS as cells
+    _check_out(parser, args.out, "ablation")
+    if args.out:
+        from pathlib import Path
+
+        from .ablation import _slug
+
+        keys = {(float(m), float(p), int(nss), int(seed)) for seed in args.seeds for m, p, nss in cells}
+        args.stored = [(Path(args.out) / _slug(name), keys) for name in settings]
     command = "sarsp-edu " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if args.record_command else None
     try:
         results = run_ablation(settings, cells=cells, seeds=args.seeds, episodes=args.episodes,
@@ -300,13 +363,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     tables = sub.add_parser(
         "tables",
-        help="print the paper's Tables 1-4 for a sweep's results folder and write them as Markdown",
+        help="print the paper's Tables 1-4 for a sweep's results folder (and write them as Markdown)",
         description="Read a sweep's results folder; print Table 1 (every configuration), Tables 2-4 "
-        "(mean, median, mode) and a paired Wilcoxon test; write them all as Markdown.",
+        "(mean, median, mode) and a paired Wilcoxon test; with --markdown, write them all as Markdown.",
     )
     tables.add_argument("results_dir", metavar="RESULTS_DIR")
     tables.add_argument("--a", type=float, default=100.0, help="Definition 4's TSR threshold [default: 100]")
-    tables.add_argument("--markdown", metavar="FILE", help="where to write the Markdown [default: RESULTS_DIR/tables.md]")
+    tables.add_argument("--markdown", metavar="FILE", help="also write every table as Markdown to FILE")
     tables.set_defaults(func=_tables, parser=tables)
 
     ablation = sub.add_parser(
@@ -338,7 +401,28 @@ def main(argv: list[str] | None = None) -> int:
     if not hasattr(args, "func"):
         parser.print_help()
         return 0
-    return args.func(args, args.parser)
+    try:
+        return args.func(args, args.parser)
+    except KeyboardInterrupt:
+        print(_interrupted(args), file=sys.stderr)
+        return 130  # the shell's code for a command ended by Ctrl-C
+
+
+def _interrupted(args) -> str:
+    """One line for Ctrl-C: what is saved and how to go on."""
+    stored = getattr(args, "stored", None)
+    if stored:
+        from .sweep import finished_cells
+
+        saved = sum(len(finished_cells(folder) & keys) for folder, keys in stored)
+        total = sum(len(keys) for _, keys in stored)
+        return (f"interrupted: {saved} of {total} cells are saved in {args.out}; "
+                "rerun the same command to resume")
+    if args.command in ("sweep", "ablation"):
+        return "interrupted: nothing was saved (with --out DIR finished cells are kept, and a rerun resumes)"
+    if args.command in ("run", "compare"):
+        return "interrupted: nothing was saved (a run is saved only when it has finished)"
+    return "interrupted"
 
 
 if __name__ == "__main__":  # pragma: no cover

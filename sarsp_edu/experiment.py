@@ -647,10 +647,31 @@ class ExperimentResult:
         return cls(ExperimentConfig.from_dict(payload["config"]), records, payload.get("timings", {}))
 
 
+class _NoProgress:
+    """What ``_progress`` gives when no bar is wanted: a context manager whose ``update`` does nothing."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> bool:
+        return False
+
+    def update(self, n: int = 1) -> None:
+        pass
+
+
 def _progress(total: int, desc: str, enabled: bool):
+    """A tqdm bar over episodes, or a stand-in that does nothing.
+
+    Even a disabled tqdm bar creates a multiprocessing lock, which a sweep's
+    worker stopped by Ctrl-C would leave behind (with a warning); quiet runs
+    create none.
+    """
+    if not enabled:
+        return _NoProgress()
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, desc=desc, unit="episode", disable=not enabled, leave=False)
+    return tqdm(total=total, desc=desc, unit="episode", leave=False)
 
 
 def _run(config: ExperimentConfig, prepared: _Prepared | None, progress: bool) -> ExperimentResult:

@@ -17,6 +17,7 @@ import json
 import math
 import os
 import shutil
+import signal
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -169,6 +170,17 @@ def _run_cell(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tu
     return key, comparison
 
 
+def _run_cell_in_worker(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tuple:
+    """``_run_cell`` in a worker process, which leaves Ctrl-C to the main process.
+
+    A terminal sends SIGINT to every process of the command; workers that died
+    of it mid-cell would print their tracebacks and leak their semaphores.
+    The main process stops them instead.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return _run_cell(base, key, results_dir)
+
+
 def _store_cell(results_dir: Path, key: tuple, comparison: Comparison) -> None:
     """Write the cell into a temporary folder, then rename it into place (atomic)."""
     cells = results_dir / "cells"
@@ -206,10 +218,20 @@ def _prepare_folder(results_dir: Path, base: ExperimentConfig) -> set:
     else:
         payload = {"base_config": base.to_dict(), "sarsp_edu_version": __version__}
         atomic_write_text(meta, json.dumps(payload, indent=2) + "\n")
-    for stale in (results_dir / "cells").glob(".m*"):  # staging folders of interrupted cells
+    _clear_staging(results_dir)
+    return finished_cells(results_dir)
+
+
+def _clear_staging(results_dir: Path) -> None:
+    """Remove the staging folders of cells whose storing was interrupted."""
+    for stale in (results_dir / "cells").glob(".m*"):
         shutil.rmtree(stale, ignore_errors=True)
+
+
+def finished_cells(results_dir) -> set:
+    """Keys ``(m, p, nss, seed)`` of the cells stored in a sweep's results folder."""
     done = set()
-    for cell in (results_dir / "cells").glob("m*_p*_nss*_seed*"):
+    for cell in (Path(results_dir) / "cells").glob("m*_p*_nss*_seed*"):
         if (cell / "cell.json").exists():
             done.add(tuple(json.loads((cell / "cell.json").read_text(encoding="utf-8"))["key"]))
     return done
@@ -333,7 +355,17 @@ def _execute(base, todo, folder, n_jobs, scheduler):
         from joblib import Parallel, delayed
 
         parallel = Parallel(n_jobs=n_jobs, return_as="generator_unordered")
-        yield from parallel(delayed(_run_cell)(base, key, folder) for key in todo)
+        try:
+            yield from parallel(delayed(_run_cell_in_worker)(base, key, folder) for key in todo)
+        except KeyboardInterrupt:
+            # stop the workers now, so that no process outlives the command or
+            # leaves its semaphores behind (the finished cells are stored)
+            from joblib.externals.loky import get_reusable_executor
+
+            get_reusable_executor().shutdown(wait=True, kill_workers=True)
+            if folder is not None:
+                _clear_staging(Path(folder))
+            raise
 
 
 def _execute_dask(base, todo, folder, scheduler):

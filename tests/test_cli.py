@@ -82,7 +82,9 @@ def test_sweep_and_tables(tmp_path, capsys):
     assert main(["tables", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "table1" in printed and "wilcoxon" in printed
-    markdown = (out / "tables.md").read_text()
+    assert not (out / "tables.md").exists()  # nothing written unless asked
+    assert main(["tables", str(out), "--markdown", str(tmp_path / "t" / "tables.md")]) == 0
+    markdown = (tmp_path / "t" / "tables.md").read_text()
     assert markdown.startswith("# sarsp_edu sweep") and "## Table 2" in markdown
 
 
@@ -118,3 +120,104 @@ def test_ablation_list_and_bad_setting(capsys):
     with pytest.raises(SystemExit):
         main(["ablation", "--settings", "no such setting"])
     assert "unknown setting" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------
+# output paths are checked before any work (issue 12, item 2)
+# --------------------------------------------------------------------------
+def _usage_error(argv, capsys) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    return err.strip().splitlines()[-1]
+
+
+@pytest.mark.parametrize("command", ["run", "compare", "sweep", "ablation"])
+def test_out_that_is_a_file_is_refused_before_work(tmp_path, capsys, monkeypatch, command):
+    import sarsp_edu.experiment
+    import sarsp_edu.sweep
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("work started before --out was checked")
+
+    for module, name in [(sarsp_edu.experiment, "run_experiment"), (sarsp_edu.experiment, "compare"),
+                         (sarsp_edu.sweep, "run_sweep")]:
+        monkeypatch.setattr(module, name, no_work)
+    afile = tmp_path / "afile"
+    afile.write_text("keep me")
+    line = _usage_error([command, "--out", str(afile), "--quiet"], capsys)
+    assert f"--out {afile} is a file" in line
+    assert afile.read_text() == "keep me"
+    line = _usage_error([command, "--out", str(afile / "below"), "--quiet"], capsys)
+    assert f"{afile} is a file" in line
+
+
+def test_out_holding_other_results_is_refused(tmp_path, capsys):
+    sweep = tmp_path / "sweep"
+    sweep.mkdir()
+    (sweep / "sweep.json").write_text("{}")
+    line = _usage_error(["run", "--out", str(sweep), *TINY], capsys)
+    assert "holds a sweep's results" in line and "'run' writes into" in line
+    other = tmp_path / "notes"
+    other.mkdir()
+    (other / "todo.txt").write_text("x")
+    assert "holds other files" in _usage_error(["compare", "--out", str(other), *TINY], capsys)
+    # the markdown file of tables is checked before the folder is read
+    assert "is a folder" in _usage_error(["tables", str(tmp_path), "--markdown", str(other)], capsys)
+
+
+def test_run_may_replace_its_own_result(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert main(["run", *TINY, "--out", str(out)]) == 0
+    assert main(["run", *TINY, "--seed", "1", "--out", str(out)]) == 0
+    assert json.loads((out / "result.json").read_text())["config"]["seed"] == 1
+
+
+# --------------------------------------------------------------------------
+# Ctrl-C (issue 12, item 1)
+# --------------------------------------------------------------------------
+@pytest.mark.parametrize("command", ["run", "compare"])
+def test_ctrl_c_in_a_run_is_one_line(tmp_path, capsys, monkeypatch, command):
+    import sarsp_edu.experiment
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(sarsp_edu.experiment, "run_experiment" if command == "run" else "compare", interrupted)
+    assert main([command, *TINY, "--out", str(tmp_path / "r")]) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["interrupted: nothing was saved (a run is saved only when it has finished)"]
+    assert not (tmp_path / "r").exists()
+
+
+def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
+    # a terminal's Ctrl-C: SIGINT to the command's whole process group
+    import os
+    import re
+    import signal
+    import time
+
+    out = tmp_path / "sweep"
+    argv = [sys.executable, "-m", "sarsp_edu.cli", "sweep", "--jobs", "2", "--out", str(out), "--quiet",
+            "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--k-prior", "20",
+            "--optimizer-steps", "3", "--cost-fit-points", "50", "--reward-fit-points", "50",
+            "--m", "40", "80", "--p", "0.2", "--nss", "1", "2", "--seeds", "0", "1", "--episodes", "60"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 240
+    while time.monotonic() < deadline and proc.poll() is None and not list(out.glob("cells/m*/cell.json")):
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    if proc.returncode == 0:
+        pytest.skip("the sweep finished before it could be interrupted")
+    assert proc.returncode == 130
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    match = re.fullmatch(rf"interrupted: (\d+) of 8 cells are saved in {re.escape(str(out))}; "
+                         r"rerun the same command to resume", lines[0])
+    assert match, lines[0]
+    saved = int(match.group(1))
+    assert len(list(out.glob("cells/m*/cell.json"))) == saved
+    assert not list(out.glob("cells/.*"))  # no staging folder left behind
