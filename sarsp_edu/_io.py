@@ -2,9 +2,29 @@
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
 from pathlib import Path
+
+
+class StoredResultError(ValueError):
+    """A stored result that cannot be used: the message names the file and what is wrong with it."""
+
+
+def read_json(path, keys=()) -> dict:
+    """A JSON object from ``path`` that holds ``keys``, or :class:`StoredResultError` naming the file."""
+    path = Path(path)
+    try:
+        payload = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise StoredResultError(f"{path} cannot be read ({exc}); it was probably cut short") from None
+    missing = [key for key in keys if not isinstance(payload, dict) or key not in payload]
+    if missing:
+        raise StoredResultError(f"{path} lacks {', '.join(repr(k) for k in missing)}")
+    return payload
 
 
 def _permissions(directory: bool = False) -> int:

@@ -145,7 +145,7 @@ class AblationResults:
             folder = results_dir / entry["folder"]
             results.settings[name] = entry["changes"]
             if (folder / "sweep.json").exists():
-                results.sweeps[name] = SweepResults.load(folder)
+                results.sweeps[name] = SweepResults.load(folder, allow_partial=True)
         return results
 
 

@@ -218,10 +218,15 @@ def _tables(args, parser) -> int:
     if args.markdown:
         _check_file(parser, "--markdown", args.markdown)
     try:
-        results = SweepResults.load(args.results_dir, a=args.a)
+        results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial)
         tables = summary_tables(results)
     except (FileNotFoundError, ValueError) as exc:
         parser.error(str(exc))
+    if results.missing:
+        listed = "; ".join(" ".join(f"{n}={v:g}" for n, v in zip(("m", "p", "nss", "seed"), key))
+                           for key in results.missing)
+        print(f"partial sweep: {len(results)} of {len(results) + len(results.missing)} cells stored; "
+              f"missing: {listed}")
     for key, frame in tables.items():
         if key == "seeds":
             continue
@@ -370,6 +375,8 @@ def build_parser() -> argparse.ArgumentParser:
     tables.add_argument("results_dir", metavar="RESULTS_DIR")
     tables.add_argument("--a", type=float, default=100.0, help="Definition 4's TSR threshold [default: 100]")
     tables.add_argument("--markdown", metavar="FILE", help="also write every table as Markdown to FILE")
+    tables.add_argument("--allow-partial", action="store_true",
+                        help="tabulate a sweep with cells still to run (and list them)")
     tables.set_defaults(func=_tables, parser=tables)
 
     ablation = sub.add_parser(
@@ -396,6 +403,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import warnings
+
+    # a warning is one line to a terminal user, not a file name and a source line
+    warnings.formatwarning = lambda message, category, *rest, **kwargs: f"warning: {message}\n"
     parser = build_parser()
     args = parser.parse_args(argv)
     if not hasattr(args, "func"):

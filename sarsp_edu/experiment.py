@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ._version import __version__
-from ._io import atomic_write_text
+from ._io import StoredResultError, atomic_write_text, read_json
 from ._threads import one_blas_thread
 from ._validation import (
     check_choice,
@@ -56,6 +56,7 @@ __all__ = [
     "backup_share",
     "SUMMARY_METRICS",
     "RECORD_COLUMNS",
+    "StoredResultError",
     "PRESETS",
     "PRESET_DOCS",
     "PRESET_FIELDS",
@@ -639,12 +640,59 @@ class ExperimentResult:
         meta_path, csv_path = directory / "result.json", directory / "records.csv"
         if not meta_path.exists() or not csv_path.exists():
             raise FileNotFoundError(f"{directory} holds no complete result (records.csv and result.json)")
-        payload = json.loads(meta_path.read_text(encoding="utf-8"))
-        records = pd.read_csv(csv_path)
-        for column in ("start", "goal"):
-            records[column] = [tuple(int(v) for v in cell.split()) for cell in records[column]]
-        records["task_completed"] = records["task_completed"].astype(bool)
-        return cls(ExperimentConfig.from_dict(payload["config"]), records, payload.get("timings", {}))
+        payload = read_json(meta_path, keys=("config",))
+        try:
+            config = ExperimentConfig.from_dict(payload["config"])
+        except (TypeError, ValueError) as exc:
+            raise StoredResultError(f"{meta_path} holds an invalid config: {exc}") from None
+        records = _read_records(csv_path, config.episodes)
+        return cls(config, records, payload.get("timings", {}))
+
+
+#: records columns that results stored by older versions may lack
+_LATER_COLUMNS = {"final_cells": "0.2.0"}
+#: records columns that may hold NaN (no action was chosen as safe in an episode)
+_NAN_COLUMNS = {"safe_action_variance"}
+
+
+def _read_records(path: Path, episodes: int) -> pd.DataFrame:
+    """``records.csv`` of a stored result, checked row by row; :class:`StoredResultError` names what is wrong."""
+
+    def bad(problem: str):
+        return StoredResultError(f"{path} {problem}; delete the result (or its sweep cell) and run it again")
+
+    try:
+        records = pd.read_csv(path)
+    except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise bad(f"cannot be read ({str(exc).strip()})") from None
+    missing = [c for c in RECORD_COLUMNS if c not in records.columns and c not in _LATER_COLUMNS]
+    if missing:
+        raise bad(f"lacks the columns {missing}")
+    if len(records) != episodes or not np.array_equal(records["episode"], np.arange(1, episodes + 1)):
+        raise bad(f"holds {len(records)} episodes where its config ran {episodes} (was it cut short?)")
+    text_columns = ("start", "goal", "task_completed")
+    for column in records.columns.intersection(list(RECORD_COLUMNS)):
+        if column in text_columns:
+            continue
+        values = pd.to_numeric(records[column], errors="coerce")
+        empty = values.isna() & (records[column].notna() | (column not in _NAN_COLUMNS))
+        if empty.any():
+            row = int(np.flatnonzero(empty.to_numpy())[0]) + 1
+            raise bad(f"has no number in column {column!r} of episode {row}")
+        records[column] = values
+    done = records["task_completed"].astype(str)
+    if not done.isin(["True", "False"]).all():
+        raise bad("has a task_completed value other than True or False")
+    records["task_completed"] = done == "True"
+    for column in ("start", "goal"):
+        cells = []
+        for row, text in enumerate(records[column], start=1):
+            parts = str(text).split()
+            if len(parts) != 2 or not all(part.lstrip("-").isdigit() for part in parts):
+                raise bad(f"has {column}={text!r} in episode {row}, not a cell 'x y'")
+            cells.append((int(parts[0]), int(parts[1])))
+        records[column] = cells
+    return records
 
 
 class _NoProgress:

@@ -18,6 +18,7 @@ import math
 import os
 import shutil
 import signal
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,7 +26,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ._io import atomic_write_text, staging_directory
+from ._io import StoredResultError, atomic_write_text, read_json, staging_directory
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
 from .experiment import (
@@ -40,6 +41,7 @@ from .experiment import (
 )
 
 __all__ = [
+    "StoredResultWarning",
     "run_sweep",
     "SweepResults",
     "summary_tables",
@@ -53,6 +55,10 @@ __all__ = [
 PAPER_MAGNITUDES = (40, 60, 80)
 PAPER_PROPORTIONS = (0.2, 0.3, 0.4)
 PAPER_SWITCH_STATES = (2, 4, 6, 8, 10)
+
+class StoredResultWarning(UserWarning):
+    """A stored cell could not be used and is computed again."""
+
 
 #: the fields a sweep sets per cell; the rest of the base config is shared
 _SWEPT = ("model", "outlier_magnitude", "outlier_proportion", "n_switch_states", "seed")
@@ -96,11 +102,14 @@ class SweepResults:
         ``(m, p, nss, seed) -> Comparison``.
     a : float
         The TSR threshold of Definition 4.
+    missing : list
+        Keys of the cells a partial sweep still lacks (see :meth:`load`).
     """
 
     base: ExperimentConfig
     comparisons: dict = field(default_factory=dict)
     a: float = 100.0
+    missing: list = field(default_factory=list)
 
     def __len__(self) -> int:
         return len(self.comparisons)
@@ -144,17 +153,48 @@ class SweepResults:
         return set(first.tp.records.columns)
 
     @classmethod
-    def load(cls, results_dir, a: float = 100.0) -> "SweepResults":
-        """Every finished cell of a results folder."""
+    def load(cls, results_dir, a: float = 100.0, allow_partial: bool = False) -> "SweepResults":
+        """Every cell of a results folder, each checked as it is read.
+
+        Parameters
+        ----------
+        results_dir : path
+        a : float, default 100.0
+            Definition 4's TSR threshold.
+        allow_partial : bool, default False
+            Accept a sweep with cells still to run; ``missing`` lists them.
+            ``sweep.json`` records every cell a sweep was asked for, so a
+            table never averages over an unnoticed subset.  (Folders written
+            before version 0.2.1 hold no such record; their cells are taken
+            as the whole sweep.)
+
+        Raises
+        ------
+        StoredResultError
+            A file that cannot be read or holds what no run writes (named).
+        ValueError
+            The sweep is partial and ``allow_partial`` is False.
+        """
         results_dir = Path(results_dir)
         meta = results_dir / "sweep.json"
         if not meta.exists():
             raise FileNotFoundError(f"{results_dir} is not a sweep results folder (no sweep.json)")
-        base = ExperimentConfig.from_dict(json.loads(meta.read_text(encoding="utf-8"))["base_config"])
-        results = cls(base, a=a)
+        payload = read_json(meta, keys=("base_config",))
+        results = cls(_stored_base(meta, payload), a=a)
         for cell in sorted((results_dir / "cells").glob("m*_p*_nss*_seed*")):
-            key = json.loads((cell / "cell.json").read_text(encoding="utf-8"))["key"]
-            results.comparisons[tuple(key)] = Comparison.load(cell, a=a)
+            key = _stored_key(cell)
+            if key is None:
+                raise StoredResultError(f"{cell} holds no valid cell.json; delete the folder and rerun the sweep")
+            results.comparisons[key] = Comparison.load(cell, a=a)
+        expected = {_as_key(key) for key in payload.get("requested", [])}
+        results.missing = sorted(expected - set(results.comparisons))
+        if results.missing and not allow_partial:
+            first = ", ".join(f"{n}={v:g}" for n, v in zip(_KEY, results.missing[0]))
+            raise ValueError(
+                f"{results_dir} holds a partial sweep: {len(results.missing)} of {len(expected)} cells are "
+                f"missing (the first: {first}); rerun its sweep command to finish it, or allow a partial sweep "
+                "(allow_partial=True, or --allow-partial)"
+            )
         return results
 
 
@@ -201,13 +241,17 @@ def _store_cell(results_dir: Path, key: tuple, comparison: Comparison) -> None:
         raise
 
 
-def _prepare_folder(results_dir: Path, base: ExperimentConfig) -> set:
-    """Check (or write) the folder's base config; return the keys of finished cells."""
+def _prepare_folder(results_dir: Path, base: ExperimentConfig, keys: list) -> set:
+    """Check (or write) the folder's base config and add ``keys`` to the cells it is asked for.
+
+    Returns the keys of the cells stored there.
+    """
     results_dir.mkdir(parents=True, exist_ok=True)
     meta = results_dir / "sweep.json"
+    payload = {"base_config": base.to_dict(), "requested": [], "sarsp_edu_version": __version__}
     if meta.exists():
-        stored = ExperimentConfig.from_dict(json.loads(meta.read_text(encoding="utf-8"))["base_config"])
-        ours, theirs = _shared_fields(base), _shared_fields(stored)
+        stored = read_json(meta, keys=("base_config",))
+        ours, theirs = _shared_fields(base), _shared_fields(_stored_base(meta, stored))
         differing = sorted(k for k in ours if ours[k] != theirs.get(k))
         if differing:
             details = ", ".join(f"{k}: folder {theirs.get(k)!r}, now {ours[k]!r}" for k in differing)
@@ -215,11 +259,33 @@ def _prepare_folder(results_dir: Path, base: ExperimentConfig) -> set:
                 f"{results_dir} holds a sweep with other settings ({details}); "
                 "use another results_dir or the same settings"
             )
-    else:
-        payload = {"base_config": base.to_dict(), "sarsp_edu_version": __version__}
+        payload = {**stored, "requested": stored.get("requested", [])}
+    requested = {_as_key(key) for key in payload["requested"]}
+    if not requested.issuperset(keys):
+        payload["requested"] = [list(key) for key in sorted(requested.union(keys))]
         atomic_write_text(meta, json.dumps(payload, indent=2) + "\n")
     _clear_staging(results_dir)
     return finished_cells(results_dir)
+
+
+def _as_key(values) -> tuple:
+    m, p, nss, seed = values
+    return float(m), float(p), int(nss), int(seed)
+
+
+def _stored_base(meta: Path, payload: dict) -> ExperimentConfig:
+    try:
+        return ExperimentConfig.from_dict(payload["base_config"])
+    except (TypeError, ValueError) as exc:
+        raise StoredResultError(f"{meta} holds an invalid base_config: {exc}") from None
+
+
+def _stored_key(cell: Path):
+    """The key in ``cell/cell.json``, or None when it is missing or unreadable."""
+    try:
+        return _as_key(read_json(cell / "cell.json", keys=("key",))["key"])
+    except (FileNotFoundError, StoredResultError, TypeError, ValueError):
+        return None
 
 
 def _clear_staging(results_dir: Path) -> None:
@@ -229,12 +295,9 @@ def _clear_staging(results_dir: Path) -> None:
 
 
 def finished_cells(results_dir) -> set:
-    """Keys ``(m, p, nss, seed)`` of the cells stored in a sweep's results folder."""
-    done = set()
-    for cell in (Path(results_dir) / "cells").glob("m*_p*_nss*_seed*"):
-        if (cell / "cell.json").exists():
-            done.add(tuple(json.loads((cell / "cell.json").read_text(encoding="utf-8"))["key"]))
-    return done
+    """Keys ``(m, p, nss, seed)`` of the cells stored in a sweep's results folder (with a readable cell.json)."""
+    keys = (_stored_key(cell) for cell in (Path(results_dir) / "cells").glob("m*_p*_nss*_seed*"))
+    return {key for key in keys if key is not None}
 
 
 def _check_cell(base: ExperimentConfig, cell) -> None:
@@ -324,12 +387,20 @@ def run_sweep(
 
     results = SweepResults(base, a=a)
     folder = None if results_dir is None else Path(results_dir)
-    done = _prepare_folder(folder, base) if folder is not None else set()
-    todo = [key for key in keys if key not in done]
     if folder is not None:
+        done = _prepare_folder(folder, base, keys)
         for key in keys:
-            if key in done:
-                results.comparisons[key] = Comparison.load(folder / "cells" / _cell_name(*key), a=a)
+            cell = folder / "cells" / _cell_name(*key)
+            if not cell.exists():
+                continue
+            try:
+                if key not in done:
+                    raise StoredResultError(f"{cell / 'cell.json'} is missing or cannot be read")
+                results.comparisons[key] = Comparison.load(cell, a=a)
+            except (FileNotFoundError, StoredResultError) as exc:
+                warnings.warn(f"{exc}; computing the cell again", StoredResultWarning, stacklevel=2)
+                shutil.rmtree(cell)
+    todo = [key for key in keys if key not in results.comparisons]
 
     from tqdm.auto import tqdm
 

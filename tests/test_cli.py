@@ -221,3 +221,24 @@ def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
     saved = int(match.group(1))
     assert len(list(out.glob("cells/m*/cell.json"))) == saved
     assert not list(out.glob("cells/.*"))  # no staging folder left behind
+
+
+def test_tables_name_a_damaged_file_and_refuse_a_partial_sweep(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    settings = [a for i, a in enumerate(TINY) if a != "--nss" and (i == 0 or TINY[i - 1] != "--nss")]
+    grid = ["--m", "40", "--p", "0.2", "--nss", "1", "2"]
+    assert main(["sweep", *grid, *settings, "--out", str(out)]) == 0
+    capsys.readouterr()
+    records = out / "cells" / "m40_p0.2_nss2_seed0" / "gp" / "records.csv"
+    saved = records.read_text()
+    records.write_text(saved[: len(saved) // 2])
+    line = _usage_error(["tables", str(out)], capsys)
+    assert str(records) in line
+    records.write_text(saved)
+    import shutil
+
+    shutil.rmtree(records.parent.parent)
+    line = _usage_error(["tables", str(out)], capsys)
+    assert "partial sweep: 1 of 2 cells are missing" in line and "--allow-partial" in line
+    assert main(["tables", str(out), "--allow-partial"]) == 0
+    assert "partial sweep: 1 of 2 cells stored; missing: m=40 p=0.2 nss=2 seed=0" in capsys.readouterr().out
