@@ -47,7 +47,7 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
     Defaults are left to the dataclass (one source of truth): a flag not
     given is not passed on.
     """
-    from .experiment import PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
+    from .config import PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
 
     preset_fields = set(PRESET_FIELDS)
 
@@ -80,7 +80,7 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
 
 def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace):
     """Build the config (the preset, then the flags given), turning a bad value into a usage error."""
-    from .experiment import ExperimentConfig
+    from .config import ExperimentConfig
 
     names = {f.name for f in dataclasses.fields(ExperimentConfig)}
     values = {k: v for k, v in vars(args).items() if k in names}
@@ -239,7 +239,7 @@ def _tables(args, parser) -> int:
 
 def _describe(config) -> str:
     """One line: the configuration, the preset and the settings that differ from it."""
-    from .experiment import PRESETS, PRESET_FIELDS
+    from .config import PRESET_FIELDS, PRESETS
 
     text = (f"m={config.outlier_magnitude:g} p={config.outlier_proportion:g} nss={config.n_switch_states} "
             f"episodes={config.episodes} seed={config.seed}; preset {config.preset}")
@@ -290,7 +290,7 @@ def _ablation(args, parser) -> int:
 
 
 def _info(args, parser) -> int:
-    from .experiment import PRESET_DOCS, PRESETS
+    from .config import PRESET_DOCS, PRESETS
 
     print(f"sarsp_edu {__version__}")
     print(f"python {platform.python_version()} ({sys.executable})")

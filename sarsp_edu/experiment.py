@@ -14,11 +14,10 @@ construction, and the same seed gives the same numbers in any process.
 from __future__ import annotations
 
 import copy
-import dataclasses
 import json
 import math
 import time
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -27,20 +26,12 @@ import pandas as pd
 from ._version import __version__
 from ._io import StoredResultError, atomic_write_text, read_json
 from ._threads import one_blas_thread
-from ._validation import (
-    check_choice,
-    check_fraction,
-    check_int,
-    check_nu,
-    check_positive,
-    check_range,
-    check_switch_states,
-)
-from .gridworld import GRID_SIZE, N_UNSAFE, SafeGridWorld
+from ._validation import check_range
+from .config import PRESET_DOCS, PRESET_FIELDS, PRESETS, ExperimentConfig, preset_of
+from .gridworld import SafeGridWorld
 from .kernels import RBF
-from .offline import COST_DUPLICATES, REWARD_DUPLICATES, collect_offline_data, inject_outliers
+from .offline import collect_offline_data, inject_outliers
 from .processes import GaussianProcess, StudentTProcess
-from . import sarsp
 from .sarsp import SARSPAgent
 
 __all__ = [
@@ -63,207 +54,6 @@ __all__ = [
     "preset_of",
     "stuck_share",
 ]
-
-
-def _field(default, help: str, **metadata):
-    return field(default=default, metadata={"help": help, **metadata})
-
-
-@dataclass(frozen=True)
-class ExperimentConfig:
-    """Every setting of one run; the defaults are the paper's (and its reference code's).
-
-    Each field's ``metadata["help"]`` documents it; the ``sarsp-edu`` command
-    builds its flags from the same text.
-    """
-
-    model: str = _field("tp", "the regression model of both the cost and the reward model: 'tp' or 'gp'",
-                        choices=("tp", "gp"))
-    nu: float = _field(3.0, "TP degrees of freedom, > 2 (paper: fixed at 3)")
-    outlier_magnitude: float = _field(40.0, "outlier magnitude m: outlier rows are multiplied by m (paper: 40, 60, 80)",
-                                      flag="m")
-    outlier_proportion: float = _field(0.2, "outlier proportion p in [0, 1] (paper: 0.2, 0.3, 0.4)", flag="p")
-    n_switch_states: int = _field(2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)", flag="nss")
-    episodes: int = _field(250, "online episodes (paper: 250)")
-    offline_episodes: int = _field(100, "random-policy episodes of offline data (paper: 100)")
-    grid_size: int = _field(GRID_SIZE, "grid side n (paper: 10)")
-    n_unsafe: int = _field(N_UNSAFE, "number of unsafe states (paper: 15)")
-    d: float = _field(sarsp.D, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
-    variance_threshold: float = _field(sarsp.VARIANCE_THRESHOLD,
-                                       "sigma*^2: the largest cost variance of a safe action (reference code: 0.8)")
-    k_prior: int = _field(sarsp.K_PRIOR, "random rows in each strategic prior (paper's text: 100; the reference "
-                          "code, which produced the paper's figures: 400)")
-    n_matching: int = _field(sarsp.N_MATCHING, "rows matching each query added to the prior, at most (paper: 10)")
-    prior_draw: str = _field("per_action", "how strategic priors are drawn: 'per_action' (a fresh prior for every "
-                             "action and model, as the reference code) or 'per_step' (one per model and step, shared "
-                             "by the four actions, as the printed Algorithm 1)", choices=sarsp.PRIOR_DRAWS)
-    cost_outliers: bool = _field(True, "inject outliers into the cost model's data (paper: yes)")
-    reward_outliers: bool = _field(True, "inject outliers into the reward model's data (paper: yes)")
-    seed: int = _field(0, "seed of every random choice of the run")
-    max_steps: int | None = _field(None, "steps before an episode is truncated (default: grid_size^2, the paper's T_max)")
-    placement: str = _field("full", "where objects are placed: 'full' grid (paper's text) or 'reference' (never "
-                            "the last row/column, as the reference code)", choices=("full", "reference"))
-    cost_duplicates: int = _field(COST_DUPLICATES, "duplicate cap of the cost model's data (reference code: 12)")
-    reward_duplicates: int = _field(REWARD_DUPLICATES, "duplicate cap of the reward model's data (reference code: 1)")
-    predictive: str = _field("closed_form", "how predictions are made: 'closed_form' (exact) or 'sample' (the "
-                             "reference code's 150-draw estimate)", choices=("closed_form", "sample"))
-    n_samples: int = _field(sarsp.N_SAMPLES, "draws per prediction with predictive='sample' (reference code: 150)")
-    noise_convention: str = _field("tfp", "how the TP's predictive variance includes the noise: 'tfp' (unscaled, "
-                                   "as the reference code's library) or 'shah' (scaled)", choices=("tfp", "shah"))
-    optimizer: str = _field("adam", "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'", choices=("adam", "lbfgs"))
-    learning_rate: float = _field(0.1, "Adam's learning rate (paper: 0.1)")
-    optimizer_steps: int = _field(50, "Adam steps, or L-BFGS-B's iteration cap (paper: 50 Adam steps)")
-    prior: str | None = _field("lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), reference code) "
-                               "or None (plain marginal likelihood)", choices=("lognormal", None))
-    cost_fit_points: int | None = _field(sarsp.COST_FIT_POINTS, "rows of the cost model's data for each "
-                                         "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
-                                         "fast, the rows hold ~800 distinct inputs)")
-    reward_fit_points: int | None = _field(sarsp.REWARD_FIT_POINTS, "rows drawn at random for the reward model's "
-                                           "hyperparameter fit (None: all ~4,900, as the reference code, about "
-                                           "4 minutes a fit)")
-    retrain: str = _field("if_changed", "when a corrective update retrains the cost model: 'if_changed' (only "
-                          "when it changed the data, as the reference code), 'always' (the printed Algorithm 1) "
-                          "or 'never'", choices=sarsp.RETRAIN_RULES)
-
-    def __post_init__(self):
-        check_choice("model", self.model, ("tp", "gp"))
-        check_nu(self.nu)
-        check_positive("outlier_magnitude", self.outlier_magnitude)
-        check_fraction("outlier_proportion", self.outlier_proportion)
-        check_int("episodes", self.episodes, 1)
-        check_int("offline_episodes", self.offline_episodes, 1)
-        check_int("grid_size", self.grid_size, 2)
-        check_choice("placement", self.placement, ("full", "reference"))
-        capacity = SafeGridWorld.max_unsafe(self.grid_size, self.placement)
-        check_int("n_unsafe", self.n_unsafe, 1, capacity)
-        check_switch_states(self.n_switch_states, self.n_unsafe)
-        check_positive("d", self.d)
-        check_positive("variance_threshold", self.variance_threshold)
-        check_int("k_prior", self.k_prior, 1)
-        check_int("n_matching", self.n_matching, 0)
-        check_choice("prior_draw", self.prior_draw, sarsp.PRIOR_DRAWS)
-        check_choice("retrain", self.retrain, sarsp.RETRAIN_RULES)
-        for name in ("cost_outliers", "reward_outliers"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be True or False, got {name}={getattr(self, name)!r}")
-        check_int("seed", self.seed, 0)
-        check_int("max_steps", self.max_steps, 1, allow_none=True)
-        check_int("cost_duplicates", self.cost_duplicates, 1)
-        check_int("reward_duplicates", self.reward_duplicates, 1)
-        check_choice("predictive", self.predictive, ("closed_form", "sample"))
-        check_int("n_samples", self.n_samples, 2)
-        check_choice("noise_convention", self.noise_convention, ("tfp", "shah"))
-        check_choice("optimizer", self.optimizer, ("adam", "lbfgs"))
-        check_positive("learning_rate", self.learning_rate)
-        check_int("optimizer_steps", self.optimizer_steps, 1)
-        check_choice("prior", self.prior, ("lognormal", None))
-        check_int("cost_fit_points", self.cost_fit_points, 2, allow_none=True)
-        check_int("reward_fit_points", self.reward_fit_points, 2, allow_none=True)
-
-    def replace(self, **changes) -> "ExperimentConfig":
-        """A copy with some fields changed (validated again)."""
-        return dataclasses.replace(self, **changes)
-
-    @classmethod
-    def from_preset(cls, name: str = "default", **changes) -> "ExperimentConfig":
-        """The config of a named preset (see ``PRESETS``), with some fields changed.
-
-        Examples
-        --------
-        >>> ExperimentConfig.from_preset("reference").k_prior
-        400
-        >>> ExperimentConfig.from_preset("paper_text", episodes=20).prior_draw
-        'per_step'
-        """
-        check_choice("preset", name, tuple(PRESETS))
-        return cls(**{**PRESETS[name], **changes})
-
-    @property
-    def preset(self) -> str:
-        """The preset whose settings this config has (``PRESET_FIELDS``), or ``"custom"``.
-
-        Fields outside ``PRESET_FIELDS`` (the configuration m, p, nss, the
-        seed, the number of episodes) do not count.
-        """
-        return preset_of(self)
-
-    def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
-
-    @classmethod
-    def from_dict(cls, values: dict) -> "ExperimentConfig":
-        """A config from ``to_dict``'s output, also from results stored by sarsp_edu 0.1.
-
-        Version 0.1 had one ``fit_points`` for both models, a boolean
-        ``retrain`` (True: after every corrective update) and always one
-        prior per step; such a config is read with exactly those settings.
-        """
-        values = dict(values)
-        if "fit_points" in values:  # written by sarsp_edu 0.1
-            points = values.pop("fit_points")
-            values.setdefault("cost_fit_points", points)
-            values.setdefault("reward_fit_points", points)
-            values.setdefault("prior_draw", "per_step")
-            if isinstance(values.get("retrain"), bool):
-                values["retrain"] = "always" if values["retrain"] else "never"
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(values) - known)
-        if unknown:
-            raise ValueError(f"unknown ExperimentConfig fields {unknown}; valid fields are {sorted(known)}")
-        return cls(**values)
-
-
-#: the settings a preset fixes: how SARSP is run, not which configuration
-PRESET_FIELDS = (
-    "prior_draw",
-    "k_prior",
-    "n_matching",
-    "predictive",
-    "n_samples",
-    "cost_fit_points",
-    "reward_fit_points",
-    "retrain",
-    "placement",
-    "max_steps",
-    "noise_convention",
-)
-
-_DEFAULTS = {f.name: f.default for f in fields(ExperimentConfig)}
-
-#: named sets of SARSP settings, each documented in ``PRESET_DOCS``
-PRESETS = {
-    # the package's defaults: the reference code's strategic prior, at teaching speed
-    "default": {name: _DEFAULTS[name] for name in PRESET_FIELDS},
-    # everything as the authors' code that produced the paper's figures
-    "reference": dict(prior_draw="per_action", k_prior=400, n_matching=10, predictive="sample", n_samples=150,
-                      cost_fit_points=None, reward_fit_points=None, retrain="if_changed", placement="reference",
-                      max_steps=101, noise_convention="tfp"),
-    # the algorithm as the paper prints it
-    "paper_text": dict(prior_draw="per_step", k_prior=100, n_matching=10, predictive="closed_form",
-                       n_samples=150, cost_fit_points=None, reward_fit_points=None, retrain="always",
-                       placement="full", max_steps=None, noise_convention="tfp"),
-}
-
-PRESET_DOCS = {
-    "default": "the reference code's strategic prior (a fresh prior per action) at teaching speed: k = 100, "
-               "closed-form predictions, exact whole-buffer cost fits, reward fits on 1,000 random rows, "
-               "the paper's full grid and T_max = n^2",
-    "reference": "everything as the authors' code that produced the paper's figures: a prior per action, "
-                 "k = 400, 150-draw sampled predictions, whole-buffer fits of both models, retrain only when "
-                 "the data changed, placement off the last row and column, at most 101 steps an episode "
-                 "(about 5 to 10 minutes a run on one core)",
-    "paper_text": "the algorithm as the paper prints it: one prior per step shared by the four actions, "
-                  "k = 100, hyperparameters fitted on all the data, retrain after every corrective update, "
-                  "the full grid and T_max = n^2",
-}
-
-
-def preset_of(config: "ExperimentConfig") -> str:
-    """The name of the preset whose ``PRESET_FIELDS`` all equal the config's, or ``"custom"``."""
-    for name, values in PRESETS.items():
-        if all(getattr(config, key) == value for key, value in values.items()):
-            return name
-    return "custom"
 
 
 #: summary metrics, the paper's order (Tables 2-4)

@@ -22,6 +22,7 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 
 from ._validation import check_choice, check_int, check_positive, check_switch_states
+from .config import GRID_SIZE, N_UNSAFE, PLACEMENTS
 from .processes import as_generator
 
 __all__ = [
@@ -59,11 +60,6 @@ OBSERVATION_FIELDS = (
 )
 _AGENT, _GOAL, _UNSAFE = slice(0, 2), slice(2, 4), slice(5, 7)
 
-#: the paper's world: a 10 x 10 grid with 15 unsafe states
-GRID_SIZE = 10
-N_UNSAFE = 15
-
-_PLACEMENTS = ("full", "reference")
 _PLACEMENT_ATTEMPTS = 200
 
 
@@ -224,7 +220,7 @@ class SafeGridWorld(gym.Env):
         seed=None,
     ):
         self.size = check_int("size", size, 2)
-        self.placement = check_choice("placement", placement, _PLACEMENTS)
+        self.placement = check_choice("placement", placement, PLACEMENTS)
         span = self._span()
         if span < 2:
             raise ValueError(
@@ -545,5 +541,3 @@ class SafeGridWorld(gym.Env):
         image[:, ::cell] = colours["line"]
         return image
 
-
-gym.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.gridworld:SafeGridWorld")

@@ -21,14 +21,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
+from .config import COST_DUPLICATES, REWARD_DUPLICATES
 from .gridworld import cost_inputs, reward_inputs
 from .processes import as_generator
 
 __all__ = ["ObservationBuffer", "OfflineData", "collect_offline_data", "inject_outliers"]
 
-#: the reference implementation's duplicate caps
-COST_DUPLICATES = 12
-REWARD_DUPLICATES = 1
 
 
 class ObservationBuffer:

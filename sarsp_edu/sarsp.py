@@ -31,42 +31,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validation import check_choice, check_int, check_positive
+from .config import (  # Algorithm 1's defaults, defined once in config
+    COST_FIT_POINTS,
+    D,
+    K_PRIOR,
+    N_MATCHING,
+    N_SAMPLES,
+    PREDICTIVE,
+    PRIOR_DRAWS,
+    RETRAIN_RULES,
+    REWARD_FIT_POINTS,
+    VARIANCE_THRESHOLD,
+)
 from .gridworld import cost_inputs, reward_inputs
 from .offline import OfflineData
 from .processes import as_generator, draw_rows, draw_subset
 
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome", "PRIOR_DRAWS", "RETRAIN_RULES"]
-
-_PREDICTIVE = ("closed_form", "sample")
-#: how strategic priors are drawn: a fresh one for every action (the reference
-#: code) or one per step shared by the four actions (the printed Algorithm 1)
-PRIOR_DRAWS = ("per_action", "per_step")
-#: when the corrective update retrains the cost model: only when it changed a
-#: stored target or added a row (the reference code), after every corrective
-#: update (the printed Algorithm 1), or never
-RETRAIN_RULES = ("if_changed", "always", "never")
-
-# Defaults of Algorithm 1, read by ExperimentConfig too (one source of truth).
-#: safety threshold on the predicted distance to danger (paper: 1)
-D = 1.0
-#: sigma*^2, the largest cost variance of a safe action (reference code: 0.8)
-VARIANCE_THRESHOLD = 0.8
-#: random rows in each strategic prior (paper's text: 100; reference code: 400)
-K_PRIOR = 100
-#: rows matching a query added to the prior, at most (paper and reference: 10)
-N_MATCHING = 10
-#: draws per prediction in the reference code's Monte Carlo estimate
-N_SAMPLES = 150
-#: rows of the cost model's data used for each hyperparameter fit (None: all,
-#: as the reference code; exact and fast, because the ~4,700 rows hold only
-#: ~800 distinct inputs, see processes._group)
-COST_FIT_POINTS = None
-#: rows drawn at random for the reward model's hyperparameter fit (None: all
-#: ~4,900, as the reference code: 50 steps of a 4,900-point factorisation, about
-#: four minutes; 1,000 rows give nearly the same hyperparameters in 2 s, see
-#: benchmarks/bench_fits.py)
-REWARD_FIT_POINTS = 1000
-
 
 @dataclass
 class Decision:
@@ -261,7 +242,7 @@ class SARSPAgent:
         self.k_prior = check_int("k_prior", k_prior, 1)
         self.n_matching = check_int("n_matching", n_matching, 0)
         self.prior_draw = check_choice("prior_draw", prior_draw, PRIOR_DRAWS)
-        self.predictive = check_choice("predictive", predictive, _PREDICTIVE)
+        self.predictive = check_choice("predictive", predictive, PREDICTIVE)
         self.n_samples = check_int("n_samples", n_samples, 2)
         self.cost_fit_points = check_int("cost_fit_points", cost_fit_points, 2, allow_none=True)
         self.reward_fit_points = check_int("reward_fit_points", reward_fit_points, 2, allow_none=True)

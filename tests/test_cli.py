@@ -242,3 +242,13 @@ def test_tables_name_a_damaged_file_and_refuse_a_partial_sweep(tmp_path, capsys)
     assert "partial sweep: 1 of 2 cells are missing" in line and "--allow-partial" in line
     assert main(["tables", str(out), "--allow-partial"]) == 0
     assert "partial sweep: 1 of 2 cells stored; missing: m=40 p=0.2 nss=2 seed=0" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["info"], ["run", "--help"], ["sweep", "--help"]])
+def test_help_and_info_load_no_numerical_library(argv):
+    # --help must answer at once: no scipy, pandas or matplotlib behind it (issue 12, item 10)
+    code = (f"import sys\nfrom sarsp_edu.cli import main\ntry:\n    main({argv!r})\nexcept SystemExit:\n    pass\n"
+            "heavy = sorted(m for m in ('scipy', 'pandas', 'matplotlib', 'sympy') if m in sys.modules)\n"
+            "print('HEAVY', heavy)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert "HEAVY []" in out, out[-300:]
