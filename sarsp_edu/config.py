@@ -9,6 +9,7 @@ flags (and answer ``--help``) at once.
 from __future__ import annotations
 
 import dataclasses
+import numbers
 from dataclasses import dataclass, field, fields
 
 from ._validation import (
@@ -29,6 +30,44 @@ N_UNSAFE = 15
 #: where objects may be placed: the full grid (the paper's text) or never the
 #: last row and column (the reference code)
 PLACEMENTS = ("full", "reference")
+
+
+
+def unsafe_capacity(size: int, placement: str = "full") -> int:
+    """The most unsafe states a world of this size always places, and shifts.
+
+    Placement is uniform and greedy, and falls back to one colour of the
+    chessboard when it paints itself into a corner.  The states a shift moves
+    must avoid the kept states and their 4 neighbours (at most 5 cells each),
+    the cells they leave, and the start, goal and agent.  For ``k`` of ``n``
+    states that leaves at least ``S - 5(n - k) - k - 3`` free cells on an area
+    of ``S`` cells, and the larger colour of them (at least half) holds ``k``
+    cells that touch neither each other nor a kept state whenever
+    ``n <= (S - 3) / 5``: 19 on the paper's 10 x 10 grid, 15 on the
+    reference code's 9 x 9 placement area.  (The spacing rule alone would
+    allow a whole chessboard colour, 50, which no shift could then move.)
+    """
+    span = size if placement == "full" else size - 1
+    return max((span * span - 3) // 5, 0)
+
+
+def check_n_unsafe(n_unsafe, size: int, placement: str, size_name: str = "size") -> int:
+    """``n_unsafe`` from 1 to :func:`unsafe_capacity`, with a message that names the true maximum."""
+    capacity = unsafe_capacity(size, placement)
+    if capacity < 1:
+        smallest = 3 if placement == "full" else 4
+        raise ValueError(
+            f"{size_name} must be at least {smallest} with placement={placement!r}: a smaller grid leaves no "
+            f"room for an unsafe state apart from the start, the goal and the agent, got {size_name}={size}"
+        )
+    span = size if placement == "full" else size - 1
+    if isinstance(n_unsafe, bool) or not isinstance(n_unsafe, numbers.Integral) or not 1 <= n_unsafe <= capacity:
+        raise ValueError(
+            f"n_unsafe must be an integer from 1 to {capacity}, the most unsafe states that can always be "
+            f"placed and shifted apart on a {span}x{span} placement area, got n_unsafe={n_unsafe!r}"
+        )
+    return int(n_unsafe)
+
 
 # -- the offline data (section 5.2) ------------------------------------------
 #: the reference implementation's duplicate caps
@@ -136,10 +175,7 @@ class ExperimentConfig:
         check_int("offline_episodes", self.offline_episodes, 1)
         check_int("grid_size", self.grid_size, 2)
         check_choice("placement", self.placement, PLACEMENTS)
-        from .gridworld import SafeGridWorld  # the world's capacity rule (loads numpy)
-
-        capacity = SafeGridWorld.max_unsafe(self.grid_size, self.placement)
-        check_int("n_unsafe", self.n_unsafe, 1, capacity)
+        check_n_unsafe(self.n_unsafe, self.grid_size, self.placement, size_name="grid_size")
         check_switch_states(self.n_switch_states, self.n_unsafe)
         check_positive("d", self.d)
         check_positive("variance_threshold", self.variance_threshold)

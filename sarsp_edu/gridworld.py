@@ -22,7 +22,7 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 
 from ._validation import check_choice, check_int, check_positive, check_switch_states
-from .config import GRID_SIZE, N_UNSAFE, PLACEMENTS
+from .config import GRID_SIZE, N_UNSAFE, PLACEMENTS, check_n_unsafe, unsafe_capacity
 from .processes import as_generator
 
 __all__ = [
@@ -221,23 +221,7 @@ class SafeGridWorld(gym.Env):
     ):
         self.size = check_int("size", size, 2)
         self.placement = check_choice("placement", placement, PLACEMENTS)
-        span = self._span()
-        if span < 2:
-            raise ValueError(
-                f"placement='reference' needs size >= 3 (it never uses the last row and column), got size={size}"
-            )
-        capacity = self.max_unsafe(self.size, self.placement)
-        if (
-            isinstance(n_unsafe, bool)
-            or not isinstance(n_unsafe, numbers.Integral)
-            or n_unsafe < 1
-            or n_unsafe > capacity
-        ):
-            raise ValueError(
-                f"n_unsafe must be an integer from 1 to {capacity} (no two unsafe states may touch "
-                f"on a {span}x{span} placement area), got n_unsafe={n_unsafe!r}"
-            )
-        self.n_unsafe = int(n_unsafe)
+        self.n_unsafe = check_n_unsafe(n_unsafe, self.size, self.placement)
         self.d = check_positive("d", d)
         max_steps = check_int("max_steps", max_steps, 1, allow_none=True)
         self.max_steps = self.size * self.size if max_steps is None else max_steps
@@ -266,9 +250,16 @@ class SafeGridWorld(gym.Env):
 
     @staticmethod
     def max_unsafe(size: int, placement: str = "full") -> int:
-        """The most unsafe states the spacing rule allows on this grid (a checkerboard)."""
+        """The most unsafe states the spacing rule allows on this grid (one colour of a chessboard).
+
+        No world can hold more; :meth:`capacity` is how many it always
+        places *and* shifts.
+        """
         span = size if placement == "full" else size - 1
         return math.ceil(span * span / 2)
+
+    #: the most unsafe states a world always places and shifts (see ``config.unsafe_capacity``)
+    capacity = staticmethod(unsafe_capacity)
 
     # -- read-only state ---------------------------------------------------
     @property
@@ -370,11 +361,15 @@ class SafeGridWorld(gym.Env):
                 block(grid, cell)
             if len(placed) == n:
                 return np.array(placed, dtype=int).reshape(n, 2)
-        raise ValueError(
-            f"could not place {n} unsafe states apart from {len(keep)} others on the "
-            f"{span}x{span} placement area after {_PLACEMENT_ATTEMPTS} attempts: "
-            "use fewer unsafe states (or switch states), or a larger grid"
-        )
+        # Cornered every time: one colour of the chessboard never touches itself,
+        # and below ``capacity`` the larger colour of the free cells holds n.
+        free = np.argwhere(~base[1:-1, 1:-1])
+        colour = free.sum(axis=1) % 2
+        cells = free[colour == np.argmax(np.bincount(colour, minlength=2))]
+        if len(cells) < n:  # not reached below capacity (see config.unsafe_capacity)
+            raise RuntimeError(f"could not place {n} unsafe states apart from {len(keep)} others on the "
+                               f"{span}x{span} placement area")
+        return cells[np.sort(rng.choice(len(cells), size=n, replace=False))]
 
     # -- the Gymnasium API ----------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):

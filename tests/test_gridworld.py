@@ -132,7 +132,7 @@ def test_termination_at_the_goal_and_truncation():
     short.reset(options={"start": (0, 0), "goal": (4, 4)})
     flags = [short.step(LEFT)[2:4] for _ in range(3)]
     assert flags == [(False, False), (False, False), (False, True)]
-    assert SafeGridWorld(size=7).max_steps == 49  # T_max = n * n
+    assert SafeGridWorld(size=7, n_unsafe=5).max_steps == 49  # T_max = n * n
 
 
 def test_same_seed_same_world_and_episodes():
@@ -214,9 +214,10 @@ def test_distance_map_matches_the_cost_signal():
     [
         (dict(size=1), "size must be an integer >= 2, got size=1"),
         (dict(size=2.5), "size"),
-        (dict(n_unsafe=0), "n_unsafe must be an integer from 1 to 50"),
-        (dict(n_unsafe=51), r"n_unsafe must be an integer from 1 to 50.*got n_unsafe=51"),
-        (dict(size=4, n_unsafe=9), "from 1 to 8"),
+        (dict(n_unsafe=0), "n_unsafe must be an integer from 1 to 19"),
+        (dict(n_unsafe=20), r"n_unsafe must be an integer from 1 to 19.*10x10 placement area, got n_unsafe=20"),
+        (dict(size=4, n_unsafe=3), "from 1 to 2"),
+        (dict(size=10, n_unsafe=16, placement="reference"), r"from 1 to 15.*9x9 placement area"),
         (dict(d=0), "d must be a positive finite number"),
         (dict(d=-1.0), "d must be"),
         (dict(max_steps=0), "max_steps must be an integer >= 1 or None, got max_steps=0"),
@@ -229,10 +230,21 @@ def test_bad_arguments_are_named(kwargs, match):
         SafeGridWorld(**kwargs)
 
 
-def test_crowded_grid_that_cannot_be_filled():
-    # 8 is the checkerboard bound on 4x4, but start and goal make it unreachable
-    with pytest.raises(ValueError, match="could not place 8 unsafe states"):
-        SafeGridWorld(size=4, n_unsafe=8, seed=0)
+def test_a_cornered_placement_falls_back_to_a_chessboard_colour(monkeypatch):
+    # as if the greedy draw cornered itself every time: the fallback alone must place and shift
+    import sarsp_edu.gridworld as gridworld
+
+    monkeypatch.setattr(gridworld, "_PLACEMENT_ATTEMPTS", 0)
+    for size, placement in [(4, "full"), (10, "full"), (10, "reference")]:
+        n = SafeGridWorld.capacity(size, placement)
+        for seed in range(10):
+            env = SafeGridWorld(size=size, n_unsafe=n, placement=placement, seed=seed)
+            env.reset(seed=seed)
+            env.shift(n, rng=seed)
+            unsafe = env.unsafe_states
+            gaps = np.abs(unsafe[:, None, :] - unsafe[None, :, :]).sum(axis=2)
+            assert np.all(gaps[~np.eye(n, dtype=bool)] >= 2)
+            assert not {env.start, env.goal, env.agent_position} & {tuple(c) for c in unsafe.tolist()}
 
 
 @pytest.mark.parametrize("action", [-1, 4, 1.0, "up", None, True])
@@ -253,12 +265,6 @@ def test_numpy_integer_actions_work():
 def test_bad_switch_states(nss):
     with pytest.raises(ValueError, match="n_switch_states must be an integer from 0 to n_unsafe=15"):
         SafeGridWorld(seed=0).shift(nss)
-
-
-def test_shift_that_cannot_be_placed():
-    env = SafeGridWorld(size=4, n_unsafe=7, seed=2)  # 7 of at most 8 on a 4x4
-    with pytest.raises(ValueError, match="could not place 7 unsafe states"):
-        env.shift(7, rng=0)
 
 
 def test_reset_options_are_checked():
@@ -282,3 +288,31 @@ def test_unsafe_states_are_read_only():
     env = SafeGridWorld(seed=0)
     with pytest.raises(ValueError):
         env.unsafe_states[0, 0] = 5
+
+
+@pytest.mark.parametrize("placement", ["full", "reference"])
+@pytest.mark.parametrize("size", [3, 4, 5, 7, 10])
+def test_capacity_is_always_placed_and_shifted(size, placement):
+    # issue 12, item 4: the stated capacity must never fail to place, whatever the draw
+    if SafeGridWorld.capacity(size, placement) < 1:
+        with pytest.raises(ValueError, match=r"size must be at least 4 with placement='reference'"):
+            SafeGridWorld(size=size, placement=placement)
+        return
+    n = SafeGridWorld.capacity(size, placement)
+    for seed in range(8):
+        env = SafeGridWorld(size=size, n_unsafe=n, placement=placement, seed=seed)
+        for nss in sorted({0, 1, n // 2, n}):
+            env.reset(seed=seed)
+            env.shift(nss, rng=seed + 100)
+            unsafe = env.unsafe_states
+            gaps = np.abs(unsafe[:, None, :] - unsafe[None, :, :]).sum(axis=2)
+            assert len(unsafe) == n and np.all(gaps[~np.eye(n, dtype=bool)] >= 2)  # none touch
+    with pytest.raises(ValueError, match=rf"n_unsafe must be an integer from 1 to {n}, the most unsafe states"):
+        SafeGridWorld(size=size, n_unsafe=n + 1, placement=placement)
+
+
+def test_the_papers_capacity_and_the_spacing_limit():
+    assert SafeGridWorld.capacity(10) == 19 and SafeGridWorld.capacity(10, "reference") == 15
+    assert SafeGridWorld.max_unsafe(10) == 50  # a chessboard colour, which no shift could move
+    with pytest.raises(ValueError, match="size must be at least 3 with placement='full'"):
+        SafeGridWorld(size=2, n_unsafe=2)
