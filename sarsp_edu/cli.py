@@ -139,18 +139,19 @@ def _check_file(parser: argparse.ArgumentParser, flag: str, name) -> None:
 
 
 def _format_table(frame) -> str:
-    return frame.to_string(float_format=lambda v: f"{v:,.3f}")
+    """A table for the terminal; NaN (an undefined value, such as eq. 12 without a clean success) reads n/a."""
+    return frame.to_string(float_format=lambda v: f"{v:,.3f}", na_rep="n/a")
 
 
 def _run(args, parser) -> int:
-    from .experiment import SUMMARY_METRICS, backup_share, run_experiment
+    from .experiment import SUMMARY_METRICS, backup_share, displayed_summary, run_experiment
 
     config = config_from_args(parser, args)
     _check_out(parser, args.out, "run")
     result = run_experiment(config, progress=not args.quiet)
     import pandas as pd
 
-    table = pd.DataFrame({config.model.upper(): result.summary}).loc[list(SUMMARY_METRICS)]
+    table = pd.DataFrame({config.model.upper(): displayed_summary(result.summary)}).loc[list(SUMMARY_METRICS)]
     print(f"SARSP with a {'Student-t' if config.model == 'tp' else 'Gaussian'} process, {_describe(config)}")
     print(_format_table(table))
     records = result.records
@@ -173,8 +174,12 @@ def _compare(args, parser) -> int:
     print(f"TP vs GP, paired: {_describe(config)}")
     print(_format_table(comparison.table()))
     verdict = comparison.verdict
-    print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
-          f"GP preferred to TP: {verdict['gp_preferred']}")
+    if verdict["tp_preferred"] is None:
+        print(f"Definition 4 (a={args.a:g}) cannot decide: a cost rate is undefined (violations, but no "
+              "episode reached the goal without one)")
+    else:
+        print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
+              f"GP preferred to TP: {verdict['gp_preferred']}")
     if args.out:
         print(f"saved to {comparison.save(args.out)}")
     return 0

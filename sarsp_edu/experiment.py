@@ -53,6 +53,7 @@ __all__ = [
     "PRESET_FIELDS",
     "preset_of",
     "stuck_share",
+    "cost_rate_undefined",
 ]
 
 
@@ -540,7 +541,9 @@ def run_experiment(config: ExperimentConfig | None = None, progress: bool = Fals
 
 
 def percent_difference(tp: float, gp: float) -> float:
-    """``(tp - gp) / |gp| * 100``, the paper's "TP vs GP" percentage (NaN when gp is 0)."""
+    """``(tp - gp) / |gp| * 100``, the paper's "TP vs GP" percentage (NaN when gp is 0 or either is NaN)."""
+    if math.isnan(tp) or math.isnan(gp):
+        return math.nan
     if gp == 0:
         return 0.0 if tp == 0 else math.nan
     return (tp - gp) / abs(gp) * 100.0
@@ -555,6 +558,22 @@ HIGHER_IS_BETTER = {
     "mean_steps": False,
     "cost_rate": False,
 }
+
+
+def better_of(metric: str, tp: float, gp: float) -> str:
+    """``"TP"``, ``"GP"``, ``"tie"``, or ``"n/a"`` when either value is undefined (NaN)."""
+    if math.isnan(tp) or math.isnan(gp):
+        return "n/a"
+    if tp == gp:
+        return "tie"
+    return "TP" if (tp > gp) == HIGHER_IS_BETTER[metric] else "GP"
+
+
+def displayed_summary(summary: dict) -> dict:
+    """A summary for display: an undefined cost rate becomes NaN (shown as n/a)."""
+    if cost_rate_undefined(summary):
+        return {**summary, "cost_rate": math.nan}
+    return dict(summary)
 
 
 def _check_a(a) -> float:
@@ -580,7 +599,19 @@ def stuck_share(records: pd.DataFrame) -> float:
     return float((records.loc[failed, "final_cells"] <= 2).mean())
 
 
-def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool:
+def cost_rate_undefined(summary) -> bool:
+    """Whether eq. 12's cost rate is undefined: violations, but no episode succeeded without one.
+
+    Its denominator (the steps of clean successful episodes) is then 0.
+    Records and summaries keep the paper's value 0 there, so that averages
+    over configurations are the paper's; tables show ``n/a`` and
+    Definition 4 does not decide.  ``summary`` needs ``total_cost`` and
+    ``cost_rate``.
+    """
+    return bool(summary["total_cost"] > 0 and summary["cost_rate"] == 0)
+
+
+def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool | None:
     """Paper Definition 4: is agent 1 preferred to agent 2?
 
     ``A1 > A2`` iff ``p_c(A1) < p_c(A2)`` and at least one of
@@ -594,6 +625,12 @@ def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool:
     a : float, default 100.0
         The task-specific TSR threshold in [1, 100] (%).  The default is the
         strictest: the third branch then needs a perfect success rate.
+
+    Returns
+    -------
+    bool, or None when either cost rate is undefined (see
+    :func:`cost_rate_undefined`; needs ``total_cost`` in the summaries to
+    tell): Definition 4 then cannot decide.
 
     Notes
     -----
@@ -612,6 +649,8 @@ def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool:
         for label, summary in (("summary_1", summary_1), ("summary_2", summary_2)):
             if name not in summary:
                 raise ValueError(f"{label} lacks '{name}'; it needs mean_reward, cost_rate and task_success_rate")
+    if any("total_cost" in summary and cost_rate_undefined(summary) for summary in (summary_1, summary_2)):
+        return None
     if not summary_1["cost_rate"] < summary_2["cost_rate"]:
         return False
     return bool(
@@ -638,7 +677,10 @@ class Comparison:
 
     @property
     def verdict(self) -> dict:
-        """Definition 4 in both directions: ``{"tp_preferred": ..., "gp_preferred": ...}``."""
+        """Definition 4 in both directions: ``{"tp_preferred": ..., "gp_preferred": ...}``.
+
+        Each is None when a cost rate is undefined (see :func:`cost_rate_undefined`).
+        """
         return {
             "tp_preferred": prefers(self.tp.summary, self.gp.summary, self.a),
             "gp_preferred": prefers(self.gp.summary, self.tp.summary, self.a),
@@ -651,16 +693,17 @@ class Comparison:
         return {name: percent_difference(tp[name], gp[name]) for name in SUMMARY_METRICS}
 
     def table(self) -> pd.DataFrame:
-        """Summary side by side: TP, GP, % difference and which is better."""
-        tp, gp = self.tp.summary, self.gp.summary
+        """Summary side by side: TP, GP, % difference and which is better.
+
+        An undefined cost rate (see :func:`cost_rate_undefined`) is NaN here,
+        and ``better`` is then ``"n/a"``.
+        """
+        tp, gp = displayed_summary(self.tp.summary), displayed_summary(self.gp.summary)
         rows = []
         for name in SUMMARY_METRICS:
-            if tp[name] == gp[name]:
-                better = "tie"
-            else:
-                better = "TP" if (tp[name] > gp[name]) == HIGHER_IS_BETTER[name] else "GP"
             rows.append({"metric": name, "TP": tp[name], "GP": gp[name],
-                         "TP vs GP (%)": percent_difference(tp[name], gp[name]), "better": better})
+                         "TP vs GP (%)": percent_difference(tp[name], gp[name]),
+                         "better": better_of(name, tp[name], gp[name])})
         return pd.DataFrame(rows).set_index("metric")
 
     def save(self, directory) -> Path:

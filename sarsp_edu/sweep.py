@@ -35,7 +35,10 @@ from .experiment import (
     Comparison,
     ExperimentConfig,
     _check_a,
+    better_of,
     compare,
+    cost_rate_undefined,
+    displayed_summary,
     percent_difference,
     prefers,
 )
@@ -534,13 +537,20 @@ def summary_tables(results: SweepResults, a: float | None = None, n_boot: int = 
         tp = group[group.model == "TP"].iloc[0]
         gp = group[group.model == "GP"].iloc[0]
         tp_first, gp_first = prefers(tp, gp, a), prefers(gp, tp, a)
-        verdict = "TP > GP" if tp_first else ("GP > TP" if gp_first else "neither")
+        if tp_first is None:
+            verdict = "n/a (p_c undefined)"
+        else:
+            verdict = "TP > GP" if tp_first else ("GP > TP" if gp_first else "neither")
         diff = _symmetric_percent(tp["total_cost"], gp["total_cost"])
         for row, label in ((tp, "TP"), (gp, "GP")):
+            shown = displayed_summary(row)
             rows.append({"m": m, "p": p, "nss": nss, "model": label,
-                         **{k: row[k] for k in SUMMARY_METRICS},
+                         **{k: shown[k] for k in SUMMARY_METRICS},
                          "result": verdict if label == "TP" else f"{diff:.1f}%"})
     table1 = pd.DataFrame(rows)
+
+    undefined = per_config.apply(cost_rate_undefined, axis=1)
+    undefined_configs = int(undefined.groupby([per_config.m, per_config.p, per_config.nss]).any().sum())
 
     def central(name, function, with_spread):
         out = []
@@ -548,8 +558,10 @@ def summary_tables(results: SweepResults, a: float | None = None, n_boot: int = 
             tp, gp = _paired(per_config, metric)
             row = {"metric": metric, "TP": function(tp), "GP": function(gp)}
             row["% change"] = percent_difference(row["TP"], row["GP"])
-            row["better"] = ("tie" if row["TP"] == row["GP"] else
-                             "TP" if (row["TP"] > row["GP"]) == HIGHER_IS_BETTER[metric] else "GP")
+            row["better"] = better_of(metric, row["TP"], row["GP"]) if math.isfinite(row["% change"]) else "n/a"
+            # eq. 12 is undefined where violations met no clean success; the
+            # paper's 0 is kept in the averages, and counted here
+            row["p_c undefined in"] = undefined_configs if metric == "cost_rate" else 0
             if with_spread:
                 low, high = _bootstrap_ci(
                     tp, gp, lambda t, g: percent_difference(function(t), function(g)), n_boot, boot_rng

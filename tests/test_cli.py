@@ -252,3 +252,15 @@ def test_help_and_info_load_no_numerical_library(argv):
             "print('HEAVY', heavy)\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert "HEAVY []" in out, out[-300:]
+
+
+def test_an_undefined_cost_rate_reads_n_a(capsys):
+    # d=100: every step violates, so no episode succeeds cleanly and eq. 12 is undefined
+    assert main(["run", *TINY, "--d", "100"]) == 0
+    line = [l for l in capsys.readouterr().out.splitlines() if l.startswith("cost_rate")][0]
+    assert line.split()[-1] == "n/a"
+    assert main(["compare", *TINY, "--d", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "Definition 4 (a=100) cannot decide: a cost rate is undefined" in out
+    row = [l for l in out.splitlines() if l.startswith("cost_rate")][0]
+    assert row.split()[1:] == ["n/a", "n/a", "n/a", "n/a"]

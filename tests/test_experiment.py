@@ -77,6 +77,30 @@ def test_prefers_threshold_is_checked(a):
         prefers(S(0, 0, 0), S(0, 0, 0), a=a)
 
 
+def test_an_undefined_cost_rate_is_not_a_perfect_one():
+    # issue 12, item 5: violations but no clean success: eq. 12 divides by zero
+    from sarsp_edu.experiment import cost_rate_undefined, displayed_summary
+
+    stuck = {**S(-200, 0.0, 40), "total_cost": 13.0}
+    safe = {**S(-100, 0.0, 40), "total_cost": 0.0}
+    fine = {**S(-100, 0.02, 90), "total_cost": 5.0}
+    assert cost_rate_undefined(stuck) and not cost_rate_undefined(safe) and not cost_rate_undefined(fine)
+    assert prefers(fine, stuck) is None and prefers(stuck, fine) is None  # Definition 4 cannot decide
+    assert prefers(safe, fine) is True and prefers(fine, safe) is False  # 0 violations: a true 0 wins
+    assert np.isnan(displayed_summary(stuck)["cost_rate"]) and stuck["cost_rate"] == 0.0  # stored value kept
+
+
+def test_comparison_table_shows_an_undefined_cost_rate_as_such(tiny_comparison):
+    import copy
+
+    comparison = copy.deepcopy(tiny_comparison)
+    records = comparison.gp.records
+    records.loc[records.index[-1], ["total_cost", "cost_rate"]] = [13.0, 0.0]
+    row = comparison.table().loc["cost_rate"]
+    assert np.isnan(row["GP"]) and np.isnan(row["TP vs GP (%)"]) and row["better"] == "n/a"
+    assert comparison.verdict == {"tp_preferred": None, "gp_preferred": None}
+
+
 def test_prefers_needs_the_metrics():
     with pytest.raises(ValueError, match="summary_2 lacks 'cost_rate'"):
         prefers(S(0, 0, 0), {"mean_reward": 0, "task_success_rate": 0})

@@ -312,3 +312,22 @@ def test_a_partial_sweep_is_refused_unless_allowed(tmp_path):
         SweepResults.load(tmp_path)
     partial = SweepResults.load(tmp_path, allow_partial=True)
     assert len(partial) == 3 and partial.missing == [(40.0, 0.2, 2, 1)]
+
+
+def test_tables_say_n_a_where_eq_12_is_undefined():
+    # a hand-made sweep: in one configuration the GP violated but never succeeded cleanly
+    rows = []
+    for i, (m, nss) in enumerate([(40, 2), (40, 4), (60, 2)]):
+        for model, rate, cost in (("TP", 0.01 * (i + 1), 3.0), ("GP", 0.0 if i == 0 else 0.03, 9.0)):
+            rows.append({"m": m, "p": 0.2, "nss": nss, "seed": 0, "model": model, "mean_reward": -50.0,
+                         "mean_cost": cost / 10, "total_cost": cost, "task_success_rate": 80.0,
+                         "mean_steps": 20.0, "cost_rate": rate})
+    results = type("R", (), {"frame": staticmethod(lambda: pd.DataFrame(rows)), "a": 100.0,
+                             "__len__": lambda self: 3})()
+    tables = summary_tables(results, n_boot=50)
+    t1 = tables["table1"]
+    first = t1[(t1.m == 40) & (t1.nss == 2)]
+    assert first.loc[first.model == "TP", "result"].item() == "n/a (p_c undefined)"
+    assert np.isnan(first.loc[first.model == "GP", "cost_rate"].item())
+    assert tables["mean"].loc["cost_rate", "p_c undefined in"] == 1
+    assert tables["mean"].loc["total_cost", "p_c undefined in"] == 0
