@@ -19,7 +19,6 @@ from dataclasses import dataclass
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from gymnasium.utils import seeding
 
 from ._validation import check_choice, check_int, check_positive, check_switch_states
 from .config import GRID_SIZE, N_UNSAFE, PLACEMENTS, check_n_unsafe, unsafe_capacity
@@ -192,7 +191,10 @@ class SafeGridWorld(gym.Env):
     seed : int or numpy.random.Generator, optional
         Seeds the environment's generator, which places the unsafe states and
         draws starts and goals.  ``reset(seed=...)`` reseeds it later (the
-        unsafe states stay where they are).
+        unsafe states stay where they are).  Without a seed here, the first
+        ``reset(seed=...)`` draws the whole world, so ``SafeGridWorld()`` then
+        ``reset(seed=3)`` is the world of ``SafeGridWorld(seed=3)`` then
+        ``reset()``.
 
     Examples
     --------
@@ -236,17 +238,22 @@ class SafeGridWorld(gym.Env):
         )
 
         if isinstance(seed, np.random.Generator):
-            self._np_random, self._np_random_seed = seed, -1
+            self.np_random = seed
         else:
-            self._np_random, self._np_random_seed = seeding.np_random(seed)
-        # The start and goal "of that moment" that the first placement avoids.
+            super().reset(seed=seed)  # Gymnasium's own seeding of np_random
+        # Unseeded, the layout is provisional: the first reset(seed=...) draws it again.
+        self._layout_fixed = seed is not None
+        self._draw_world()
+        self._steps = 0
+        self._done = True  # step() needs a reset() first
+
+    def _draw_world(self) -> None:
+        """Draw the start and goal "of that moment" and the unsafe states that avoid them."""
         self._start, self._goal = self._draw_start_goal(np.empty((0, 2), dtype=int))
         self._agent = self._start
         self._unsafe = self._place(self.n_unsafe, np.empty((0, 2), dtype=int), [self._start, self._goal])
         self._moved = np.empty(0, dtype=int)
         self._moved_from = np.empty((0, 2), dtype=int)
-        self._steps = 0
-        self._done = True  # step() needs a reset() first
 
     @staticmethod
     def max_unsafe(size: int, placement: str = "full") -> int:
@@ -378,12 +385,19 @@ class SafeGridWorld(gym.Env):
         Parameters
         ----------
         seed : int, optional
-            Reseeds the generator that draws starts and goals.
+            Reseeds the generator that draws starts and goals.  On a world
+            made without a seed, the first reset draws the whole world from
+            it, unsafe states included, so that ``reset(seed=s)`` on a fresh
+            ``gymnasium.make("sarsp_edu/SafeGridWorld-v0")`` is always the
+            same world, as Gymnasium users expect.
         options : dict, optional
             ``{"start": (x, y), "goal": (x, y)}`` to fix either (both must be
             safe, on the grid, and distinct); used to pair runs.
         """
         super().reset(seed=seed)
+        if not self._layout_fixed and seed is not None:
+            self._draw_world()
+        self._layout_fixed = True  # later resets keep the unsafe states (the paper's design)
         options = dict(options or {})
         unknown = set(options) - {"start", "goal"}
         if unknown:

@@ -316,3 +316,20 @@ def test_the_papers_capacity_and_the_spacing_limit():
     assert SafeGridWorld.max_unsafe(10) == 50  # a chessboard colour, which no shift could move
     with pytest.raises(ValueError, match="size must be at least 3 with placement='full'"):
         SafeGridWorld(size=2, n_unsafe=2)
+
+
+def test_reset_seed_on_a_fresh_environment_reproduces_the_whole_world():
+    # issue 12, item 9: Gymnasium's convention; the layout was drawn unseeded in the constructor
+    first, second = gym.make("sarsp_edu/SafeGridWorld-v0"), gym.make("sarsp_edu/SafeGridWorld-v0")
+    obs_1, _ = first.reset(seed=3)
+    obs_2, _ = second.reset(seed=3)
+    assert np.array_equal(first.unwrapped.unsafe_states, second.unwrapped.unsafe_states)
+    assert np.array_equal(obs_1, obs_2)
+    # the same world as seeding the constructor, and later resets keep the layout
+    seeded = SafeGridWorld(seed=3)
+    assert np.array_equal(seeded.reset()[0], obs_1)
+    assert np.array_equal(seeded.unsafe_states, first.unwrapped.unsafe_states)
+    layout = first.unwrapped.unsafe_states
+    first.reset(seed=4)
+    assert np.array_equal(first.unwrapped.unsafe_states, layout)
+    assert first.unwrapped.np_random_seed == 4 and seeded.np_random_seed == 3
