@@ -28,7 +28,7 @@ from matplotlib.transforms import ScaledTranslation
 
 from . import demos, plotting, tails
 from ._threads import one_blas_thread
-from ._validation import check_choice, check_positive
+from ._validation import check_choice, check_int, check_positive, check_range
 
 __all__ = [
     "Dashboard",
@@ -274,7 +274,12 @@ def _render(figure: Figure, fmt: str, dpi: int = 72) -> bytes:
     return buffer.getvalue()
 
 
-def _slider(kind, description, value, lo, hi, step, expensive=True, **kwargs):
+def _slider(kind, name, description, value, lo, hi, step, expensive=True, **kwargs):
+    """A slider for the argument ``name``; a value outside the slider's range is an error, not clamped."""
+    if kind == "int":
+        check_int(name, value, lo, hi)
+    else:
+        check_range(name, value, lo, hi, "the slider's range")
     cls = widgets.FloatSlider if kind == "float" else widgets.IntSlider
     return cls(value=value, min=lo, max=hi, step=step, description=description,
                continuous_update=not expensive, style={"description_width": "initial"},
@@ -303,8 +308,8 @@ def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
     import sympy as sp
 
     controls = {
-        "nu": _slider("float", "ν (degrees of freedom)", nu, 0.5, 30.0, 0.5, expensive=False),
-        "lam": _slider("float", "λ", lam, 1.5, 10.0, 0.5, expensive=False),
+        "nu": _slider("float", "nu", "ν (degrees of freedom)", nu, 0.5, 30.0, 0.5, expensive=False),
+        "lam": _slider("float", "lam", "λ", lam, 1.5, 10.0, 0.5, expensive=False),
     }
 
     def compute(nu, lam):
@@ -352,10 +357,10 @@ def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: fl
     its correct form) and both models' hyperparameters.
     """
     controls = {
-        "nu": _slider("float", "ν", nu, 2.1, 50.0, 0.1),
-        "magnitude": _slider("float", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
-        "proportion": _slider("float", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
-        "seed": _slider("int", "seed", seed, 0, 20, 1),
+        "nu": _slider("float", "nu", "ν", nu, 2.1, 50.0, 0.1),
+        "magnitude": _slider("float", "magnitude", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
+        "proportion": _slider("float", "proportion", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
+        "seed": _slider("int", "seed", "seed", seed, 0, 20, 1),
         "fit": widgets.Checkbox(value=fit, description="fit hyperparameters (50 Adam steps)", indent=False),
         "scale_inputs": widgets.Checkbox(value=False, description="scale the outliers' inputs too (paper 5.3)",
                                          indent=False),
@@ -404,10 +409,10 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
     episodes are cached per seed, so the nss, m and p sliders are quick.
     """
     controls = {
-        "seed": _slider("int", "seed", seed, 0, 50, 1),
-        "n_switch_states": _slider("int", "nss (switch states)", n_switch_states, 0, 15, 1),
-        "magnitude": _slider("float", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
-        "proportion": _slider("float", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
+        "seed": _slider("int", "seed", "seed", seed, 0, 50, 1),
+        "n_switch_states": _slider("int", "n_switch_states", "nss (switch states)", n_switch_states, 0, 15, 1),
+        "magnitude": _slider("float", "magnitude", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
+        "proportion": _slider("float", "proportion", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
     }
 
     def compute(seed, n_switch_states, magnitude, proportion):
@@ -471,14 +476,16 @@ class AgentDashboard(widgets.VBox):
 
         self.base_config = ExperimentConfig() if config is None else config
         self.controls = {
-            "nu": _slider("float", "ν", nu, 2.1, 30.0, 0.1),
-            "magnitude": _slider("float", "m", magnitude, 1.0, 100.0, 1.0),
-            "proportion": _slider("float", "p", proportion, 0.0, 0.5, 0.05),
-            "n_switch_states": _slider("int", "nss", n_switch_states, 0, self.base_config.n_unsafe, 1),
-            "seed": _slider("int", "seed", seed, 0, 100, 1),
-            "episodes": _slider("int", "episodes", episodes, 1, 250, 1),
+            "nu": _slider("float", "nu", "ν", nu, 2.1, 30.0, 0.1),
+            "magnitude": _slider("float", "magnitude", "m", magnitude, 1.0, 100.0, 1.0),
+            "proportion": _slider("float", "proportion", "p", proportion, 0.0, 0.5, 0.05),
+            "n_switch_states": _slider("int", "n_switch_states", "nss", n_switch_states, 0,
+                                       self.base_config.n_unsafe, 1),
+            "seed": _slider("int", "seed", "seed", seed, 0, 100, 1),
+            "episodes": _slider("int", "episodes", "episodes", episodes, 1, 250, 1),
         }
-        self.speed = _slider("float", "steps per second", steps_per_second, 1.0, 60.0, 1.0, expensive=False)
+        self.speed = _slider("float", "steps_per_second", "steps per second", steps_per_second, 1.0, 60.0, 1.0,
+                             expensive=False)
         self.buttons = {
             "run": widgets.Button(description="Run", icon="play", button_style="success"),
             "stop": widgets.Button(description="Stop", icon="stop", button_style="warning"),

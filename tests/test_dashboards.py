@@ -418,3 +418,21 @@ def test_bad_panels_are_refused_with_the_parameter_named():
         Dashboard(controls, lambda x: (x, ""), [Panel(draw, 3.0)], height=-1)
     with pytest.raises(ValueError, match="panels"):
         Dashboard(controls, lambda x: (x, ""), [], height=2.0)
+
+
+@pytest.mark.parametrize(
+    "make, kwargs, message",
+    [
+        ("posterior_dashboard", dict(proportion=0.8), r"proportion must lie in \[0, 0.5\] \(the slider's range\)"),
+        ("posterior_dashboard", dict(nu=2.0), r"nu must lie in \[2.1, 50\]"),
+        ("tail_decay_dashboard", dict(lam=20.0), r"lam must lie in \[1.5, 10\]"),
+        ("gridworld_dashboard", dict(n_switch_states=16), "n_switch_states must be an integer from 0 to 15"),
+        ("gridworld_dashboard", dict(seed=2.5), "seed must be an integer from 0 to 50"),
+    ],
+)
+def test_dashboards_refuse_values_their_sliders_cannot_show(make, kwargs, message):
+    # issue 12, item 12: a slider silently clamped posterior_dashboard(proportion=0.8) to 0.5
+    import sarsp_edu.widgets as widgets_module
+
+    with pytest.raises(ValueError, match=message):
+        getattr(widgets_module, make)(**kwargs)
