@@ -49,6 +49,7 @@ _LAZY = {
     "plot_metric_curves": "plotting",
     "GaussianProcess": "processes",
     "NotFittedError": "processes",
+    "ConvergenceWarning": "processes",
     "StudentTProcess": "processes",
     "Decision": "sarsp",
     "SARSPAgent": "sarsp",
@@ -63,6 +64,7 @@ __all__ = [
     "GaussianProcess",
     "StudentTProcess",
     "NotFittedError",
+    "ConvergenceWarning",
     "SafeGridWorld",
     "GridLayout",
     "RIGHT",
@@ -136,6 +138,6 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the eager imports
     from .kernels import RBF
     from .offline import ObservationBuffer, OfflineData, collect_offline_data, inject_outliers
     from .plotting import plot_gridworld, plot_macro, plot_metric_curves
-    from .processes import GaussianProcess, NotFittedError, StudentTProcess
+    from .processes import ConvergenceWarning, GaussianProcess, NotFittedError, StudentTProcess
     from .sarsp import Decision, SARSPAgent
     from .sweep import SweepResults, run_sweep, summary_tables

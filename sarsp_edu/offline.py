@@ -300,6 +300,13 @@ def inject_outliers(
         raise ValueError("at least one of cost and reward must be True, got cost=False, reward=False")
     if len(data.outlier_indices):
         raise ValueError("data already holds outliers: inject them into the clean data once")
+    largest = max(float(np.max(np.abs(buffer.X), initial=0.0)) + float(np.max(np.abs(buffer.y), initial=0.0))
+                  for buffer in (data.cost, data.reward))
+    if not np.isfinite(m * largest) or m * largest > 1e150:
+        raise ValueError(
+            f"magnitude={magnitude!r} times the data's largest value ({largest:.3g}) overflows float64 once the "
+            "models square it; use a magnitude below 1e100 (the paper's are 40, 60 and 80)"
+        )
     rng = as_generator(rng)
     N = min(len(data.cost), len(data.reward))
     k = int(round(p * N))

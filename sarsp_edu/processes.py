@@ -41,7 +41,8 @@ from scipy.linalg import lapack as _lapack
 from ._validation import check_choice, check_int, check_nu, check_positive
 from .kernels import RBF, squared_distances
 
-__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "as_generator", "draw_subset", "draw_rows"]
+__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "ConvergenceWarning", "as_generator",
+           "draw_subset", "draw_rows"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
 _OPTIMIZERS = ("adam", "lbfgs", None)
@@ -50,6 +51,14 @@ _PRIORS = ("lognormal", None)
 
 class NotFittedError(ValueError, AttributeError):
     """Raised when a model is used for prediction before ``fit``."""
+
+
+class ConvergenceWarning(UserWarning):
+    """The hyperparameter search did not reach an optimum (it ended on a bound, or out of reach of the data's scale)."""
+
+
+#: |values| beyond this overflow float64 once squared (distances, y^T K^-1 y)
+_LARGEST = 1e150
 
 
 def as_generator(rng) -> np.random.Generator:
@@ -113,7 +122,17 @@ def _check_X(X, name="X", n_features=None):
         raise ValueError(
             f"{name} must be finite, got {X[tuple(bad)]} at row {bad[0]}, column {bad[1]}"
         )
+    _check_scale(name, X)
     return X
+
+
+def _check_scale(name: str, values: np.ndarray) -> None:
+    largest = float(np.max(np.abs(values)))
+    if largest > _LARGEST:
+        raise ValueError(
+            f"{name} holds values as large as {largest:.3g}, whose squares overflow float64 in the kernel "
+            f"and the likelihood; rescale {name} (divide it by its standard deviation, say)"
+        )
 
 
 def _check_training(X, y):
@@ -131,6 +150,7 @@ def _check_training(X, y):
     if not np.all(np.isfinite(y)):
         i = int(np.flatnonzero(~np.isfinite(y))[0])
         raise ValueError(f"y must be finite, got y[{i}]={y[i]}")
+    _check_scale("y", y)
     return X, y
 
 
@@ -325,6 +345,9 @@ class _ProcessRegressor:
 
     #: names of the log hyperparameters, in the order of ``theta``
     _base_names = ("log_amplitude", "log_length_scale", "log_noise_variance")
+    #: whether the fitted amplitude and noise alone set the predictive scale
+    #: (the GP's); the TP's global variance factor follows y's scale itself
+    _amplitude_sets_scale = True
 
     def __init__(
         self,
@@ -529,10 +552,12 @@ class _ProcessRegressor:
 
             if self.optimizer == "adam":
                 steps = 50 if self.max_iter is None else self.max_iter
+                self._warn_out_of_reach(y, steps)
                 theta, trace, n_iter = _adam(negative, theta0, bounds, self.learning_rate, steps)
             else:
                 theta, trace, n_iter = _lbfgs(negative, theta0, bounds, self.max_iter, len(idx))
             trace = [-v for v in trace]
+            self._warn_on_bounds(theta, bounds)
         self.theta_ = np.asarray(theta, dtype=float)
         self.kernel_, self.noise_variance_, extra = self._unpack(self.theta_)
         self._set_extra(extra)
@@ -541,6 +566,43 @@ class _ProcessRegressor:
         self.objective_trace_ = np.asarray(trace, dtype=float)
         self._condition_on(X, y)
         return self
+
+    def _warn_out_of_reach(self, y, steps: int) -> None:
+        """Warn when Adam cannot bring the amplitude near y's scale.
+
+        Adam moves a log hyperparameter by about ``learning_rate`` per step,
+        so ``steps`` steps change the amplitude by a factor of at most
+        ``exp(learning_rate * steps)`` (148 for the paper's 50 steps of 0.1).
+        """
+        if not self._amplitude_sets_scale:
+            return
+        spread = float(np.std(y))
+        reach = math.exp(self.learning_rate * steps)
+        start = self.kernel.amplitude
+        if spread > 0 and not start / (10 * reach) <= spread <= 10 * start * reach:
+            warnings.warn(
+                f"{type(self).__name__}.fit: y's standard deviation {spread:.3g} is out of reach of {steps} Adam "
+                f"steps of {self.learning_rate:g} from amplitude={start:.3g} (they can scale it by at most "
+                f"{reach:.3g}); the fitted variances will not match the data: rescale y, or start from an "
+                "amplitude near its scale",
+                ConvergenceWarning,
+                stacklevel=3,
+            )
+
+    def _warn_on_bounds(self, theta, bounds) -> None:
+        """One warning naming every hyperparameter that ended on its bound: the fit is then no optimum."""
+        ended = []
+        for i, name in enumerate(self.hyperparameter_names):
+            for side, edge in (("lower", bounds[i, 0]), ("upper", bounds[i, 1])):
+                if abs(theta[i] - edge) <= 1e-3:  # log space: within 0.1% of the bound
+                    ended.append(f"{name[4:]}={math.exp(theta[i]):.3g} on its {side} bound {math.exp(edge):.3g}")
+        if ended:
+            warnings.warn(
+                f"{type(self).__name__}.fit ended with {', '.join(ended)}, so the fit is no optimum; rescale "
+                "the data (its scale sets the amplitude and the noise) or widen bounds",
+                ConvergenceWarning,
+                stacklevel=3,
+            )
 
     def _set_extra(self, extra):
         pass
@@ -964,6 +1026,8 @@ class StudentTProcess(_ProcessRegressor):
     The paper's eq. 6 has ``K(X*, X*)^-1`` in ``beta``; the correct factor
     uses the training covariance: ``beta = y^T (K(X, X) + s2 I)^-1 y``.
     """
+
+    _amplitude_sets_scale = False  # the variance factor grows with beta, so with y's scale
 
     def __init__(
         self,

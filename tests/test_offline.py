@@ -197,3 +197,12 @@ def test_the_index_of_injected_data_agrees_with_its_rows(clean):
     for i in range(0, len(X), 37):
         expected = np.flatnonzero((X == X[i]).all(axis=1))
         np.testing.assert_array_equal(dirty.cost.rows_of(X[i]), expected)
+
+
+def test_an_overflowing_outlier_magnitude_is_refused():
+    # issue 12, item 8: magnitude=1e308 overflowed to inf
+    from sarsp_edu import SafeGridWorld, collect_offline_data, inject_outliers
+
+    data = collect_offline_data(SafeGridWorld(size=5, n_unsafe=3, seed=0), 3, rng=0)
+    with pytest.raises(ValueError, match=r"magnitude=1e\+308 times the data's largest value .* overflows float64"):
+        inject_outliers(data, 1e308, 0.2, rng=0)

@@ -535,3 +535,56 @@ def test_draw_rows_is_a_uniform_subset():
     # each index is in a subset with probability 10/50: 800 +- 25 of 4000
     assert stats.chisquare(counts).pvalue > 1e-3
     assert draw_rows(5, 10, rng).tolist() == [0, 1, 2, 3, 4]
+
+
+# --------------------------------------------------------------------------
+# extreme data (issue 12, item 8)
+# --------------------------------------------------------------------------
+def _wave(n=60):
+    rng = np.random.default_rng(0)
+    X = rng.uniform(0, 10, size=(n, 1))
+    return X, np.sin(X[:, 0]) + 0.1 * rng.standard_normal(n)
+
+
+def test_a_fit_that_ends_on_a_bound_warns_once_naming_it():
+    from sarsp_edu import ConvergenceWarning
+
+    X, y = _wave()
+    with pytest.warns(ConvergenceWarning, match=r"amplitude=1e\+05 on its upper bound 1e\+05") as record:
+        GaussianProcess(optimizer="lbfgs").fit(X, y * 1e8)
+    assert len([w for w in record if issubclass(w.category, ConvergenceWarning)]) == 1
+
+
+def test_data_out_of_adams_reach_warns_for_the_gp_only():
+    import warnings
+
+    from sarsp_edu import ConvergenceWarning
+
+    X, y = _wave()
+    with pytest.warns(ConvergenceWarning, match=r"out of reach of 50 Adam steps of 0.1 from amplitude=1"):
+        GaussianProcess().fit(X, y * 1e8)
+    # the TP's variance factor follows y's scale: its predictions stay calibrated, no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tp = StudentTProcess().fit(X, y * 1e8)
+    mean, var = tp.predict(X, return_var=True, include_noise=True)
+    assert 0.3 < np.mean((mean - y * 1e8) ** 2 / var) < 3
+
+
+def test_ordinary_fits_do_not_warn():
+    import warnings
+
+    X, y = _wave()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for model_cls in (GaussianProcess, StudentTProcess):
+            for optimizer in ("adam", "lbfgs"):
+                model_cls(optimizer=optimizer).fit(X, y * 40)
+
+
+@pytest.mark.parametrize("scale, name", [(1e200, "y"), (1.0, "X")])
+def test_data_that_overflows_is_refused_by_name(scale, name):
+    X, y = _wave()
+    X = X * (1e200 if name == "X" else 1.0)
+    with pytest.raises(ValueError, match=rf"{name} holds values as large as .*overflow float64"):
+        GaussianProcess().fit(X, y * scale)
