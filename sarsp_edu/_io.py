@@ -8,6 +8,11 @@ import tempfile
 from pathlib import Path
 
 
+def one_line_warning(message, category, *args, **kwargs) -> str:
+    """``warnings.formatwarning`` for a terminal: ``warning: message``, without a file name and a source line."""
+    return f"warning: {message}\n"
+
+
 class StoredResultError(ValueError):
     """A stored result that cannot be used: the message names the file and what is wrong with it."""
 

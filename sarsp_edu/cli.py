@@ -217,7 +217,7 @@ def _sweep(args, parser) -> int:
 
 
 def _tables(args, parser) -> int:
-    from ._io import atomic_write_text
+    from ._io import StoredResultError, atomic_write_text
     from .sweep import SweepResults, summary_tables, tables_markdown
 
     if args.markdown:
@@ -225,6 +225,8 @@ def _tables(args, parser) -> int:
     try:
         results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial)
         tables = summary_tables(results)
+    except StoredResultError as exc:
+        parser.error(f"{exc}; rerun the sweep's command, which computes a damaged cell again")
     except (FileNotFoundError, ValueError) as exc:
         parser.error(str(exc))
     if results.missing:
@@ -410,8 +412,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     import warnings
 
-    # a warning is one line to a terminal user, not a file name and a source line
-    warnings.formatwarning = lambda message, category, *rest, **kwargs: f"warning: {message}\n"
+    from ._io import one_line_warning
+
+    warnings.formatwarning = one_line_warning  # a warning is one line to a terminal user
     parser = build_parser()
     args = parser.parse_args(argv)
     if not hasattr(args, "func"):
@@ -422,6 +425,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(_interrupted(args), file=sys.stderr)
         return 130  # the shell's code for a command ended by Ctrl-C
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile: one line, not a traceback
+        print(f"sarsp-edu {args.command}: error: {exc}", file=sys.stderr)
+        return 1
 
 
 def _interrupted(args) -> str:

@@ -450,7 +450,7 @@ def _read_records(path: Path, episodes: int) -> pd.DataFrame:
     """``records.csv`` of a stored result, checked row by row; :class:`StoredResultError` names what is wrong."""
 
     def bad(problem: str):
-        return StoredResultError(f"{path} {problem}; delete the result (or its sweep cell) and run it again")
+        return StoredResultError(f"{path} {problem}")
 
     try:
         records = pd.read_csv(path)

@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ._io import StoredResultError, atomic_write_text, read_json, staging_directory
+from ._io import StoredResultError, atomic_write_text, one_line_warning, read_json, staging_directory
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
 from .experiment import (
@@ -187,7 +187,7 @@ class SweepResults:
         for cell in sorted((results_dir / "cells").glob("m*_p*_nss*_seed*")):
             key = _stored_key(cell)
             if key is None:
-                raise StoredResultError(f"{cell} holds no valid cell.json; delete the folder and rerun the sweep")
+                raise StoredResultError(f"{cell} holds no valid cell.json")
             results.comparisons[key] = Comparison.load(cell, a=a)
         expected = {_as_key(key) for key in payload.get("requested", [])}
         results.missing = sorted(expected - set(results.comparisons))
@@ -221,6 +221,7 @@ def _run_cell_in_worker(base: ExperimentConfig, key: tuple, results_dir: str | N
     The main process stops them instead.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    warnings.formatwarning = one_line_warning  # as the command's own process shows them
     return _run_cell(base, key, results_dir)
 
 

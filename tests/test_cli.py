@@ -202,7 +202,7 @@ def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
     out = tmp_path / "sweep"
     argv = [sys.executable, "-m", "sarsp_edu.cli", "sweep", "--jobs", "2", "--out", str(out), "--quiet",
             "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--k-prior", "20",
-            "--optimizer-steps", "3", "--cost-fit-points", "50", "--reward-fit-points", "50",
+            "--cost-fit-points", "50", "--reward-fit-points", "50",
             "--m", "40", "80", "--p", "0.2", "--nss", "1", "2", "--seeds", "0", "1", "--episodes", "60"]
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     deadline = time.monotonic() + 240
