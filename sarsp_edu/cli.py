@@ -315,6 +315,8 @@ def _info(args, parser) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+
     parser = argparse.ArgumentParser(
         prog="sarsp-edu",
         description=(
@@ -345,8 +347,8 @@ def build_parser() -> argparse.ArgumentParser:
         "episode starts and goals; print both summaries, the % differences and Definition 4.",
     )
     add_config_arguments(cmp_, skip=("model",))
-    cmp_.add_argument("--a", type=float, default=100.0,
-                      help="Definition 4's TSR threshold a in [1, 100] [default: 100]")
+    cmp_.add_argument("--a", type=float, default=DEFINITION_4_A,
+                      help=f"Definition 4's TSR threshold a in [1, 100] [default: {DEFINITION_4_A:g}]")
     cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
     cmp_.add_argument("--quiet", action="store_true", help="no progress bars")
     cmp_.set_defaults(func=_compare, parser=cmp_)
@@ -358,16 +360,22 @@ def build_parser() -> argparse.ArgumentParser:
         "or on a Dask cluster. With --out each finished cell is stored at once, and a rerun "
         "skips the cells already there.",
     )
+    def listed(values):
+        return " ".join(f"{v:g}" for v in values)
+
     sweep.add_argument("--m", "--magnitudes", dest="magnitudes", type=float, nargs="+", metavar="M",
-                       default=[40, 60, 80], help="outlier magnitudes [default: 40 60 80]")
+                       default=list(PAPER_MAGNITUDES), help=f"outlier magnitudes [default: {listed(PAPER_MAGNITUDES)}]")
     sweep.add_argument("--p", "--proportions", dest="proportions", type=float, nargs="+", metavar="P",
-                       default=[0.2, 0.3, 0.4], help="outlier proportions [default: 0.2 0.3 0.4]")
+                       default=list(PAPER_PROPORTIONS),
+                       help=f"outlier proportions [default: {listed(PAPER_PROPORTIONS)}]")
     sweep.add_argument("--nss", "--n-switch-states", dest="nss", type=int, nargs="+", metavar="NSS",
-                       default=[2, 4, 6, 8, 10], help="numbers of switch states [default: 2 4 6 8 10]")
+                       default=list(PAPER_SWITCH_STATES),
+                       help=f"numbers of switch states [default: {listed(PAPER_SWITCH_STATES)}]")
     sweep.add_argument("--seeds", type=int, nargs="+", default=[0], help="sweep seeds [default: 0]")
     sweep.add_argument("--jobs", type=int, default=1, help="local worker processes; -1: one per core [default: 1]")
     sweep.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler address (needs sarsp_edu[dask])")
-    sweep.add_argument("--a", type=float, default=100.0, help="Definition 4's TSR threshold [default: 100]")
+    sweep.add_argument("--a", type=float, default=DEFINITION_4_A,
+                       help=f"Definition 4's TSR threshold [default: {DEFINITION_4_A:g}]")
     sweep.add_argument("--out", metavar="DIR", help="results folder (cells stored as they finish)")
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     add_config_arguments(sweep, skip=("model", "outlier_magnitude", "outlier_proportion", "n_switch_states", "seed"))
@@ -380,7 +388,8 @@ def build_parser() -> argparse.ArgumentParser:
         "(mean, median, mode) and a paired Wilcoxon test; with --markdown, write them all as Markdown.",
     )
     tables.add_argument("results_dir", metavar="RESULTS_DIR")
-    tables.add_argument("--a", type=float, default=100.0, help="Definition 4's TSR threshold [default: 100]")
+    tables.add_argument("--a", type=float, default=DEFINITION_4_A,
+                        help=f"Definition 4's TSR threshold [default: {DEFINITION_4_A:g}]")
     tables.add_argument("--markdown", metavar="FILE", help="also write every table as Markdown to FILE")
     tables.add_argument("--allow-partial", action="store_true",
                         help="tabulate a sweep with cells still to run (and list them)")

@@ -27,6 +27,9 @@ __all__ = ["ExperimentConfig", "PRESETS", "PRESET_DOCS", "PRESET_FIELDS", "prese
 #: the paper's world: a 10 x 10 grid with 15 unsafe states
 GRID_SIZE = 10
 N_UNSAFE = 15
+#: (dx, dy) of each action, RIGHT, DOWN, LEFT, UP (numbered as in the reference
+#: implementation; y grows downwards, as the grid is drawn)
+ACTION_MOVES = ((1, 0), (0, 1), (-1, 0), (0, -1))
 #: where objects may be placed: the full grid (the paper's text) or never the
 #: last row and column (the reference code)
 PLACEMENTS = ("full", "reference")
@@ -70,9 +73,32 @@ def check_n_unsafe(n_unsafe, size: int, placement: str, size_name: str = "size")
 
 
 # -- the offline data (section 5.2) ------------------------------------------
+#: random-policy episodes of offline data (paper: 100)
+OFFLINE_EPISODES = 100
 #: the reference implementation's duplicate caps
 COST_DUPLICATES = 12
 REWARD_DUPLICATES = 1
+
+# -- hyperparameter fits (section 5.2) ---------------------------------------
+#: the optimisers a model may use (None: keep the constructor's hyperparameters)
+OPTIMIZERS = ("adam", "lbfgs")
+#: the paper's optimiser: 50 Adam steps with learning rate 0.1
+ADAM_STEPS = 50
+LEARNING_RATE = 0.1
+#: hyperparameter priors: LogNormal(0, 1) on each (the reference code), or none
+PRIORS = ("lognormal", None)
+#: how the TP's predictive variance includes the noise: scaled with the rest
+#: (Shah et al. 2014, GPy; a StudentTProcess's default) or added unscaled
+#: (TensorFlow Probability, the reference code's library; the experiments')
+NOISE_CONVENTIONS = ("shah", "tfp")
+
+# -- the sweep and the comparison (sections 5.4-5.6) -------------------------
+#: the paper's grid: 3 magnitudes x 3 proportions x 5 numbers of switch states
+PAPER_MAGNITUDES = (40, 60, 80)
+PAPER_PROPORTIONS = (0.2, 0.3, 0.4)
+PAPER_SWITCH_STATES = (2, 4, 6, 8, 10)
+#: Definition 4's TSR threshold a (%): the strictest, 100, unless a task says otherwise
+DEFINITION_4_A = 100.0
 
 # -- Algorithm 1 ---------------------------------------------------------------
 #: how predictions are made: exact, or the reference code's sampled estimate
@@ -126,7 +152,7 @@ class ExperimentConfig:
     outlier_proportion: float = _field(0.2, "outlier proportion p in [0, 1] (paper: 0.2, 0.3, 0.4)", flag="p")
     n_switch_states: int = _field(2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)", flag="nss")
     episodes: int = _field(250, "online episodes (paper: 250)")
-    offline_episodes: int = _field(100, "random-policy episodes of offline data (paper: 100)")
+    offline_episodes: int = _field(OFFLINE_EPISODES, "random-policy episodes of offline data (paper: 100)")
     grid_size: int = _field(GRID_SIZE, "grid side n (paper: 10)")
     n_unsafe: int = _field(N_UNSAFE, "number of unsafe states (paper: 15)")
     d: float = _field(D, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
@@ -150,12 +176,13 @@ class ExperimentConfig:
                              "reference code's 150-draw estimate)", choices=PREDICTIVE)
     n_samples: int = _field(N_SAMPLES, "draws per prediction with predictive='sample' (reference code: 150)")
     noise_convention: str = _field("tfp", "how the TP's predictive variance includes the noise: 'tfp' (unscaled, "
-                                   "as the reference code's library) or 'shah' (scaled)", choices=("tfp", "shah"))
-    optimizer: str = _field("adam", "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'", choices=("adam", "lbfgs"))
-    learning_rate: float = _field(0.1, "Adam's learning rate (paper: 0.1)")
-    optimizer_steps: int = _field(50, "Adam steps, or L-BFGS-B's iteration cap (paper: 50 Adam steps)")
+                                   "as the reference code's library; unlike a bare StudentTProcess, whose "
+                                   "default is 'shah') or 'shah' (scaled)", choices=NOISE_CONVENTIONS)
+    optimizer: str = _field("adam", "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'", choices=OPTIMIZERS)
+    learning_rate: float = _field(LEARNING_RATE, "Adam's learning rate (paper: 0.1)")
+    optimizer_steps: int = _field(ADAM_STEPS, "Adam steps, or L-BFGS-B's iteration cap (paper: 50 Adam steps)")
     prior: str | None = _field("lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), reference code) "
-                               "or None (plain marginal likelihood)", choices=("lognormal", None))
+                               "or None (plain marginal likelihood)", choices=PRIORS)
     cost_fit_points: int | None = _field(COST_FIT_POINTS, "rows of the cost model's data for each "
                                          "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
                                          "fast, the rows hold ~800 distinct inputs)")
@@ -192,11 +219,11 @@ class ExperimentConfig:
         check_int("reward_duplicates", self.reward_duplicates, 1)
         check_choice("predictive", self.predictive, PREDICTIVE)
         check_int("n_samples", self.n_samples, 2)
-        check_choice("noise_convention", self.noise_convention, ("tfp", "shah"))
-        check_choice("optimizer", self.optimizer, ("adam", "lbfgs"))
+        check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
+        check_choice("optimizer", self.optimizer, OPTIMIZERS)
         check_positive("learning_rate", self.learning_rate)
         check_int("optimizer_steps", self.optimizer_steps, 1)
-        check_choice("prior", self.prior, ("lognormal", None))
+        check_choice("prior", self.prior, PRIORS)
         check_int("cost_fit_points", self.cost_fit_points, 2, allow_none=True)
         check_int("reward_fit_points", self.reward_fit_points, 2, allow_none=True)
 

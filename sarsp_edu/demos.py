@@ -13,6 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
+from .config import GRID_SIZE, N_UNSAFE, OFFLINE_EPISODES
 from .gridworld import SafeGridWorld
 from .kernels import RBF
 from .offline import collect_offline_data, inject_outliers
@@ -143,7 +144,7 @@ def _world_and_data(seed: int, offline_episodes: int, size: int, n_unsafe: int):
 
 
 def compute_world(seed: int = 0, n_switch_states: int = 6, magnitude: float = 40.0, proportion: float = 0.2,
-                  offline_episodes: int = 100, size: int = 10, n_unsafe: int = 15):
+                  offline_episodes: int = OFFLINE_EPISODES, size: int = GRID_SIZE, n_unsafe: int = N_UNSAFE):
     """The world before and after the shift, the offline data's coverage and its outliers.
 
     The world and its offline data are cached per seed, so moving the nss,

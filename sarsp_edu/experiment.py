@@ -27,7 +27,7 @@ from ._version import __version__
 from ._io import StoredResultError, atomic_write_text, read_json
 from ._threads import one_blas_thread
 from ._validation import check_range
-from .config import PRESET_DOCS, PRESET_FIELDS, PRESETS, ExperimentConfig, preset_of
+from .config import DEFINITION_4_A, PRESET_DOCS, PRESET_FIELDS, PRESETS, ExperimentConfig, preset_of
 from .gridworld import SafeGridWorld
 from .kernels import RBF
 from .offline import collect_offline_data, inject_outliers
@@ -611,7 +611,7 @@ def cost_rate_undefined(summary) -> bool:
     return bool(summary["total_cost"] > 0 and summary["cost_rate"] == 0)
 
 
-def prefers(summary_1: dict, summary_2: dict, a: float = 100.0) -> bool | None:
+def prefers(summary_1: dict, summary_2: dict, a: float = DEFINITION_4_A) -> bool | None:
     """Paper Definition 4: is agent 1 preferred to agent 2?
 
     ``A1 > A2`` iff ``p_c(A1) < p_c(A2)`` and at least one of
@@ -673,7 +673,7 @@ class Comparison:
 
     tp: ExperimentResult
     gp: ExperimentResult
-    a: float = 100.0
+    a: float = DEFINITION_4_A
 
     @property
     def verdict(self) -> dict:
@@ -714,12 +714,12 @@ class Comparison:
         return directory
 
     @classmethod
-    def load(cls, directory, a: float = 100.0) -> "Comparison":
+    def load(cls, directory, a: float = DEFINITION_4_A) -> "Comparison":
         directory = Path(directory)
         return cls(ExperimentResult.load(directory / "tp"), ExperimentResult.load(directory / "gp"), a)
 
 
-def compare(config: ExperimentConfig | None = None, progress: bool = False, a: float = 100.0) -> Comparison:
+def compare(config: ExperimentConfig | None = None, progress: bool = False, a: float = DEFINITION_4_A) -> Comparison:
     """Run the TP and the GP paired on one config (its ``model`` field is ignored).
 
     Both runs share the world, its shift, the offline data with its outlier

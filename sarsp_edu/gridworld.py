@@ -21,7 +21,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ._validation import check_choice, check_int, check_positive, check_switch_states
-from .config import GRID_SIZE, N_UNSAFE, PLACEMENTS, check_n_unsafe, unsafe_capacity
+from .config import ACTION_MOVES, GRID_SIZE, N_UNSAFE, PLACEMENTS, check_n_unsafe, unsafe_capacity
 from .processes import as_generator
 
 __all__ = [
@@ -44,7 +44,7 @@ RIGHT, DOWN, LEFT, UP = 0, 1, 2, 3
 ACTIONS = np.array([RIGHT, DOWN, LEFT, UP])
 ACTION_NAMES = ("right", "down", "left", "up")
 #: (dx, dy) of each action
-MOVES = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]])
+MOVES = np.array(ACTION_MOVES)
 
 #: the entries of an observation, in order (the reference implementation's)
 OBSERVATION_FIELDS = (

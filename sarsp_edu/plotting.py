@@ -6,6 +6,8 @@ import numpy as np
 from matplotlib import patches, ticker
 from matplotlib.collections import LineCollection, PatchCollection
 
+from .config import ACTION_MOVES
+
 __all__ = [
     "plot_gridworld",
     "plot_metric_curves",
@@ -169,10 +171,9 @@ def plot_gridworld(
                 (ox, oy), (nx, ny), arrowstyle="->", mutation_scale=10, color="black", lw=0.9, alpha=0.6,
                 shrinkA=6, shrinkB=8, zorder=4))
     if unsafe_pairs:
-        moves = {0: (1, 0), 1: (0, 1), 2: (-1, 0), 3: (0, -1)}
         ticks = []
         for (cx, cy), action in unsafe_pairs:
-            dx, dy = moves[int(action)]
+            dx, dy = ACTION_MOVES[int(action)]
             ticks.append([(cx + 0.1 * dx, cy + 0.1 * dy), (cx + 0.42 * dx, cy + 0.42 * dy)])
         handles["learned unsafe move (S_u)"] = ax.add_collection(LineCollection(
             ticks, colors=COLOURS["unsafe"], linewidths=2.5, capstyle="butt", zorder=6), autolim=False)
@@ -422,7 +423,7 @@ def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, t
                      f'fill="{COLOURS["unsafe"]}" {stroke}/>')
     half = cell / 2
     for (x, y), action in unsafe_pairs:
-        dx, dy = ((1, 0), (0, 1), (-1, 0), (0, -1))[int(action)]
+        dx, dy = ACTION_MOVES[int(action)]
         cx, cy = x * cell + half, y * cell + half
         parts.append(f'<line x1="{cx + dx * 4}" y1="{cy + dy * 4}" x2="{cx + dx * (half - 2)}" '
                      f'y2="{cy + dy * (half - 2)}" stroke="{COLOURS["unsafe"]}" stroke-width="4"/>')

@@ -39,14 +39,13 @@ from scipy import optimize, special, stats
 from scipy.linalg import lapack as _lapack
 
 from ._validation import check_choice, check_int, check_nu, check_positive
+from .config import ADAM_STEPS, LEARNING_RATE, NOISE_CONVENTIONS, OPTIMIZERS, PRIORS
 from .kernels import RBF, squared_distances
 
 __all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "ConvergenceWarning", "as_generator",
            "draw_subset", "draw_rows"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
-_OPTIMIZERS = ("adam", "lbfgs", None)
-_PRIORS = ("lognormal", None)
 
 
 class NotFittedError(ValueError, AttributeError):
@@ -355,7 +354,7 @@ class _ProcessRegressor:
         *,
         noise_variance: float = 1.0,
         optimizer: str | None = "adam",
-        learning_rate: float = 0.1,
+        learning_rate: float = LEARNING_RATE,
         max_iter: int | None = None,
         prior: str | None = "lognormal",
         max_fit_points: int | None = 1000,
@@ -382,10 +381,10 @@ class _ProcessRegressor:
         if not isinstance(self.kernel, RBF):
             raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
         self.noise_variance = check_positive("noise_variance", self.noise_variance)
-        check_choice("optimizer", self.optimizer, _OPTIMIZERS)
+        check_choice("optimizer", self.optimizer, (*OPTIMIZERS, None))
         self.learning_rate = check_positive("learning_rate", self.learning_rate)
         self.max_iter = check_int("max_iter", self.max_iter, 1, allow_none=True)
-        check_choice("prior", self.prior, _PRIORS)
+        check_choice("prior", self.prior, PRIORS)
         self.max_fit_points = check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
         try:
             low, high = (float(b) for b in self.bounds)
@@ -551,7 +550,7 @@ class _ProcessRegressor:
                 return -value, -grad
 
             if self.optimizer == "adam":
-                steps = 50 if self.max_iter is None else self.max_iter
+                steps = ADAM_STEPS if self.max_iter is None else self.max_iter
                 self._warn_out_of_reach(y, steps)
                 theta, trace, n_iter = _adam(negative, theta0, bounds, self.learning_rate, steps)
             else:
@@ -1038,7 +1037,7 @@ class StudentTProcess(_ProcessRegressor):
         noise_variance: float = 1.0,
         noise_convention: str = "shah",
         optimizer: str | None = "adam",
-        learning_rate: float = 0.1,
+        learning_rate: float = LEARNING_RATE,
         max_iter: int | None = None,
         prior: str | None = "lognormal",
         max_fit_points: int | None = 1000,
@@ -1065,7 +1064,7 @@ class StudentTProcess(_ProcessRegressor):
         self.nu = check_nu(self.nu)
         if not isinstance(self.fit_nu, (bool, np.bool_)):
             raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
-        check_choice("noise_convention", self.noise_convention, ("shah", "tfp"))
+        check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
 
     def _extra_names(self):
         return ("log_nu_minus_2",) if self.fit_nu else ()

@@ -29,6 +29,7 @@ from scipy import stats
 from ._io import StoredResultError, atomic_write_text, one_line_warning, read_json, staging_directory
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
+from .config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
 from .experiment import (
     HIGHER_IS_BETTER,
     SUMMARY_METRICS,
@@ -55,9 +56,6 @@ __all__ = [
     "PAPER_SWITCH_STATES",
 ]
 
-PAPER_MAGNITUDES = (40, 60, 80)
-PAPER_PROPORTIONS = (0.2, 0.3, 0.4)
-PAPER_SWITCH_STATES = (2, 4, 6, 8, 10)
 
 class StoredResultWarning(UserWarning):
     """A stored cell could not be used and is computed again."""
@@ -111,7 +109,7 @@ class SweepResults:
 
     base: ExperimentConfig
     comparisons: dict = field(default_factory=dict)
-    a: float = 100.0
+    a: float = DEFINITION_4_A
     missing: list = field(default_factory=list)
 
     def __len__(self) -> int:
@@ -156,7 +154,7 @@ class SweepResults:
         return set(first.tp.records.columns)
 
     @classmethod
-    def load(cls, results_dir, a: float = 100.0, allow_partial: bool = False) -> "SweepResults":
+    def load(cls, results_dir, a: float = DEFINITION_4_A, allow_partial: bool = False) -> "SweepResults":
         """Every cell of a results folder, each checked as it is read.
 
         Parameters
@@ -336,7 +334,7 @@ def run_sweep(
     n_jobs: int = 1,
     scheduler=None,
     progress: bool = False,
-    a: float = 100.0,
+    a: float = DEFINITION_4_A,
 ) -> SweepResults:
     """Run the paper's grid of paired TP-vs-GP comparisons.
 
