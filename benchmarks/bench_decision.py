@@ -13,7 +13,6 @@ import argparse
 import os
 import sys
 
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 from _timing import median_seconds, one_core  # noqa: E402
@@ -41,7 +40,7 @@ def main(argv=None):
             return agent.act(observation)
 
         # scikit-learn on the very priors the agent draws, with the agent's fitted hyperparameters
-        from sarsp_edu.gridworld import cost_inputs, reward_inputs
+        from sarsp_edu.offline import cost_inputs, reward_inputs
 
         jobs = []
         for model, buffer, queries in ((agent.cost_model, agent.cost_data, cost_inputs(observation)),

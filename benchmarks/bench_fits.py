@@ -22,7 +22,7 @@ from _timing import one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig  # noqa: E402
 from sarsp_edu.experiment import _prepare, make_model  # noqa: E402
-from sarsp_edu.processes import draw_subset  # noqa: E402
+from sarsp_edu.rng import draw_subset  # noqa: E402
 
 
 def main(argv=None):

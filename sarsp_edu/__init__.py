@@ -5,9 +5,8 @@ Distribution Shift and Outliers with the Student-t's Process".
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ._version import __version__
+
 
 def _register_environment() -> None:
     """Make ``gymnasium.make("sarsp_edu/SafeGridWorld-v0")`` work once sarsp_edu is imported."""
@@ -24,7 +23,7 @@ _register_environment()
 _LAZY = {
     "Comparison": "experiment",
     "Experiment": "experiment",
-    "ExperimentConfig": "experiment",
+    "ExperimentConfig": "config",
     "ExperimentResult": "experiment",
     "StoredResultError": "experiment",
     "compare": "experiment",
@@ -37,8 +36,8 @@ _LAZY = {
     "UP": "gridworld",
     "GridLayout": "gridworld",
     "SafeGridWorld": "gridworld",
-    "cost_inputs": "gridworld",
-    "reward_inputs": "gridworld",
+    "cost_inputs": "offline",
+    "reward_inputs": "offline",
     "RBF": "kernels",
     "ObservationBuffer": "offline",
     "OfflineData": "offline",
@@ -59,43 +58,7 @@ _LAZY = {
 }
 
 
-__all__ = [
-    "RBF",
-    "GaussianProcess",
-    "StudentTProcess",
-    "NotFittedError",
-    "ConvergenceWarning",
-    "SafeGridWorld",
-    "GridLayout",
-    "RIGHT",
-    "DOWN",
-    "LEFT",
-    "UP",
-    "ACTION_NAMES",
-    "cost_inputs",
-    "reward_inputs",
-    "ObservationBuffer",
-    "OfflineData",
-    "collect_offline_data",
-    "inject_outliers",
-    "plot_gridworld",
-    "SARSPAgent",
-    "Decision",
-    "ExperimentConfig",
-    "Experiment",
-    "ExperimentResult",
-    "StoredResultError",
-    "Comparison",
-    "run_experiment",
-    "compare",
-    "prefers",
-    "run_sweep",
-    "SweepResults",
-    "summary_tables",
-    "plot_metric_curves",
-    "plot_macro",
-    "__version__",
-]
+__all__ = [*_LAZY, "__version__"]
 
 
 def __getattr__(name: str):
@@ -112,32 +75,3 @@ def __getattr__(name: str):
 def __dir__():
     return sorted(set(globals()) | set(_LAZY))
 
-
-if TYPE_CHECKING:  # for type checkers and IDEs: the eager imports
-    from .experiment import (
-        Comparison,
-        Experiment,
-        ExperimentConfig,
-        ExperimentResult,
-        StoredResultError,
-        compare,
-        prefers,
-        run_experiment,
-    )
-    from .gridworld import (
-        ACTION_NAMES,
-        DOWN,
-        LEFT,
-        RIGHT,
-        UP,
-        GridLayout,
-        SafeGridWorld,
-        cost_inputs,
-        reward_inputs,
-    )
-    from .kernels import RBF
-    from .offline import ObservationBuffer, OfflineData, collect_offline_data, inject_outliers
-    from .plotting import plot_gridworld, plot_macro, plot_metric_curves
-    from .processes import ConvergenceWarning, GaussianProcess, NotFittedError, StudentTProcess
-    from .sarsp import Decision, SARSPAgent
-    from .sweep import SweepResults, run_sweep, summary_tables

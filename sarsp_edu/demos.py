@@ -17,7 +17,8 @@ from .config import GRID_SIZE, N_UNSAFE, OFFLINE_EPISODES
 from .gridworld import SafeGridWorld
 from .kernels import RBF
 from .offline import collect_offline_data, inject_outliers
-from .processes import GaussianProcess, StudentTProcess, as_generator
+from .processes import GaussianProcess, StudentTProcess
+from .rng import as_generator
 
 __all__ = ["regression_data", "compute_posteriors", "compute_world", "compute_nu_path"]
 

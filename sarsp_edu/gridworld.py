@@ -22,7 +22,7 @@ from gymnasium import spaces
 
 from ._validation import check_choice, check_int, check_positive, check_switch_states
 from .config import ACTION_MOVES, GRID_SIZE, N_UNSAFE, PLACEMENTS, check_n_unsafe, unsafe_capacity
-from .processes import as_generator
+from .rng import as_generator
 
 __all__ = [
     "SafeGridWorld",
@@ -35,8 +35,9 @@ __all__ = [
     "ACTION_NAMES",
     "MOVES",
     "OBSERVATION_FIELDS",
-    "cost_inputs",
-    "reward_inputs",
+    "AGENT_XY",
+    "GOAL_XY",
+    "NEAREST_UNSAFE_XY",
 ]
 
 #: action constants, numbered as in the reference implementation
@@ -57,51 +58,10 @@ OBSERVATION_FIELDS = (
     "unsafe_y",
     "unsafe_distance",
 )
-_AGENT, _GOAL, _UNSAFE = slice(0, 2), slice(2, 4), slice(5, 7)
+#: where an observation holds the agent's, the goal's and the nearest unsafe state's (x, y)
+AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY = slice(0, 2), slice(2, 4), slice(5, 7)
 
 _PLACEMENT_ATTEMPTS = 200
-
-
-def _model_inputs(observation, actions, position_columns: slice) -> np.ndarray:
-    observation = np.asarray(observation, dtype=float)
-    actions = ACTIONS if actions is None else np.atleast_1d(np.asarray(actions, dtype=float))
-    out = np.empty((actions.shape[0], 5))
-    out[:, 0] = actions
-    out[:, 1:3] = observation[_AGENT]
-    out[:, 3:5] = observation[position_columns]
-    return out
-
-
-def cost_inputs(observation, actions=None) -> np.ndarray:
-    """Cost-model inputs ``(action, agent x, agent y, nearest-unsafe x, nearest-unsafe y)``.
-
-    The reference implementation's cost model: its target is the distance to
-    the nearest unsafe state *after* the step.
-
-    Parameters
-    ----------
-    observation : array-like of shape (8,)
-        An observation of :class:`SafeGridWorld`.
-    actions : int or array-like of ints, optional
-        Default: all four actions.
-
-    Returns
-    -------
-    ndarray of shape (n_actions, 5)
-    """
-    return _model_inputs(observation, actions, _UNSAFE)
-
-
-def reward_inputs(observation, actions=None) -> np.ndarray:
-    """Reward-model inputs ``(action, agent x, agent y, goal x, goal y)``.
-
-    The target is the reward after the step (minus the L2 distance to the goal).
-
-    Returns
-    -------
-    ndarray of shape (n_actions, 5)
-    """
-    return _model_inputs(observation, actions, _GOAL)
 
 
 @dataclass(frozen=True)

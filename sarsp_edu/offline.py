@@ -22,11 +22,56 @@ import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
 from .config import COST_DUPLICATES, REWARD_DUPLICATES
-from .gridworld import cost_inputs, reward_inputs
-from .processes import as_generator
+from .gridworld import ACTIONS, AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY
+from .rng import as_generator
 
-__all__ = ["ObservationBuffer", "OfflineData", "collect_offline_data", "inject_outliers"]
+__all__ = ["ObservationBuffer", "OfflineData", "collect_offline_data", "inject_outliers", "cost_inputs", "reward_inputs"]
 
+
+
+# --------------------------------------------------------------------------
+# the models' inputs
+# --------------------------------------------------------------------------
+def _model_inputs(observation, actions, position_columns: slice) -> np.ndarray:
+    observation = np.asarray(observation, dtype=float)
+    actions = ACTIONS if actions is None else np.atleast_1d(np.asarray(actions, dtype=float))
+    out = np.empty((actions.shape[0], 5))
+    out[:, 0] = actions
+    out[:, 1:3] = observation[AGENT_XY]
+    out[:, 3:5] = observation[position_columns]
+    return out
+
+
+def cost_inputs(observation, actions=None) -> np.ndarray:
+    """Cost-model inputs ``(action, agent x, agent y, nearest-unsafe x, nearest-unsafe y)``.
+
+    The reference implementation's cost model: its target is the distance to
+    the nearest unsafe state *after* the step.
+
+    Parameters
+    ----------
+    observation : array-like of shape (8,)
+        An observation of :class:`SafeGridWorld`.
+    actions : int or array-like of ints, optional
+        Default: all four actions.
+
+    Returns
+    -------
+    ndarray of shape (n_actions, 5)
+    """
+    return _model_inputs(observation, actions, NEAREST_UNSAFE_XY)
+
+
+def reward_inputs(observation, actions=None) -> np.ndarray:
+    """Reward-model inputs ``(action, agent x, agent y, goal x, goal y)``.
+
+    The target is the reward after the step (minus the L2 distance to the goal).
+
+    Returns
+    -------
+    ndarray of shape (n_actions, 5)
+    """
+    return _model_inputs(observation, actions, GOAL_XY)
 
 
 class ObservationBuffer:

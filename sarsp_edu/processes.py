@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import copy
 import math
-import numbers
 import warnings
 
 import numpy as np
@@ -41,9 +40,9 @@ from scipy.linalg import lapack as _lapack
 from ._validation import check_choice, check_int, check_nu, check_positive
 from .config import ADAM_STEPS, LEARNING_RATE, NOISE_CONVENTIONS, OPTIMIZERS, PRIORS
 from .kernels import RBF, squared_distances
+from .rng import as_generator, draw_subset
 
-__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "ConvergenceWarning", "as_generator",
-           "draw_subset", "draw_rows"]
+__all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "ConvergenceWarning"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
 
@@ -58,45 +57,6 @@ class ConvergenceWarning(UserWarning):
 
 #: |values| beyond this overflow float64 once squared (distances, y^T K^-1 y)
 _LARGEST = 1e150
-
-
-def as_generator(rng) -> np.random.Generator:
-    """``numpy.random.Generator`` from a seed, a Generator or ``None``.
-
-    A Generator is returned unchanged (so successive calls draw fresh
-    numbers); an int or ``None`` seeds a new one.
-    """
-    if isinstance(rng, np.random.Generator):
-        return rng
-    if rng is None or isinstance(rng, (numbers.Integral, np.random.SeedSequence)):
-        return np.random.default_rng(rng)
-    raise ValueError(
-        f"rng must be None, an int seed or a numpy.random.Generator, got rng={rng!r}"
-    )
-
-
-def draw_rows(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
-    """``min(k, n)`` distinct indices of ``range(n)``, uniformly at random, sorted.
-
-    Draws with replacement and redraws the repeats: the first ``k`` distinct
-    values of a sequence of uniform draws form a uniformly random ``k``-subset
-    (by symmetry between the values).  For ``k`` much smaller than ``n`` this
-    avoids ``Generator.choice``'s permutation of all ``n`` indices, which
-    dominated the strategic prior's cost.
-    """
-    if k >= n:
-        return np.arange(n)
-    rows = np.unique(rng.integers(n, size=k))
-    while rows.shape[0] < k:
-        rows = np.unique(np.concatenate([rows, rng.integers(n, size=k - rows.shape[0])]))
-    return rows
-
-
-def draw_subset(n: int, max_points: int | None, rng) -> np.ndarray:
-    """Sorted row indices: all ``n`` rows, or ``max_points`` drawn without replacement."""
-    if max_points is None or n <= max_points:
-        return np.arange(n)
-    return np.sort(as_generator(rng).choice(n, size=max_points, replace=False))
 
 
 # --------------------------------------------------------------------------

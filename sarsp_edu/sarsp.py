@@ -43,9 +43,8 @@ from .config import (  # Algorithm 1's defaults, defined once in config
     REWARD_FIT_POINTS,
     VARIANCE_THRESHOLD,
 )
-from .gridworld import cost_inputs, reward_inputs
-from .offline import OfflineData
-from .processes import as_generator, draw_rows, draw_subset
+from .offline import OfflineData, cost_inputs, reward_inputs
+from .rng import as_generator, draw_rows, draw_subset
 
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome", "PRIOR_DRAWS", "RETRAIN_RULES"]
 

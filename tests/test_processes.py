@@ -524,7 +524,7 @@ def test_predict_batch_checks_shapes():
 
 
 def test_draw_rows_is_a_uniform_subset():
-    from sarsp_edu.processes import draw_rows
+    from sarsp_edu.rng import draw_rows
 
     rng = np.random.default_rng(0)
     counts = np.zeros(50)

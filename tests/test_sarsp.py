@@ -222,7 +222,7 @@ def test_per_step_prior_is_one_set_for_the_four_actions():
 
 def test_per_action_predictions_equal_conditioning_each_prior_on_its_own():
     """The batched prediction is the model conditioned on each action's prior."""
-    from sarsp_edu.gridworld import cost_inputs
+    from sarsp_edu.offline import cost_inputs
 
     agent = tiny_agent(5.0, StudentTProcess, k_prior=5)
     state = agent.rng.bit_generator.state
