@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _timing import one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig  # noqa: E402
-from sarsp_edu.experiment import _prepare, make_model  # noqa: E402
+from sarsp_edu.experiment import make_model, prepare  # noqa: E402
 from sarsp_edu.rng import draw_subset  # noqa: E402
 
 
@@ -31,7 +31,7 @@ def main(argv=None):
     parser.add_argument("--whole-reward", action="store_true", help="also fit the reward model on every row")
     args = parser.parse_args(argv)
     config = ExperimentConfig(seed=args.seed)
-    data = _prepare(config).data
+    data = prepare(config).data
     print(f"m={config.outlier_magnitude:g} p={config.outlier_proportion:g} seed={args.seed}; one BLAS thread; "
           "50 Adam steps; a = amplitude, l = length scale, s2 = noise variance")
     sizes = [500, 1000, 2000] + ([None] if args.whole_reward else [])

@@ -1,6 +1,31 @@
 """sarsp_edu: a teaching package for safe reinforcement learning with Gaussian
 and Student-t processes, after "Hybrid Safe Reinforcement Learning: Tackling
 Distribution Shift and Outliers with the Student-t's Process".
+
+The layout, lowest layer first (a module imports only from those above it):
+
+- ``config``: every setting (``ExperimentConfig``), the presets, and the
+  defaults of the world, the data, the fits and Algorithm 1, each defined once;
+  loads no numerical library.
+- ``rng``: seeds to generators, uniform row subsets.
+- ``kernels``: the RBF kernel and its gradient.
+- ``processes``: GP and TP regression in closed form, their fits.
+- ``tails``: the densities' tail limits in sympy (paper section 3.3).
+- ``gridworld``: the safe gridworld (a Gymnasium environment) and its shift.
+- ``offline``: the models' inputs, the training sets, offline data, outliers.
+- ``sarsp``: the SARSP agent (Algorithm 1).
+- ``metrics``: the paper's metrics, their comparison, Definition 4.
+- ``results``: results of runs and paired comparisons, stored and read back.
+- ``experiment``: one run, or a paired TP-vs-GP comparison, of a config.
+- ``sweep``: the 45-configuration grid, run and stored cell by cell.
+- ``tables``: the paper's Tables 1-4 and their statistics.
+- ``ablation``: the comparison under several settings.
+- ``paper``: the paper's published numbers, for comparison only.
+- ``demos``, ``plotting``, ``widgets``: the tutorials' computations, drawings
+  and dashboards.
+- ``cli``: the ``sarsp-edu`` command.
+- ``_io``, ``_validation``, ``_threads``, ``_version``: atomic files and
+  stored-result errors, argument checks, BLAS threads, the version.
 """
 
 from __future__ import annotations
@@ -21,13 +46,13 @@ _register_environment()
 # Public names load their module on first use (PEP 562), so that the
 # ``sarsp-edu`` command answers --help without importing scipy and pandas.
 _LAZY = {
-    "Comparison": "experiment",
+    "Comparison": "results",
     "Experiment": "experiment",
     "ExperimentConfig": "config",
-    "ExperimentResult": "experiment",
-    "StoredResultError": "experiment",
+    "ExperimentResult": "results",
+    "StoredResultError": "results",
     "compare": "experiment",
-    "prefers": "experiment",
+    "prefers": "metrics",
     "run_experiment": "experiment",
     "ACTION_NAMES": "gridworld",
     "DOWN": "gridworld",
@@ -54,7 +79,7 @@ _LAZY = {
     "SARSPAgent": "sarsp",
     "SweepResults": "sweep",
     "run_sweep": "sweep",
-    "summary_tables": "sweep",
+    "summary_tables": "tables",
 }
 
 

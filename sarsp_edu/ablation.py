@@ -28,7 +28,8 @@ from scipy import stats
 
 from ._io import atomic_write_text
 from ._version import __version__
-from .experiment import PRESETS, ExperimentConfig, backup_share
+from .config import PRESETS, ExperimentConfig
+from .metrics import backup_share
 from .sweep import SweepResults, run_sweep
 
 __all__ = ["ABLATION_SETTINGS", "ABLATION_CELLS", "AblationResults", "run_ablation", "setting_config"]

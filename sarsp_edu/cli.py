@@ -144,7 +144,8 @@ def _format_table(frame) -> str:
 
 
 def _run(args, parser) -> int:
-    from .experiment import SUMMARY_METRICS, backup_share, displayed_summary, run_experiment
+    from .experiment import run_experiment
+    from .metrics import SUMMARY_METRICS, backup_share, displayed_summary
 
     config = config_from_args(parser, args)
     _check_out(parser, args.out, "run")
@@ -186,7 +187,8 @@ def _compare(args, parser) -> int:
 
 
 def _sweep(args, parser) -> int:
-    from .sweep import run_sweep, summary_tables
+    from .sweep import run_sweep
+    from .tables import summary_tables
 
     config = config_from_args(parser, args)
     _check_out(parser, args.out, "sweep")
@@ -218,7 +220,8 @@ def _sweep(args, parser) -> int:
 
 def _tables(args, parser) -> int:
     from ._io import StoredResultError, atomic_write_text
-    from .sweep import SweepResults, summary_tables, tables_markdown
+    from .sweep import SweepResults
+    from .tables import summary_tables, tables_markdown
 
     if args.markdown:
         _check_file(parser, "--markdown", args.markdown)

@@ -24,25 +24,16 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
 from ._io import StoredResultError, atomic_write_text, one_line_warning, read_json, staging_directory
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
 from .config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
-from .experiment import (
-    HIGHER_IS_BETTER,
-    SUMMARY_METRICS,
-    Comparison,
-    ExperimentConfig,
-    _check_a,
-    better_of,
-    compare,
-    cost_rate_undefined,
-    displayed_summary,
-    percent_difference,
-    prefers,
-)
+from .config import ExperimentConfig
+from .experiment import compare
+from .metrics import SUMMARY_METRICS, check_a
+from .results import Comparison
+from .tables import frame_to_markdown, summary_tables, tables_markdown  # noqa: F401  (the sweep's tables)
 
 __all__ = [
     "StoredResultWarning",
@@ -384,7 +375,7 @@ def run_sweep(
         check_int("n_jobs", n_jobs, -1)
         if n_jobs == 0:
             raise ValueError("n_jobs must be a positive integer or -1 (one per core), got n_jobs=0")
-    _check_a(a)
+    check_a(a)
     keys = [(float(m), float(p), int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
 
     results = SweepResults(base, a=a)
@@ -454,198 +445,3 @@ def _execute_dask(base, todo, folder, scheduler):
     finally:
         if client is not scheduler:
             client.close()
-
-
-# --------------------------------------------------------------------------
-# the paper's tables and their statistics
-# --------------------------------------------------------------------------
-def _symmetric_percent(a: float, b: float) -> float:
-    """|a - b| / ((a + b) / 2) * 100: Table 1's "% difference" in total cost."""
-    mean = (a + b) / 2
-    return 0.0 if a == b else (abs(a - b) / abs(mean) * 100 if mean else math.nan)
-
-
-def _paper_mode(values: np.ndarray) -> float:
-    """The smallest of the most frequent values (scipy.stats.mode's rule).
-
-    For a continuous metric whose values are all different this is simply
-    the minimum, which is what the paper's Table 4 shows for mean reward.
-    """
-    return float(stats.mode(np.asarray(values, dtype=float), keepdims=False).mode)
-
-
-def _per_configuration(frame: pd.DataFrame) -> pd.DataFrame:
-    """Mean over seeds of each (m, p, nss, model)."""
-    return frame.groupby(["m", "p", "nss", "model"], as_index=False)[list(SUMMARY_METRICS)].mean()
-
-
-def _paired(frame: pd.DataFrame, metric: str):
-    wide = frame.pivot_table(index=["m", "p", "nss"], columns="model", values=metric)
-    return wide["TP"].to_numpy(), wide["GP"].to_numpy()
-
-
-def _bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):
-    n = len(tp)
-    idx = rng.integers(0, n, size=(n_boot, n))
-    values = np.array([statistic(tp[i], gp[i]) for i in idx])
-    values = values[np.isfinite(values)]
-    if len(values) == 0:
-        return math.nan, math.nan
-    return tuple(np.quantile(values, [(1 - level) / 2, (1 + level) / 2]))
-
-
-def summary_tables(results: SweepResults, a: float | None = None, n_boot: int = 2000, rng=0) -> dict:
-    """The paper's Tables 1-4 and the statistics behind them, as DataFrames.
-
-    Parameters
-    ----------
-    results : SweepResults
-    a : float, optional
-        Definition 4's threshold (default: the results').
-    n_boot : int, default 2000
-        Bootstrap resamples for the confidence intervals.
-    rng : None, int or numpy.random.Generator
-        For the bootstrap.
-
-    Returns
-    -------
-    dict of DataFrames
-        ``"table1"``: every configuration, a TP row and a GP row, the
-        verdict of Definition 4 and the symmetric % difference in total cost
-        (the paper's Table 1 lists 6 of these rows); with several seeds, the
-        mean over seeds.
-        ``"mean"``: Table 2, mean over configurations, % change (TP vs GP,
-        relative to the GP), its 95% bootstrap interval (configurations
-        resampled in pairs), and the coefficients of variation.
-        ``"median"`` and ``"mode"``: Tables 3 and 4.
-        ``"wilcoxon"``: a paired Wilcoxon signed-rank test of TP against GP
-        over configurations, per metric.
-        ``"seeds"`` (only with several seeds): per configuration and metric,
-        the % difference of the seed means with a bootstrap interval over seeds.
-    """
-    if len(results) == 0:
-        raise ValueError("the sweep holds no finished cell")
-    a = results.a if a is None else a
-    boot_rng = np.random.default_rng(rng)
-    raw = results.frame()
-    per_config = _per_configuration(raw)
-
-    # Table 1
-    rows = []
-    for (m, p, nss), group in per_config.groupby(["m", "p", "nss"]):
-        tp = group[group.model == "TP"].iloc[0]
-        gp = group[group.model == "GP"].iloc[0]
-        tp_first, gp_first = prefers(tp, gp, a), prefers(gp, tp, a)
-        if tp_first is None:
-            verdict = "n/a (p_c undefined)"
-        else:
-            verdict = "TP > GP" if tp_first else ("GP > TP" if gp_first else "neither")
-        diff = _symmetric_percent(tp["total_cost"], gp["total_cost"])
-        for row, label in ((tp, "TP"), (gp, "GP")):
-            shown = displayed_summary(row)
-            rows.append({"m": m, "p": p, "nss": nss, "model": label,
-                         **{k: shown[k] for k in SUMMARY_METRICS},
-                         "result": verdict if label == "TP" else f"{diff:.1f}%"})
-    table1 = pd.DataFrame(rows)
-
-    undefined = per_config.apply(cost_rate_undefined, axis=1)
-    undefined_configs = int(undefined.groupby([per_config.m, per_config.p, per_config.nss]).any().sum())
-
-    def central(name, function, with_spread):
-        out = []
-        for metric in SUMMARY_METRICS:
-            tp, gp = _paired(per_config, metric)
-            row = {"metric": metric, "TP": function(tp), "GP": function(gp)}
-            row["% change"] = percent_difference(row["TP"], row["GP"])
-            row["better"] = better_of(metric, row["TP"], row["GP"]) if math.isfinite(row["% change"]) else "n/a"
-            # eq. 12 is undefined where violations met no clean success; the
-            # paper's 0 is kept in the averages, and counted here
-            row["p_c undefined in"] = undefined_configs if metric == "cost_rate" else 0
-            if with_spread:
-                low, high = _bootstrap_ci(
-                    tp, gp, lambda t, g: percent_difference(function(t), function(g)), n_boot, boot_rng
-                )
-                row["95% CI low"], row["95% CI high"] = low, high
-                row["CV TP (%)"] = _cv(tp)
-                row["CV GP (%)"] = _cv(gp)
-            out.append(row)
-        return pd.DataFrame(out).set_index("metric")
-
-    tables = {
-        "table1": table1,
-        "mean": central("mean", np.mean, True),
-        "median": central("median", np.median, False),
-        "mode": central("mode", _paper_mode, False),
-    }
-
-    tests = []
-    for metric in SUMMARY_METRICS:
-        tp, gp = _paired(per_config, metric)
-        diff = tp - gp
-        if np.all(diff == 0):
-            statistic, pvalue = math.nan, 1.0
-        else:
-            test = stats.wilcoxon(tp, gp)
-            statistic, pvalue = float(test.statistic), float(test.pvalue)
-        tests.append({"metric": metric, "n": len(tp), "median TP - GP": float(np.median(diff)),
-                      "TP better in": int(np.sum(diff > 0) if HIGHER_IS_BETTER[metric] else np.sum(diff < 0)),
-                      "W": statistic, "p-value": pvalue})
-    tables["wilcoxon"] = pd.DataFrame(tests).set_index("metric")
-
-    if raw["seed"].nunique() > 1:
-        seed_rows = []
-        for (m, p, nss), group in raw.groupby(["m", "p", "nss"]):
-            wide = group.pivot_table(index="seed", columns="model", values=list(SUMMARY_METRICS))
-            for metric in SUMMARY_METRICS:
-                tp, gp = wide[(metric, "TP")].to_numpy(), wide[(metric, "GP")].to_numpy()
-                low, high = _bootstrap_ci(
-                    tp, gp, lambda t, g: percent_difference(t.mean(), g.mean()), n_boot, boot_rng
-                )
-                seed_rows.append({"m": m, "p": p, "nss": nss, "metric": metric, "seeds": len(tp),
-                                  "TP": tp.mean(), "GP": gp.mean(),
-                                  "% change": percent_difference(tp.mean(), gp.mean()),
-                                  "95% CI low": low, "95% CI high": high})
-        tables["seeds"] = pd.DataFrame(seed_rows)
-    return tables
-
-
-def _cv(values: np.ndarray) -> float:
-    """Coefficient of variation, std / |mean| x 100 (sample std, as pandas)."""
-    mean = float(np.mean(values))
-    if len(values) < 2 or mean == 0:
-        return math.nan
-    return float(np.std(values, ddof=1) / abs(mean) * 100)
-
-
-def frame_to_markdown(frame: pd.DataFrame, digits: int = 3) -> str:
-    """A GitHub-flavoured Markdown table (no extra dependency)."""
-    frame = frame.reset_index() if frame.index.name is not None else frame
-    header = "| " + " | ".join(str(c) for c in frame.columns) + " |"
-    rule = "|" + "|".join("---" for _ in frame.columns) + "|"
-
-    def cell(value):
-        if isinstance(value, (float, np.floating)):
-            return "nan" if math.isnan(value) else f"{value:.{digits}f}"
-        return str(value)
-
-    lines = [header, rule]
-    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in frame.itertuples(index=False)]
-    return "\n".join(lines)
-
-
-_TABLE_TITLES = {
-    "table1": "Table 1: every configuration (TP row, GP row; Definition 4 and the % difference in total cost)",
-    "mean": "Table 2: mean over configurations (% change relative to the GP, 95% bootstrap interval, CV)",
-    "median": "Table 3: median over configurations",
-    "mode": "Table 4: mode over configurations (the smallest most frequent value, as scipy.stats.mode)",
-    "wilcoxon": "Paired Wilcoxon signed-rank test of TP against GP over configurations",
-    "seeds": "Per configuration: % change of the seed means with a 95% bootstrap interval over seeds",
-}
-
-
-def tables_markdown(tables: dict, title: str = "sarsp_edu sweep: the paper's tables") -> str:
-    """All tables of :func:`summary_tables` as one Markdown document."""
-    parts = [f"# {title}", ""]
-    for key, frame in tables.items():
-        parts += [f"## {_TABLE_TITLES.get(key, key)}", "", frame_to_markdown(frame), ""]
-    return "\n".join(parts)

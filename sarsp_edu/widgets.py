@@ -472,7 +472,7 @@ class AgentDashboard(widgets.VBox):
 
     def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
                  steps_per_second=30.0, config=None):
-        from .experiment import ExperimentConfig
+        from .config import ExperimentConfig
 
         self.base_config = ExperimentConfig() if config is None else config
         self.controls = {
@@ -541,12 +541,9 @@ class AgentDashboard(widgets.VBox):
 
     def prepare(self):
         """Build the paired runs from the sliders (offline data, outliers, fits, shift)."""
-        from .experiment import Experiment, _prepare
+        from .experiment import paired_experiments
 
-        config = self.config()
-        with one_blas_thread():
-            prepared = _prepare(config)
-            self.experiments = {m: Experiment(config.replace(model=m), prepared=prepared) for m in ("tp", "gp")}
+        self.experiments = paired_experiments(self.config())
         self._last = {"tp": None, "gp": None}
         self._drawn_episodes = -1
         self.frames = 0

@@ -79,7 +79,7 @@ def test_prefers_threshold_is_checked(a):
 
 def test_an_undefined_cost_rate_is_not_a_perfect_one():
     # issue 12, item 5: violations but no clean success: eq. 12 divides by zero
-    from sarsp_edu.experiment import cost_rate_undefined, displayed_summary
+    from sarsp_edu.metrics import cost_rate_undefined, displayed_summary
 
     stuck = {**S(-200, 0.0, 40), "total_cost": 13.0}
     safe = {**S(-100, 0.0, 40), "total_cost": 0.0}

@@ -176,7 +176,7 @@ def test_tables_by_hand(sweep_dir):
 
 
 def test_table1_uses_definition_4_and_the_symmetric_difference():
-    from sarsp_edu.sweep import _symmetric_percent
+    from sarsp_edu.tables import _symmetric_percent
 
     assert _symmetric_percent(28, 58) == pytest.approx(69.77, abs=0.01)  # the paper's 69.8%
     assert _symmetric_percent(31, 58) == pytest.approx(60.67, abs=0.01)  # and 60.7%
@@ -184,7 +184,7 @@ def test_table1_uses_definition_4_and_the_symmetric_difference():
 
 
 def test_mode_is_scipys_rule():
-    from sarsp_edu.sweep import _paper_mode
+    from sarsp_edu.tables import _paper_mode
 
     assert _paper_mode(np.array([3.0, 1.0, 3.0, 2.0])) == 3.0  # the most frequent
     assert _paper_mode(np.array([-145.3, -60.2, -88.8])) == -145.3  # all unique: the smallest

@@ -1,0 +1,199 @@
+"""Results of runs and paired comparisons, and how they are stored and read back.
+
+A result folder holds ``records.csv`` (one row per episode) and
+``result.json`` (config, preset, summary, timings), written atomically;
+reading them back checks every file and names what is wrong
+(:class:`StoredResultError`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ._io import StoredResultError, atomic_write_text, read_json
+from ._version import __version__
+from .config import DEFINITION_4_A, ExperimentConfig
+from .metrics import (
+    RECORD_COLUMNS,
+    SUMMARY_METRICS,
+    better_of,
+    displayed_summary,
+    percent_difference,
+    prefers,
+)
+
+__all__ = ["ExperimentResult", "Comparison", "StoredResultError"]
+
+
+@dataclass
+class ExperimentResult:
+    """The outcome of one run.
+
+    Attributes
+    ----------
+    config : ExperimentConfig
+    records : pandas.DataFrame
+        One row per episode; ``RECORD_COLUMNS`` documents each column.
+    timings : dict
+        Seconds spent on data, offline fits, episodes and retrains, the
+        median seconds of one decision, and the number of steps.
+    summary : dict
+        The final value of each of ``SUMMARY_METRICS`` (the paper's run figures).
+    """
+
+    config: ExperimentConfig
+    records: pd.DataFrame
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def summary(self) -> dict:
+        if self.records.empty:
+            return {name: math.nan for name in SUMMARY_METRICS}
+        last = self.records.iloc[-1]
+        return {name: float(last[name]) for name in SUMMARY_METRICS}
+
+    def save(self, directory) -> Path:
+        """Write ``records.csv`` and ``result.json`` (config, summary, timings) atomically.
+
+        ``result.json`` is written last, so its presence marks a complete result.
+        """
+        directory = Path(directory)
+        table = self.records.copy()
+        for column in ("start", "goal"):
+            table[column] = [f"{x} {y}" for x, y in table[column]]
+        atomic_write_text(directory / "records.csv", table.to_csv(index=False))
+        payload = {
+            "config": self.config.to_dict(),
+            "preset": self.config.preset,
+            "summary": self.summary,
+            "timings": self.timings,
+            "sarsp_edu_version": __version__,
+        }
+        atomic_write_text(directory / "result.json", json.dumps(payload, indent=2, allow_nan=True) + "\n")
+        return directory
+
+    @classmethod
+    def load(cls, directory) -> "ExperimentResult":
+        """Read a result written by :meth:`save`."""
+        directory = Path(directory)
+        meta_path, csv_path = directory / "result.json", directory / "records.csv"
+        if not meta_path.exists() or not csv_path.exists():
+            raise FileNotFoundError(f"{directory} holds no complete result (records.csv and result.json)")
+        payload = read_json(meta_path, keys=("config",))
+        try:
+            config = ExperimentConfig.from_dict(payload["config"])
+        except (TypeError, ValueError) as exc:
+            raise StoredResultError(f"{meta_path} holds an invalid config: {exc}") from None
+        records = _read_records(csv_path, config.episodes)
+        return cls(config, records, payload.get("timings", {}))
+
+
+#: records columns that results stored by older versions may lack
+_LATER_COLUMNS = {"final_cells": "0.2.0"}
+#: records columns that may hold NaN (no action was chosen as safe in an episode)
+_NAN_COLUMNS = {"safe_action_variance"}
+
+
+def _read_records(path: Path, episodes: int) -> pd.DataFrame:
+    """``records.csv`` of a stored result, checked row by row; :class:`StoredResultError` names what is wrong."""
+
+    def bad(problem: str):
+        return StoredResultError(f"{path} {problem}")
+
+    try:
+        records = pd.read_csv(path)
+    except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise bad(f"cannot be read ({str(exc).strip()})") from None
+    missing = [c for c in RECORD_COLUMNS if c not in records.columns and c not in _LATER_COLUMNS]
+    if missing:
+        raise bad(f"lacks the columns {missing}")
+    if len(records) != episodes or not np.array_equal(records["episode"], np.arange(1, episodes + 1)):
+        raise bad(f"holds {len(records)} episodes where its config ran {episodes} (was it cut short?)")
+    text_columns = ("start", "goal", "task_completed")
+    for column in records.columns.intersection(list(RECORD_COLUMNS)):
+        if column in text_columns:
+            continue
+        values = pd.to_numeric(records[column], errors="coerce")
+        empty = values.isna() & (records[column].notna() | (column not in _NAN_COLUMNS))
+        if empty.any():
+            row = int(np.flatnonzero(empty.to_numpy())[0]) + 1
+            raise bad(f"has no number in column {column!r} of episode {row}")
+        records[column] = values
+    done = records["task_completed"].astype(str)
+    if not done.isin(["True", "False"]).all():
+        raise bad("has a task_completed value other than True or False")
+    records["task_completed"] = done == "True"
+    for column in ("start", "goal"):
+        cells = []
+        for row, text in enumerate(records[column], start=1):
+            parts = str(text).split()
+            if len(parts) != 2 or not all(part.lstrip("-").isdigit() for part in parts):
+                raise bad(f"has {column}={text!r} in episode {row}, not a cell 'x y'")
+            cells.append((int(parts[0]), int(parts[1])))
+        records[column] = cells
+    return records
+
+
+@dataclass
+class Comparison:
+    """A paired TP-versus-GP comparison.
+
+    Attributes
+    ----------
+    tp, gp : ExperimentResult
+    a : float
+        The TSR threshold used by ``prefers``.
+    """
+
+    tp: ExperimentResult
+    gp: ExperimentResult
+    a: float = DEFINITION_4_A
+
+    @property
+    def verdict(self) -> dict:
+        """Definition 4 in both directions: ``{"tp_preferred": ..., "gp_preferred": ...}``.
+
+        Each is None when a cost rate is undefined (see :func:`cost_rate_undefined`).
+        """
+        return {
+            "tp_preferred": prefers(self.tp.summary, self.gp.summary, self.a),
+            "gp_preferred": prefers(self.gp.summary, self.tp.summary, self.a),
+        }
+
+    @property
+    def differences(self) -> dict:
+        """``(TP - GP) / |GP| * 100`` for each summary metric."""
+        tp, gp = self.tp.summary, self.gp.summary
+        return {name: percent_difference(tp[name], gp[name]) for name in SUMMARY_METRICS}
+
+    def table(self) -> pd.DataFrame:
+        """Summary side by side: TP, GP, % difference and which is better.
+
+        An undefined cost rate (see :func:`cost_rate_undefined`) is NaN here,
+        and ``better`` is then ``"n/a"``.
+        """
+        tp, gp = displayed_summary(self.tp.summary), displayed_summary(self.gp.summary)
+        rows = []
+        for name in SUMMARY_METRICS:
+            rows.append({"metric": name, "TP": tp[name], "GP": gp[name],
+                         "TP vs GP (%)": percent_difference(tp[name], gp[name]),
+                         "better": better_of(name, tp[name], gp[name])})
+        return pd.DataFrame(rows).set_index("metric")
+
+    def save(self, directory) -> Path:
+        """``tp/`` and ``gp/`` result folders (the verdict is recomputed on load)."""
+        directory = Path(directory)
+        self.tp.save(directory / "tp")
+        self.gp.save(directory / "gp")
+        return directory
+
+    @classmethod
+    def load(cls, directory, a: float = DEFINITION_4_A) -> "Comparison":
+        directory = Path(directory)
+        return cls(ExperimentResult.load(directory / "tp"), ExperimentResult.load(directory / "gp"), a)
