@@ -21,12 +21,13 @@ def main(argv=None):
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--episodes", type=int, default=250)
     parser.add_argument("--k-prior", type=int, default=None)
+    parser.add_argument("--preset", default="default")
     args = parser.parse_args(argv)
     changes = {"episodes": args.episodes}
     if args.k_prior is not None:
         changes["k_prior"] = args.k_prior
     start = time.perf_counter()
-    results = run_sweep(ExperimentConfig(**changes), seeds=args.seeds, results_dir=args.out,
+    results = run_sweep(ExperimentConfig.from_preset(args.preset, **changes), seeds=args.seeds, results_dir=args.out,
                         n_jobs=args.jobs, progress=True)
     elapsed = time.perf_counter() - start
     print(f"{len(results)} cells ({2 * len(results)} runs of {args.episodes} episodes), "
