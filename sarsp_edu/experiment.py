@@ -42,7 +42,7 @@ from .metrics import (  # the metrics' names stay importable from here too
     stuck_share,
 )
 from .results import Comparison, ExperimentResult, StoredResultError
-from .sarsp import SARSPAgent
+from .sarsp import Decision, LearnOutcome, SARSPAgent
 
 __all__ = [
     "ExperimentConfig",
@@ -168,10 +168,10 @@ class StepRecord:
     position: tuple
     next_position: tuple
     action: int
-    decision: object
+    decision: Decision
     reward: float
     info: dict
-    outcome: object
+    outcome: LearnOutcome
     done: bool
 
 

@@ -74,8 +74,6 @@ class RBF:
     2.426123
     """
 
-    n_hyperparameters = 2
-
     def __init__(self, amplitude: float = 1.0, length_scale: float = 1.0):
         self.amplitude = check_positive("amplitude", amplitude)
         self.length_scale = check_positive("length_scale", length_scale)

@@ -99,7 +99,10 @@ def running_metrics(episode_reward, episode_cost, episode_steps, task_completed)
 
 
 def percent_difference(tp: float, gp: float) -> float:
-    """``(tp - gp) / |gp| * 100``, the paper's "TP vs GP" percentage (NaN when gp is 0 or either is NaN)."""
+    """``(tp - gp) / |gp| * 100``, the paper's "TP vs GP" percentage.
+
+    0 when both are 0; NaN when only ``gp`` is 0, or when either is NaN.
+    """
     if math.isnan(tp) or math.isnan(gp):
         return math.nan
     if gp == 0:

@@ -19,8 +19,9 @@ At every step the agent
    it.
 
 Where the paper's text and its reference implementation differ, the agent
-follows the reference implementation as ``REFERENCE`` in the docstrings says,
-and the departures are parameters where that is useful.
+follows the reference implementation by default and makes the difference a
+parameter (``prior_draw``, ``k_prior``, ``predictive``, ``retrain``, the fit
+sizes); :class:`SARSPAgent`'s parameters say which is which.
 """
 
 from __future__ import annotations
