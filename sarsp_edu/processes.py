@@ -30,6 +30,7 @@ implementation's MAP fit), with Adam (the paper's optimiser: learning rate
 from __future__ import annotations
 
 import copy
+import inspect
 import math
 import warnings
 
@@ -330,22 +331,49 @@ class _ProcessRegressor:
         self.max_fit_points = max_fit_points
         self.bounds = bounds
         self.rng = rng
-        # Departure from scikit-learn's habit of validating only in ``fit``:
-        # a student who types nu=1.5 should hear about it at once.
+        # The arguments are stored as given (scikit-learn's convention, which
+        # clone() relies on) and checked at once, without changing them: a
+        # student who types nu=1.5 should hear about it here, not in fit.
+        # fit() checks again, after any set_params.
         self._validate_params()
 
-    # -- parameters -------------------------------------------------------
+    # -- parameters (scikit-learn's estimator API, without importing it) --
+    @classmethod
+    def _param_names(cls) -> list[str]:
+        signature = inspect.signature(cls.__init__)
+        return [name for name, p in signature.parameters.items() if name != "self" and p.kind != p.VAR_KEYWORD]
+
+    def get_params(self, deep: bool = True) -> dict:
+        """The constructor's arguments, as given (for ``sklearn.base.clone`` and grid searches)."""
+        return {name: getattr(self, name) for name in self._param_names()}
+
+    def set_params(self, **params):
+        """Set constructor arguments by name; each is checked as the constructor checks it."""
+        valid = self._param_names()
+        unknown = sorted(set(params) - set(valid))
+        if unknown:
+            raise ValueError(f"{type(self).__name__} has no parameters {unknown}; valid parameters are {valid}")
+        old = self.get_params()
+        for name, value in params.items():
+            setattr(self, name, value)
+        try:
+            self._validate_params()
+        except ValueError:
+            for name, value in old.items():
+                setattr(self, name, value)
+            raise
+        return self
+
     def _validate_params(self):
-        if self.kernel is None:
-            self.kernel = RBF()
-        if not isinstance(self.kernel, RBF):
+        """Check every constructor argument; changes none of them."""
+        if self.kernel is not None and not isinstance(self.kernel, RBF):
             raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
-        self.noise_variance = check_positive("noise_variance", self.noise_variance)
+        check_positive("noise_variance", self.noise_variance)
         check_choice("optimizer", self.optimizer, (*OPTIMIZERS, None))
-        self.learning_rate = check_positive("learning_rate", self.learning_rate)
-        self.max_iter = check_int("max_iter", self.max_iter, 1, allow_none=True)
+        check_positive("learning_rate", self.learning_rate)
+        check_int("max_iter", self.max_iter, 1, allow_none=True)
         check_choice("prior", self.prior, PRIORS)
-        self.max_fit_points = check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
+        check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
         try:
             low, high = (float(b) for b in self.bounds)
         except (TypeError, ValueError):
@@ -356,9 +384,12 @@ class _ProcessRegressor:
             raise ValueError(
                 f"bounds must be a pair (low, high) with 0 < low < high, got bounds={self.bounds!r}"
             )
-        self.bounds = (low, high)
         if not isinstance(self.rng, np.random.Generator):
             as_generator(self.rng)  # raises a clear error for anything else
+
+    def _start_kernel(self) -> RBF:
+        """The kernel every fit starts from: ``kernel``, or RBF(1, 1) when it is None."""
+        return RBF() if self.kernel is None else self.kernel
 
     @property
     def hyperparameter_names(self) -> tuple[str, ...]:
@@ -373,7 +404,7 @@ class _ProcessRegressor:
 
     def _initial_theta(self) -> np.ndarray:
         return np.concatenate(
-            [self.kernel.theta, [math.log(self.noise_variance)], self._extra_theta()]
+            [self._start_kernel().theta, [math.log(self.noise_variance)], self._extra_theta()]
         )
 
     def _theta_bounds(self) -> np.ndarray:
@@ -383,7 +414,7 @@ class _ProcessRegressor:
     def _unpack(self, theta):
         """(kernel, noise variance, extra) from log hyperparameters."""
         theta = np.asarray(theta, dtype=float)
-        return self.kernel.clone_with_theta(theta[:2]), math.exp(theta[2]), theta[3:]
+        return self._start_kernel().clone_with_theta(theta[:2]), math.exp(theta[2]), theta[3:]
 
     # -- the mathematics that differs between GP and TP -------------------
     def _lml_terms(self, n, beta, log_det, extra):
@@ -485,6 +516,7 @@ class _ProcessRegressor:
         -------
         self
         """
+        self._validate_params()  # again: set_params may have changed an argument
         X, y = _check_training(X, y)
         theta0 = self._initial_theta()
         if self.optimizer is None:
@@ -537,7 +569,7 @@ class _ProcessRegressor:
             return
         spread = float(np.std(y))
         reach = math.exp(self.learning_rate * steps)
-        start = self.kernel.amplitude
+        start = self._start_kernel().amplitude
         if spread > 0 and not start / (10 * reach) <= spread <= 10 * start * reach:
             warnings.warn(
                 f"{type(self).__name__}.fit: y's standard deviation {spread:.3g} is out of reach of {steps} Adam "
@@ -1021,7 +1053,7 @@ class StudentTProcess(_ProcessRegressor):
 
     def _validate_params(self):
         super()._validate_params()
-        self.nu = check_nu(self.nu)
+        check_nu(self.nu)
         if not isinstance(self.fit_nu, (bool, np.bool_)):
             raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
         check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
@@ -1040,7 +1072,7 @@ class StudentTProcess(_ProcessRegressor):
         return b
 
     def _nu_from(self, extra):
-        return 2.0 + math.exp(extra[0]) if len(extra) else self.nu
+        return 2.0 + math.exp(extra[0]) if len(extra) else float(self.nu)
 
     def _set_extra(self, extra):
         self.nu_ = self._nu_from(extra)

@@ -235,7 +235,8 @@ def test_every_fit_starts_from_the_constructor_values():
     first = model.fit(X, y).theta_.copy()
     second = model.fit(X, y).theta_
     np.testing.assert_array_equal(first, second)
-    assert model.kernel == RBF(1.0, 1.0) and model.noise_variance == 1.0
+    assert model.kernel is None and model.noise_variance == 1.0  # the arguments, untouched by fit
+    assert model.kernel_ != RBF(1.0, 1.0)  # the fitted kernel lives apart
 
 
 def test_fixed_seed_is_deterministic_with_a_subset():
@@ -588,3 +589,40 @@ def test_data_that_overflows_is_refused_by_name(scale, name):
     X = X * (1e200 if name == "X" else 1.0)
     with pytest.raises(ValueError, match=rf"{name} holds values as large as .*overflow float64"):
         GaussianProcess().fit(X, y * scale)
+
+
+# --------------------------------------------------------------------------
+# scikit-learn's estimator API (issue 14, item 6)
+# --------------------------------------------------------------------------
+def test_sklearn_clone_round_trips_the_parameters():
+    from sklearn.base import clone
+
+    for model in (StudentTProcess(nu=5, noise_variance=0.5, bounds=(1e-3, 1e3), max_fit_points=None),
+                  GaussianProcess(RBF(2.0, 0.5), optimizer="lbfgs", rng=3)):
+        copy_ = clone(model)
+        assert type(copy_) is type(model) and copy_ is not model
+        params, copied = model.get_params(), copy_.get_params()
+        assert params.keys() == copied.keys()
+        for name, value in params.items():
+            assert copied[name] == value or (isinstance(value, RBF) and copied[name] == value), name
+    assert StudentTProcess(nu=5).get_params()["nu"] == 5  # stored as given
+    assert StudentTProcess().get_params()["kernel"] is None
+
+
+def test_set_params_checks_and_leaves_a_model_unchanged_on_error():
+    model = StudentTProcess(nu=4.0)
+    assert model.set_params(nu=6.0, learning_rate=0.05) is model and model.nu == 6.0
+    with pytest.raises(ValueError, match=r"nu must be a finite number > 2"):
+        model.set_params(nu=1.5, learning_rate=0.2)
+    assert model.nu == 6.0 and model.learning_rate == 0.05
+    with pytest.raises(ValueError, match=r"has no parameters \['gamma'\]"):
+        model.set_params(gamma=1.0)
+
+
+def test_a_cloned_model_fits_to_the_same_numbers():
+    from sklearn.base import clone
+
+    X, y = _wave()
+    first = StudentTProcess(nu=4.0, rng=0).fit(X, y)
+    second = clone(StudentTProcess(nu=4.0, rng=0)).fit(X, y)
+    assert np.array_equal(first.theta_, second.theta_)
