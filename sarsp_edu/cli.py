@@ -226,7 +226,7 @@ def _tables(args, parser) -> int:
     if args.markdown:
         _check_file(parser, "--markdown", args.markdown)
     try:
-        results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial)
+        results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial, seeds=args.seeds)
         tables = summary_tables(results)
     except StoredResultError as exc:
         parser.error(f"{exc}; rerun the sweep's command, which computes a damaged cell again")
@@ -396,6 +396,8 @@ def build_parser() -> argparse.ArgumentParser:
     tables.add_argument("--markdown", metavar="FILE", help="also write every table as Markdown to FILE")
     tables.add_argument("--allow-partial", action="store_true",
                         help="tabulate a sweep with cells still to run (and list them)")
+    tables.add_argument("--seeds", type=int, nargs="+", metavar="SEED",
+                        help="tabulate only these sweep seeds [default: every seed stored]")
     tables.set_defaults(func=_tables, parser=tables)
 
     ablation = sub.add_parser(

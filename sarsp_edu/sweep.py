@@ -145,7 +145,8 @@ class SweepResults:
         return set(first.tp.records.columns)
 
     @classmethod
-    def load(cls, results_dir, a: float = DEFINITION_4_A, allow_partial: bool = False) -> "SweepResults":
+    def load(cls, results_dir, a: float = DEFINITION_4_A, allow_partial: bool = False,
+             seeds=None) -> "SweepResults":
         """Every cell of a results folder, each checked as it is read.
 
         Parameters
@@ -159,6 +160,9 @@ class SweepResults:
             table never averages over an unnoticed subset.  (Folders written
             before version 0.2.1 hold no such record; their cells are taken
             as the whole sweep.)
+        seeds : sequence of int, optional
+            Read only the cells of these sweep seeds (a sweep still running
+            its later seeds can be read whole for the first).
 
         Raises
         ------
@@ -173,12 +177,16 @@ class SweepResults:
             raise FileNotFoundError(f"{results_dir} is not a sweep results folder (no sweep.json)")
         payload = read_json(meta, keys=("base_config",))
         results = cls(_stored_base(meta, payload), a=a)
+        wanted = None if seeds is None else {int(s) for s in seeds}
         for cell in sorted((results_dir / "cells").glob("m*_p*_nss*_seed*")):
             key = _stored_key(cell)
             if key is None:
                 raise StoredResultError(f"{cell} holds no valid cell.json")
-            results.comparisons[key] = Comparison.load(cell, a=a)
+            if wanted is None or key[3] in wanted:
+                results.comparisons[key] = Comparison.load(cell, a=a)
         expected = {_as_key(key) for key in payload.get("requested", [])}
+        if wanted is not None:
+            expected = {key for key in expected if key[3] in wanted}
         results.missing = sorted(expected - set(results.comparisons))
         if results.missing and not allow_partial:
             first = ", ".join(f"{n}={v:g}" for n, v in zip(_KEY, results.missing[0]))

@@ -331,3 +331,10 @@ def test_tables_say_n_a_where_eq_12_is_undefined():
     assert np.isnan(first.loc[first.model == "GP", "cost_rate"].item())
     assert tables["mean"].loc["cost_rate", "p_c undefined in"] == 1
     assert tables["mean"].loc["total_cost", "p_c undefined in"] == 0
+
+
+def test_load_one_seed_of_a_sweep(sweep_dir):
+    folder, results = sweep_dir
+    first = SweepResults.load(folder, seeds=[0])
+    assert len(first) == 4 and {key[3] for key in first.comparisons} == {0}
+    assert not first.missing
