@@ -153,10 +153,11 @@ def stuck_share(records: pd.DataFrame) -> float:
 
     A greedy agent that pushes into a wall, or steps back and forth between
     two cells, until the step limit (see ``final_cells``).  NaN when no
-    episode failed.
+    episode failed, or for results stored before version 0.2.0, which did
+    not record ``final_cells``.
     """
     failed = ~records["task_completed"].astype(bool)
-    if not failed.any():
+    if not failed.any() or "final_cells" not in records:  # results stored before 0.2.0 lack the column
         return math.nan
     return float((records.loc[failed, "final_cells"] <= 2).mean())
 

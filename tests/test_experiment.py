@@ -336,3 +336,12 @@ def test_configs_stored_by_version_0_1_keep_their_settings():
     assert config.prior_draw == "per_step" and config.retrain == "always" and config.preset == "custom"
     legacy["retrain"] = False
     assert ExperimentConfig.from_dict(legacy).retrain == "never"
+
+
+def test_stuck_share_by_hand_and_for_results_stored_before_it_existed():
+    from sarsp_edu.metrics import stuck_share
+
+    records = pd.DataFrame({"task_completed": [True, False, False, False], "final_cells": [7, 1, 2, 9]})
+    assert stuck_share(records) == pytest.approx(2 / 3)  # of three failures, two ended on <= 2 cells
+    assert np.isnan(stuck_share(records.assign(task_completed=True)))  # no failure
+    assert np.isnan(stuck_share(records.drop(columns="final_cells")))  # stored by 0.1
