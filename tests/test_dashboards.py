@@ -74,12 +74,16 @@ def test_dashboard_draws_and_redraws(factory):
     for image, data in zip(dashboard.images, first):
         assert image.format == "svg+xml" and bytes(data).startswith(b"<?xml")
     name, control = next((n, c) for n, c in dashboard.controls.items() if hasattr(c, "max"))
+    import time
+
+    start = time.perf_counter()
     control.value = control.max
+    elapsed = time.perf_counter() - start
     assert dashboard.message.value == "", dashboard.message.value
     assert dashboard.last_redrawn
     for i in dashboard.last_redrawn:
         assert dashboard.images[i].value != first[i]
-    assert dashboard.last_update_seconds > 0
+    assert 0 < dashboard.last_update_seconds <= elapsed  # the dashboard times the update it made
     assert dashboard.info.value
 
 
@@ -228,12 +232,15 @@ def test_expensive_sliders_update_on_release():
         (gridworld_dashboard, {"n_switch_states": 15, "magnitude": 100.0, "proportion": 0.5}),
     ],
 )
-def test_extreme_values_never_crash(factory, changes):
+def test_extreme_values_are_drawn(factory, changes):
+    # refresh() turns any exception into a message (a dashboard must not crash in class), so the
+    # test asks for more: every extreme corner of the sliders draws, with no message at all
     dashboard = factory()
     for name, value in changes.items():
         dashboard.controls[name].value = value
-    # either drawn, or a message says why; never an exception
-    assert dashboard.message.value == "" or "Could not draw" in dashboard.message.value
+        assert dashboard.message.value == "", (name, value, dashboard.message.value)
+        assert dashboard.last_redrawn and not dashboard._stale
+        assert all(bytes(dashboard.images[i].value).startswith(b"<?xml") for i in dashboard.last_redrawn)
 
 
 def test_a_failing_update_shows_a_message_not_a_traceback():
