@@ -3,7 +3,7 @@ LogNormal(0, 1) priors) on the offline data of one configuration, and show the
 hyperparameters each fit finds:
 
 - the cost model on its whole buffer (~4,700 rows, ~800 distinct inputs: the
-  likelihood folds repeated inputs exactly, see processes._group);
+  likelihood folds repeated inputs exactly, see linalg.group_rows);
 - the reward model on random subsets of 500, 1,000 and 2,000 rows, and on
   the whole buffer (~4,900 distinct rows) with --whole-reward (minutes).
 

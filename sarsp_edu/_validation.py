@@ -94,3 +94,68 @@ def check_switch_states(n_switch_states, n_unsafe: int) -> int:
             f"got n_switch_states={n_switch_states!r}"
         )
     return int(n_switch_states)
+
+
+# -- model data (numpy is imported inside: config, which loads no numerical library, imports this module) --
+#: |values| beyond this overflow float64 once squared (distances, y^T K^-1 y)
+LARGEST = 1e150
+
+
+def check_X(X, name="X", n_features=None):
+    """A finite 2-D float array of model inputs (rows are samples)."""
+    import numpy as np
+
+    X = np.asarray(X, dtype=float)
+    if X.ndim != 2:
+        hint = " (for a single feature use X.reshape(-1, 1))" if X.ndim == 1 else ""
+        raise ValueError(
+            f"{name} must be a 2-D array of shape (n_samples, n_features), "
+            f"got an array of shape {X.shape}{hint}"
+        )
+    if X.shape[0] == 0 or X.shape[1] == 0:
+        raise ValueError(f"{name} must hold at least one sample and one feature, got shape {X.shape}")
+    if n_features is not None and X.shape[1] != n_features:
+        raise ValueError(
+            f"{name} has {X.shape[1]} features but the model was fitted on {n_features}"
+        )
+    if not np.all(np.isfinite(X)):
+        bad = np.argwhere(~np.isfinite(X))[0]
+        raise ValueError(
+            f"{name} must be finite, got {X[tuple(bad)]} at row {bad[0]}, column {bad[1]}"
+        )
+    check_scale(name, X)
+    return X
+
+
+def check_scale(name: str, values) -> None:
+    """Refuse data whose squares would overflow float64."""
+    import numpy as np
+
+    largest = float(np.max(np.abs(values)))
+    if largest > LARGEST:
+        raise ValueError(
+            f"{name} holds values as large as {largest:.3g}, whose squares overflow float64 in the kernel "
+            f"and the likelihood; rescale {name} (divide it by its standard deviation, say)"
+        )
+
+
+def check_training(X, y):
+    """Training inputs and targets, checked against each other."""
+    import numpy as np
+
+    X = check_X(X)
+    y = np.asarray(y, dtype=float)
+    if y.ndim == 2 and y.shape[1] == 1:
+        y = y[:, 0]
+    if y.ndim != 1:
+        raise ValueError(f"y must be a 1-D array of shape (n_samples,), got shape {y.shape}")
+    if y.shape[0] != X.shape[0]:
+        raise ValueError(
+            f"X and y must have the same number of samples, got {X.shape[0]} rows in X "
+            f"and {y.shape[0]} values in y"
+        )
+    if not np.all(np.isfinite(y)):
+        i = int(np.flatnonzero(~np.isfinite(y))[0])
+        raise ValueError(f"y must be finite, got y[{i}]={y[i]}")
+    check_scale("y", y)
+    return X, y

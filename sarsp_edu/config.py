@@ -123,7 +123,7 @@ N_MATCHING = 10
 N_SAMPLES = 150
 #: rows of the cost model's data used for each hyperparameter fit (None: all,
 #: as the reference code; exact and fast, because the ~4,700 rows hold only
-#: ~800 distinct inputs, see processes._group)
+#: ~800 distinct inputs, see linalg.group_rows)
 COST_FIT_POINTS = None
 #: rows drawn at random for the reward model's hyperparameter fit (None: all
 #: ~4,900, as the reference code: 50 steps of a 4,900-point factorisation, about

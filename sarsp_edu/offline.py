@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ._validation import check_fraction, check_int, check_positive
+from ._validation import LARGEST, check_fraction, check_int, check_positive
 from .config import COST_DUPLICATES, REWARD_DUPLICATES
 from .gridworld import ACTIONS, AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY
 from .rng import as_generator
@@ -347,10 +347,10 @@ def inject_outliers(
         raise ValueError("data already holds outliers: inject them into the clean data once")
     largest = max(float(np.max(np.abs(buffer.X), initial=0.0)) + float(np.max(np.abs(buffer.y), initial=0.0))
                   for buffer in (data.cost, data.reward))
-    if not np.isfinite(m * largest) or m * largest > 1e150:
+    if not np.isfinite(m * largest) or m * largest > LARGEST:
         raise ValueError(
             f"magnitude={magnitude!r} times the data's largest value ({largest:.3g}) overflows float64 once the "
-            "models square it; use a magnitude below 1e100 (the paper's are 40, 60 and 80)"
+            f"models square it; use a magnitude below {LARGEST / max(largest, 1.0):.0e} (the paper's are 40, 60 and 80)"
         )
     rng = as_generator(rng)
     N = min(len(data.cost), len(data.reward))

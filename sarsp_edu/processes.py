@@ -25,6 +25,17 @@ fit maximises the log marginal likelihood plus, by default, LogNormal(0, 1)
 log priors on the amplitude, length scale and noise variance (the reference
 implementation's MAP fit), with Adam (the paper's optimiser: learning rate
 0.1, 50 steps) or L-BFGS-B.
+
+How to read it: each row of the table above is one function under "the
+equations" (``gp_log_marginal_likelihood``, ``tp_log_marginal_likelihood``,
+``tp_variance_factor``, ``tp_predictive_variance``); the shared model
+computes the sufficient statistics ``n``, ``beta`` and ``log|K|`` once and
+hands them to four hooks, which :class:`StudentTProcess` overrides under
+the heading "where the TP differs".  The factorisations and solves are in
+:mod:`sarsp_edu.linalg` (fast paths named as such), the two optimisers in
+:mod:`sarsp_edu.optimizers`.  The module stays one file, about 900 lines,
+because it is one idea (one regressor, two likelihoods); half of it is the
+estimators' documentation.
 """
 
 from __future__ import annotations
@@ -35,12 +46,22 @@ import math
 import warnings
 
 import numpy as np
-from scipy import optimize, special, stats
-from scipy.linalg import lapack as _lapack
+from scipy import special, stats
 
-from ._validation import check_choice, check_int, check_nu, check_positive
+from ._validation import check_choice, check_int, check_nu, check_positive, check_training, check_X
 from .config import ADAM_STEPS, LEARNING_RATE, NOISE_CONVENTIONS, OPTIMIZERS, PRIORS
 from .kernels import RBF, squared_distances
+from .linalg import (
+    GroupedRows,
+    cholesky,
+    cholesky_with_jitter,
+    group_rows,
+    inverse_from_cholesky,
+    solve_cholesky,
+    solve_lower,
+    trace_of_product,
+)
+from .optimizers import adam, lbfgs
 from .rng import as_generator, draw_subset
 
 __all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "ConvergenceWarning"]
@@ -56,246 +77,71 @@ class ConvergenceWarning(UserWarning):
     """The hyperparameter search did not reach an optimum (it ended on a bound, or out of reach of the data's scale)."""
 
 
-#: |values| beyond this overflow float64 once squared (distances, y^T K^-1 y)
-_LARGEST = 1e150
-
-
 # --------------------------------------------------------------------------
-# validation helpers
+# the equations where the TP differs from the GP, one function each
+# (the models below call them; their inputs are the sufficient statistics
+# n, beta = y^T K^-1 y and log|K| of the training data)
 # --------------------------------------------------------------------------
-def _check_X(X, name="X", n_features=None):
-    X = np.asarray(X, dtype=float)
-    if X.ndim != 2:
-        hint = " (for a single feature use X.reshape(-1, 1))" if X.ndim == 1 else ""
-        raise ValueError(
-            f"{name} must be a 2-D array of shape (n_samples, n_features), "
-            f"got an array of shape {X.shape}{hint}"
-        )
-    if X.shape[0] == 0 or X.shape[1] == 0:
-        raise ValueError(f"{name} must hold at least one sample and one feature, got shape {X.shape}")
-    if n_features is not None and X.shape[1] != n_features:
-        raise ValueError(
-            f"{name} has {X.shape[1]} features but the model was fitted on {n_features}"
-        )
-    if not np.all(np.isfinite(X)):
-        bad = np.argwhere(~np.isfinite(X))[0]
-        raise ValueError(
-            f"{name} must be finite, got {X[tuple(bad)]} at row {bad[0]}, column {bad[1]}"
-        )
-    _check_scale(name, X)
-    return X
+def gp_log_marginal_likelihood(n: int, beta: float, log_det: float) -> float:
+    """GP: ``log N(y; 0, K) = -beta/2 - log|K|/2 - n/2 log(2 pi)`` (Rasmussen & Williams eq. 2.30)."""
+    return -0.5 * beta - 0.5 * log_det - 0.5 * n * _LOG_2PI
 
 
-def _check_scale(name: str, values: np.ndarray) -> None:
-    largest = float(np.max(np.abs(values)))
-    if largest > _LARGEST:
-        raise ValueError(
-            f"{name} holds values as large as {largest:.3g}, whose squares overflow float64 in the kernel "
-            f"and the likelihood; rescale {name} (divide it by its standard deviation, say)"
-        )
+def tp_log_marginal_likelihood(n: int, beta: float, log_det: float, nu: float) -> float:
+    """TP: the multivariate t density of y with ``nu`` dof and covariance ``K`` (Shah et al. 2014, eq. 3).
 
-
-def _check_training(X, y):
-    X = _check_X(X)
-    y = np.asarray(y, dtype=float)
-    if y.ndim == 2 and y.shape[1] == 1:
-        y = y[:, 0]
-    if y.ndim != 1:
-        raise ValueError(f"y must be a 1-D array of shape (n_samples,), got shape {y.shape}")
-    if y.shape[0] != X.shape[0]:
-        raise ValueError(
-            f"X and y must have the same number of samples, got {X.shape[0]} rows in X "
-            f"and {y.shape[0]} values in y"
-        )
-    if not np.all(np.isfinite(y)):
-        i = int(np.flatnonzero(~np.isfinite(y))[0])
-        raise ValueError(f"y must be finite, got y[{i}]={y[i]}")
-    _check_scale("y", y)
-    return X, y
-
-
-def _potrf(K: np.ndarray):
-    """LAPACK Cholesky (lower), or None if ``K`` is not positive definite.
-
-    LAPACK is called directly: on the agent's 110 x 110 matrices scipy's
-    wrappers cost more than the factorisation itself.
+    ``-n/2 log((nu-2) pi) - log|K|/2 + log G((nu+n)/2) - log G(nu/2)
+    - (nu+n)/2 log(1 + beta/(nu-2))``.
     """
-    L, info = _lapack.dpotrf(K, lower=1, clean=1)
-    return L if info == 0 else None
-
-
-def cho_solve(L: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Solve ``K x = b`` given the lower Cholesky factor ``L`` of ``K``."""
-    x, info = _lapack.dpotrs(L, b, lower=1)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"LAPACK dpotrs failed with info={info}")
-    return x
-
-
-def solve_lower(L: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """Solve ``L X = B`` for lower-triangular ``L``."""
-    X, info = _lapack.dtrtrs(L, B, lower=1)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"LAPACK dtrtrs failed with info={info}")
-    return X
-
-
-class _Groups:
-    """Training data with repeated inputs folded together (exact, see :func:`_group`).
-
-    Attributes: ``X`` the distinct inputs (G, d) in order of first
-    appearance, ``counts`` (G,), ``mean`` the mean target of each distinct
-    input (G,), ``rss`` the sum of squared deviations of the targets from
-    their input's mean, ``n`` the number of rows.
-    """
-
-    __slots__ = ("X", "counts", "mean", "rss", "n")
-
-    def __init__(self, X, counts, mean, rss, n):
-        self.X, self.counts, self.mean, self.rss, self.n = X, counts, mean, rss, n
-
-    def beta_and_log_det(self, L: np.ndarray, alpha: np.ndarray, s2: float) -> tuple:
-        """``y^T K^-1 y`` and ``log|K|`` of all the rows, from the factor ``L`` of ``A`` and ``alpha = A^-1 ybar``."""
-        G = self.counts.shape[0]
-        beta = self.rss / s2 + float(self.mean @ alpha)
-        log_det = (2.0 * float(np.sum(np.log(np.diag(L)))) + (self.n - G) * math.log(s2)
-                   + float(np.sum(np.log(self.counts))))
-        return beta, log_det
-
-
-def _group(X: np.ndarray, y: np.ndarray) -> _Groups:
-    """Fold rows with equal inputs into (distinct input, count, mean target) and a residual sum.
-
-    With ``n_g`` copies of input ``u_g``, ``K = Z K(U, U) Z^T + s2 I`` (``Z``
-    the n x G indicator matrix).  On the span of ``Z``'s columns the
-    covariance is ``N^1/2 K(U, U) N^1/2 + s2 I`` (``N = diag(n_g)``), and on
-    its orthogonal complement ``s2 I``.  Hence, exactly,
-
-    - ``y^T K^-1 y = rss / s2 + ybar^T A^-1 ybar`` and
-    - ``log|K| = (n - G) log s2 + sum log n_g + log|A|``,
-
-    with ``A = K(U, U) + s2 N^-1``, a G x G matrix: the likelihood of all
-    n rows costs a factorisation of the distinct inputs' size.  The
-    predictive distribution is that of the group means with noise
-    ``s2 / n_g``.  With distinct inputs ``A = K`` and nothing changes.
-    """
-    n = X.shape[0]
-    keyed = np.ascontiguousarray(X + 0.0)  # + 0.0 folds -0.0 into 0.0
-    keys = keyed.view(np.dtype((np.void, keyed.dtype.itemsize * keyed.shape[1]))).ravel()
-    _, first, inverse, counts = np.unique(keys, return_index=True, return_inverse=True, return_counts=True)
-    if first.shape[0] == n:
-        return _Groups(X, np.ones(n), y, 0.0, n)
-    order = np.argsort(first)  # groups in order of first appearance
-    rank = np.empty_like(order)
-    rank[order] = np.arange(order.shape[0])
-    group_of_row = rank[inverse.reshape(-1)]
-    counts = counts[order].astype(float)
-    mean = np.bincount(group_of_row, weights=y, minlength=order.shape[0]) / counts
-    rss = float(np.sum((y - mean[group_of_row]) ** 2))
-    return _Groups(X[first[order]], counts, mean, rss, n)
-
-
-def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
-    """Lower Cholesky factor of ``K``, adding diagonal jitter if needed.
-
-    Tries ``K`` as it is, then ``K + j I`` with ``j`` = 1e-10, 1e-9, ... times
-    the mean of the diagonal.  Returns ``(L, jitter)``; raises
-    ``numpy.linalg.LinAlgError`` with advice when every try fails.
-    """
-    if not np.all(np.isfinite(np.diag(K))):
-        raise np.linalg.LinAlgError(
-            "the covariance matrix has a non-finite diagonal; check the hyperparameters and the data for overflow"
-        )
-    L = _potrf(K)
-    if L is not None:
-        return L, 0.0
-    scale = float(np.mean(np.diag(K)))
-    if not scale > 0:
-        raise np.linalg.LinAlgError(
-            f"the covariance matrix has a non-positive diagonal (mean {scale}); check the hyperparameters"
-        )
-    jitter = 0.0
-    for k in range(max_tries):
-        jitter = scale * 10.0 ** (k - 10)
-        Kj = K.copy()
-        Kj.flat[:: K.shape[0] + 1] += jitter
-        L = _potrf(Kj)
-        if L is not None:
-            return L, jitter
-    raise np.linalg.LinAlgError(
-        f"the covariance matrix is not positive definite even with a diagonal jitter of "
-        f"{jitter:.3g}: increase noise_variance, or remove duplicated inputs with "
-        "conflicting targets"
+    return float(
+        -0.5 * n * math.log((nu - 2.0) * math.pi)
+        - 0.5 * log_det
+        + special.gammaln(0.5 * (nu + n))
+        - special.gammaln(0.5 * nu)
+        - 0.5 * (nu + n) * math.log1p(beta / (nu - 2.0))
     )
 
 
-def _inverse_lower_from_cholesky(L: np.ndarray, overwrite: bool = False) -> np.ndarray:
-    """The lower triangle of ``K^-1`` (zeros above) from the lower Cholesky factor of ``K``.
+def tp_likelihood_weight(n: int, beta: float, nu: float) -> float:
+    """The weight ``w = (nu + n) / (nu - 2 + beta)`` on ``alpha alpha^T`` in the TP's gradient (the GP's is 1).
 
-    LAPACK potri: about three times cheaper than solving against the
-    identity.  ``L`` comes from :func:`_potrf` with zeros above the diagonal,
-    and potri keeps them, so no triangle needs clearing or mirroring.  With
-    ``overwrite`` the inverse replaces ``L`` in its memory.
+    Both models' gradients with respect to a kernel hyperparameter ``t`` are
+    ``0.5 tr((w alpha alpha^T - K^-1) dK/dt)``, ``alpha = K^-1 y``.
     """
-    K_inv, info = _lapack.dpotri(L, lower=1, overwrite_c=1 if overwrite else 0)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"LAPACK dpotri failed with info={info}")
-    return K_inv
+    return (nu + n) / (nu - 2.0 + beta)
 
 
-def _trace_product(lower: np.ndarray, S: np.ndarray) -> float:
-    """``tr(A S) = sum(A * S)`` for symmetric ``A`` given as its lower triangle, symmetric ``S``."""
-    return 2.0 * float(np.vdot(lower, S)) - float(np.dot(np.diag(lower), np.diag(S)))
-
-
-# --------------------------------------------------------------------------
-# optimisers (minimise f(theta) -> (value, gradient))
-# --------------------------------------------------------------------------
-def _adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, epsilon=1e-7):
-    """Adam as TensorFlow/Keras implements it, projected onto ``bounds``.
-
-    Returns the last iterate and the objective value at each step's start.
-    """
-    theta = np.array(theta0, dtype=float)
-    m = np.zeros_like(theta)
-    v = np.zeros_like(theta)
-    trace = []
-    for t in range(1, n_steps + 1):
-        value, grad = fun(theta)
-        trace.append(value)
-        m += (grad - m) * (1.0 - beta_1)
-        v += (grad * grad - v) * (1.0 - beta_2)
-        step = learning_rate * math.sqrt(1.0 - beta_2**t) / (1.0 - beta_1**t)
-        theta = np.clip(theta - step * m / (np.sqrt(v) + epsilon), bounds[:, 0], bounds[:, 1])
-    trace.append(fun(theta)[0])
-    return theta, trace, n_steps
-
-
-def _lbfgs(fun, theta0, bounds, max_iter, scale):
-    """L-BFGS-B on ``fun / scale``.
-
-    L-BFGS-B starts from an identity Hessian, so its first step is as long as
-    the gradient; with a likelihood summed over hundreds of points that
-    throws the search onto the corner of ``bounds`` (seen with the TP, whose
-    likelihood is numerically flat there).  Dividing by the number of points
-    leaves the optimum where it is and keeps the first step O(1) in log space.
-    """
-    options = {} if max_iter is None else {"maxiter": max_iter}
-
-    def scaled(theta):
-        value, grad = fun(theta)
-        return value / scale, grad / scale
-
-    start = fun(theta0)[0]
-    result = optimize.minimize(
-        scaled, theta0, method="L-BFGS-B", jac=True, bounds=bounds, options=options
+def tp_log_marginal_likelihood_dnu(n: int, beta: float, nu: float) -> float:
+    """d/d nu of :func:`tp_log_marginal_likelihood`."""
+    return (
+        -0.5 * n / (nu - 2.0)
+        + 0.5 * special.digamma(0.5 * (nu + n))
+        - 0.5 * special.digamma(0.5 * nu)
+        - 0.5 * math.log1p(beta / (nu - 2.0))
+        + 0.5 * (nu + n) * beta / ((nu - 2.0) * (nu - 2.0 + beta))
     )
-    if not result.success:
-        warnings.warn(
-            f"L-BFGS-B stopped before converging: {result.message}", RuntimeWarning, stacklevel=4
-        )
-    return result.x, [start, float(result.fun) * scale], int(result.nit)
 
+
+def tp_variance_factor(n: int, beta: float, nu: float) -> float:
+    """``(nu + beta - 2) / (nu + n - 2)``: the TP's factor on the GP's predictive variance.
+
+    Paper eq. 6 with Shah et al.'s ``beta``, which uses the *training*
+    covariance.  It exceeds 1 exactly when ``beta > n``; under the model
+    ``E[beta] = n``.
+    """
+    return (nu + beta - 2.0) / (nu + n - 2.0)
+
+
+def tp_predictive_variance(latent, factor: float, noise, convention: str):
+    """The TP's predictive variance from the GP's latent variance and the noise.
+
+    ``"shah"``: ``factor * (latent + noise)``, the noise is part of the
+    process (Shah et al. 2014); ``"tfp"``: ``factor * latent + noise``
+    (TensorFlow Probability, which the paper's reference code used).
+    """
+    if convention == "shah":
+        return factor * (latent + noise)
+    return factor * latent + noise
 
 # --------------------------------------------------------------------------
 # the shared model
@@ -394,29 +240,27 @@ class _ProcessRegressor:
     @property
     def hyperparameter_names(self) -> tuple[str, ...]:
         """Names of the entries of ``theta`` (log hyperparameters)."""
-        return self._base_names + self._extra_names()
-
-    def _extra_names(self) -> tuple[str, ...]:
-        return ()
-
-    def _extra_theta(self) -> list[float]:
-        return []
+        return self._base_names + tuple(name for name, _, _ in self._extra_hyperparameters())
 
     def _initial_theta(self) -> np.ndarray:
-        return np.concatenate(
-            [self._start_kernel().theta, [math.log(self.noise_variance)], self._extra_theta()]
-        )
+        extra = [start for _, start, _ in self._extra_hyperparameters()]
+        return np.concatenate([self._start_kernel().theta, [math.log(self.noise_variance)], extra])
 
     def _theta_bounds(self) -> np.ndarray:
-        b = np.log(self.bounds)
-        return np.tile(b, (len(self.hyperparameter_names), 1))
+        b = np.tile(np.log(self.bounds), (len(self._base_names), 1))
+        extra = [bounds for _, _, bounds in self._extra_hyperparameters()]
+        return np.vstack([b, *extra]) if extra else b
 
     def _unpack(self, theta):
         """(kernel, noise variance, extra) from log hyperparameters."""
         theta = np.asarray(theta, dtype=float)
         return self._start_kernel().clone_with_theta(theta[:2]), math.exp(theta[2]), theta[3:]
 
-    # -- the mathematics that differs between GP and TP -------------------
+    # -- where the TP differs: the GP's versions here, the TP's in StudentTProcess --
+    def _extra_hyperparameters(self) -> list:
+        """Log hyperparameters beyond the kernel's and the noise: ``(name, start, (low, high))`` each."""
+        return []
+
     def _lml_terms(self, n, beta, log_det, extra):
         """Log marginal likelihood from its sufficient statistics.
 
@@ -424,7 +268,21 @@ class _ProcessRegressor:
         marginal likelihood with respect to a kernel hyperparameter ``t`` is
         ``0.5 * tr((w alpha alpha^T - K^-1) dK/dt)``.
         """
-        raise NotImplementedError
+        return gp_log_marginal_likelihood(n, beta, log_det), 1.0, np.empty(0)
+
+    def _predictive_scale(self, n, beta) -> tuple[float, float]:
+        """The factor on the latent variance, and the predictive distribution's degrees of freedom.
+
+        GP: 1 and infinity (a normal).
+        """
+        return 1.0, math.inf
+
+    def _predictive_variance(self, latent, factor, noise):
+        """Predictive variance from the latent variance (GP: ``factor`` is 1 and unused)."""
+        return latent + noise
+
+    def _set_extra(self, extra) -> None:
+        """Keep the fitted extra hyperparameters (GP: none)."""
 
     # -- objective ---------------------------------------------------------
     def _log_prior(self, theta):
@@ -441,12 +299,12 @@ class _ProcessRegressor:
         grad[:3] = -1.0 - t
         return float(np.sum(-t - 0.5 * t * t - 0.5 * _LOG_2PI)), grad
 
-    def _lml_from_distances(self, theta, D2, data: _Groups, eval_gradient, work=None):
+    def _lml_from_distances(self, theta, D2, data: GroupedRows, eval_gradient, work=None):
         """Log marginal likelihood (and gradient) at ``theta`` of grouped data.
 
         ``D2`` holds the squared distances between the distinct inputs
         ``data.X``; the value is exactly that of all ``data.n`` rows (see
-        :func:`_group`).  ``work`` is an optional (3, G, G) workspace reused
+        :func:`~sarsp_edu.linalg.group_rows`).  ``work`` is an optional (3, G, G) workspace reused
         across a fit's steps: the kernel is written into it and factorised
         in place.
         """
@@ -458,30 +316,25 @@ class _ProcessRegressor:
         else:
             K = kernel.from_squared_distances(D2, out=work)
         K.flat[:: G + 1] += noise
-        L = None
-        if work is not None:
-            # K is symmetric: its transpose is the same matrix in Fortran order,
-            # which LAPACK factorises in place.
-            factor, info = _lapack.dpotrf(K.T, lower=1, clean=1, overwrite_a=1)
-            if info == 0:
-                L = factor
-            else:  # rare: rebuild K (the failed attempt overwrote it) and add jitter
+        # the fast path: factorise K in the workspace, without checks
+        L = cholesky(K, overwrite=True) if work is not None else None
+        if L is None:  # rare: rebuild K (a failed fast attempt overwrote it) and add jitter
+            if work is not None:
                 K = kernel.from_squared_distances(D2)
                 K.flat[:: G + 1] += noise
-        if L is None:
             L, _ = cholesky_with_jitter(K)
         # Rasmussen & Williams Alg. 2.1, line 3, on the group means: alpha = A^-1 ybar
-        alpha = cho_solve(L, data.mean)
+        alpha = solve_cholesky(L, data.mean)
         beta, log_det = data.beta_and_log_det(L, alpha, s2)
         value, w, extra_grad = self._lml_terms(n, beta, log_det, extra)
         if not eval_gradient:
             return value
         # R&W eq. 5.9, generalised: dL/dt = 0.5 (w alpha^T dK/dt alpha - tr(A^-1 dK/dt))
-        K_inv_lower = _inverse_lower_from_cholesky(L, overwrite=work is not None)
+        K_inv_lower = inverse_from_cholesky(L, overwrite=work is not None)
         grad = np.empty(3 + len(extra))
         for j in range(dK.shape[2]):
             dK_j = dK[:, :, j]
-            grad[j] = 0.5 * (w * float(alpha @ (dK_j @ alpha)) - _trace_product(K_inv_lower, dK_j))
+            grad[j] = 0.5 * (w * float(alpha @ (dK_j @ alpha)) - trace_of_product(K_inv_lower, dK_j))
         # d beta / d log s2 = -rss / s2 - s2 alpha^T N^-1 alpha;
         # d log|K| / d log s2 = (n - G) + s2 tr(A^-1 N^-1)
         inv_counts = 1.0 / data.counts
@@ -517,7 +370,7 @@ class _ProcessRegressor:
         self
         """
         self._validate_params()  # again: set_params may have changed an argument
-        X, y = _check_training(X, y)
+        X, y = check_training(X, y)
         theta0 = self._initial_theta()
         if self.optimizer is None:
             theta, trace, n_iter = theta0, [], 0
@@ -533,7 +386,7 @@ class _ProcessRegressor:
                 )
             idx = draw_subset(X.shape[0], self.max_fit_points, self.rng)
             self.fit_indices_ = idx
-            data = _group(X[idx], y[idx])  # repeated inputs folded, exactly
+            data = group_rows(X[idx], y[idx])  # repeated inputs folded, exactly
             D2 = squared_distances(data.X)
             work = np.empty((3,) + D2.shape)  # one workspace for every step of this fit
 
@@ -544,9 +397,9 @@ class _ProcessRegressor:
             if self.optimizer == "adam":
                 steps = ADAM_STEPS if self.max_iter is None else self.max_iter
                 self._warn_out_of_reach(y, steps)
-                theta, trace, n_iter = _adam(negative, theta0, bounds, self.learning_rate, steps)
+                theta, trace, n_iter = adam(negative, theta0, bounds, self.learning_rate, steps)
             else:
-                theta, trace, n_iter = _lbfgs(negative, theta0, bounds, self.max_iter, len(idx))
+                theta, trace, n_iter = lbfgs(negative, theta0, bounds, self.max_iter, len(idx))
             trace = [-v for v in trace]
             self._warn_on_bounds(theta, bounds)
         self.theta_ = np.asarray(theta, dtype=float)
@@ -595,17 +448,14 @@ class _ProcessRegressor:
                 stacklevel=3,
             )
 
-    def _set_extra(self, extra):
-        pass
-
     def _condition_on(self, X, y):
         """Cholesky factor and weights for the current hyperparameters.
 
-        Rows with equal inputs are folded together first (:func:`_group`):
+        Rows with equal inputs are folded together first (:func:`~sarsp_edu.linalg.group_rows`):
         the factor is then of the distinct inputs' size, and every quantity
         is exactly that of all the rows.
         """
-        data = _group(X, y)
+        data = group_rows(X, y)
         G = data.counts.shape[0]
         K = self.kernel_.from_squared_distances(squared_distances(data.X))
         K.flat[:: G + 1] += self.noise_variance_ / data.counts
@@ -623,20 +473,17 @@ class _ProcessRegressor:
         self.L_ = L
         self.jitter_ = jitter
         # Alg. 2.1, line 3, on the group means
-        self.alpha_ = cho_solve(L, data.mean)
+        self.alpha_ = solve_cholesky(L, data.mean)
         self.beta_, log_det = data.beta_and_log_det(L, self.alpha_, self.noise_variance_)
-        self.log_marginal_likelihood_value_, _, _ = self._lml_terms(
-            data.n, self.beta_, log_det, self._fitted_extra()
-        )
+        self.log_marginal_likelihood_value_, _, _ = self._lml_terms(data.n, self.beta_, log_det, self.theta_[3:])
+        # every row counts, repeated inputs too
+        self.variance_scale_, self.df_ = self._predictive_scale(data.n, self.beta_)
         if not (np.all(np.isfinite(self.alpha_)) and np.isfinite(self.log_marginal_likelihood_value_)):
             raise FloatingPointError(
                 f"{type(self).__name__} produced non-finite weights on this data "
                 f"(kernel_={self.kernel_!r}, noise_variance_={self.noise_variance_:.3g}); "
                 "rescale the targets or increase noise_variance"
             )
-
-    def _fitted_extra(self):
-        return np.empty(0)
 
     def condition(self, X, y):
         """A copy of this fitted model conditioned on other data, hyperparameters kept.
@@ -650,7 +497,7 @@ class _ProcessRegressor:
         model : same type as ``self``, fitted
         """
         self._check_fitted()
-        X, y = _check_training(X, y)
+        X, y = check_training(X, y)
         if X.shape[1] != self.X_train_.shape[1]:
             raise ValueError(
                 f"X has {X.shape[1]} features but the model was fitted on {self.X_train_.shape[1]}"
@@ -715,19 +562,18 @@ class _ProcessRegressor:
             both = kernel.from_squared_distances(squared_distances(np.concatenate([X_b, X_query[b]]), X_b))
             K, K_star = both[:n], both[n:]  # (n, n) and (q, n)
             K.flat[:: n + 1] += s2
-            L = _potrf(K)
+            L = cholesky(K)  # the fast path
             if L is None:
                 L, _ = cholesky_with_jitter(K)
             rhs = np.empty((n, q + 1))
             rhs[:, 0] = y_b
             rhs[:, 1:] = K_star.T
-            solved = cho_solve(L, rhs)  # K^-1 [y, k*]
+            solved = solve_cholesky(L, rhs)  # K^-1 [y, k*]
             # paper eq. 4 and eq. 5 (Alg. 2.1, lines 4-6)
             mean[b] = K_star @ solved[:, 0]
             latent = np.maximum(prior_var - np.einsum("qn,nq->q", K_star, solved[:, 1:]), 0.0)
-            factor = self._variance_factor(float(y_b @ solved[:, 0]), n)
-            var[b] = self._scaled(latent, factor, s2 if include_noise else 0.0)
-            df[b] = self._predictive_df(n)
+            factor, df[b] = self._predictive_scale(n, float(y_b @ solved[:, 0]))
+            var[b] = self._predictive_variance(latent, factor, s2 if include_noise else 0.0)
         return mean, var, df
 
     def _check_fitted(self):
@@ -759,7 +605,7 @@ class _ProcessRegressor:
         cov : ndarray of shape (m, m), if ``return_cov``
         """
         self._check_fitted()
-        X = _check_X(X, n_features=self.X_train_.shape[1])
+        X = check_X(X, n_features=self.X_train_.shape[1])
         K_trans = self.kernel_.from_squared_distances(squared_distances(X, self.X_unique_))
         # paper eq. 4; Alg. 2.1, line 4
         mean = K_trans @ self.alpha_
@@ -779,20 +625,7 @@ class _ProcessRegressor:
 
     def _scale(self, latent, include_noise, noise_shape):
         noise = self.noise_variance_ * noise_shape if include_noise else 0.0
-        return self._scaled(latent, getattr(self, "variance_scale_", 1.0), noise)
-
-    # -- the mathematics that differs, at prediction ----------------------
-    def _scaled(self, latent, factor, noise):
-        """Predictive variance from the latent variance (GP: ``factor`` is 1 and unused)."""
-        return latent + noise
-
-    def _variance_factor(self, beta, n):
-        """The factor on the GP's predictive variance after conditioning on ``n`` rows (GP: 1)."""
-        return 1.0
-
-    def _predictive_df(self, n):
-        """Degrees of freedom of the predictive distribution (GP: infinite, a normal)."""
-        return math.inf
+        return self._predictive_variance(latent, self.variance_scale_, noise)
 
     def log_marginal_likelihood(self, theta=None, eval_gradient: bool = False):
         """Log marginal likelihood of the training data.
@@ -830,7 +663,7 @@ class _ProcessRegressor:
             )
         if not np.all(np.isfinite(theta)):
             raise ValueError(f"theta must be finite, got theta={theta}")
-        data = _group(self.X_train_, self.y_train_)
+        data = group_rows(self.X_train_, self.y_train_)
         return self._lml_from_distances(theta, squared_distances(data.X), data, eval_gradient)
 
     def predictive_distribution(self, X, include_noise: bool = True):
@@ -850,7 +683,11 @@ class _ProcessRegressor:
         the TP, with the variances that ``predict`` returns.
         """
         mean, var = self.predict(X, return_var=True, include_noise=include_noise)
-        return self._marginal(mean, var)
+        df = self.df_
+        if math.isinf(df):
+            return stats.norm(loc=mean, scale=np.sqrt(var))
+        # a Student-t with df dof and scale s has variance s^2 df / (df - 2)
+        return stats.t(df=df, loc=mean, scale=np.sqrt(var * (df - 2.0) / df))
 
     def sample_y(self, X, n_samples: int = 1, rng=None, include_noise: bool = False):
         """Draw functions from the posterior predictive.
@@ -873,10 +710,12 @@ class _ProcessRegressor:
         mean, cov = self.predict(X, return_cov=True, include_noise=include_noise)
         L, _ = cholesky_with_jitter(cov)
         z = L @ rng.standard_normal((len(mean), n_samples))
-        return mean[:, None] + self._sample_scale(rng, n_samples) * z
-
-    def _sample_scale(self, rng, n_samples):
-        return 1.0
+        df = self.df_
+        if math.isinf(df):
+            return mean[:, None] + z
+        # y = mean + sqrt((df - 2) / W) z, W ~ chi2(df), z ~ N(0, cov): a
+        # multivariate t with covariance cov (Shah et al.'s parameterisation)
+        return mean[:, None] + np.sqrt((df - 2.0) / rng.chisquare(df, size=n_samples))[None, :] * z
 
     def __repr__(self) -> str:
         fitted = "fitted" if hasattr(self, "L_") else "not fitted"
@@ -960,12 +799,6 @@ class GaussianProcess(_ProcessRegressor):
     ((3,), True)
     """
 
-    def _lml_terms(self, n, beta, log_det, extra):
-        # R&W eq. 2.30
-        return -0.5 * beta - 0.5 * log_det - 0.5 * n * _LOG_2PI, 1.0, np.empty(0)
-
-    def _marginal(self, mean, var):
-        return stats.norm(loc=mean, scale=np.sqrt(var))
 
 
 class StudentTProcess(_ProcessRegressor):
@@ -1058,18 +891,10 @@ class StudentTProcess(_ProcessRegressor):
             raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
         check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
 
-    def _extra_names(self):
-        return ("log_nu_minus_2",) if self.fit_nu else ()
-
-    def _extra_theta(self):
-        return [math.log(self.nu - 2.0)] if self.fit_nu else []
-
-    def _theta_bounds(self):
-        b = super()._theta_bounds()
-        if self.fit_nu:
-            # nu - 2 in [1e-3, 1e8]: from very heavy tails to practically Gaussian
-            b[3] = np.log([1e-3, 1e8])
-        return b
+    # -- where the TP differs (the GP's versions are in _ProcessRegressor) --
+    def _extra_hyperparameters(self):
+        # nu - 2 in [1e-3, 1e8]: from very heavy tails to practically Gaussian
+        return [("log_nu_minus_2", math.log(self.nu - 2.0), np.log([1e-3, 1e8]))] if self.fit_nu else []
 
     def _nu_from(self, extra):
         return 2.0 + math.exp(extra[0]) if len(extra) else float(self.nu)
@@ -1077,63 +902,21 @@ class StudentTProcess(_ProcessRegressor):
     def _set_extra(self, extra):
         self.nu_ = self._nu_from(extra)
 
-    def _fitted_extra(self):
-        return np.array([math.log(self.nu_ - 2.0)]) if self.fit_nu else np.empty(0)
-
     def _lml_terms(self, n, beta, log_det, extra):
         nu = self._nu_from(extra)
-        # Shah et al. 2014, eq. 3 (covariance parameterisation)
-        log1p_term = math.log1p(beta / (nu - 2.0))
-        value = (
-            -0.5 * n * math.log((nu - 2.0) * math.pi)
-            - 0.5 * log_det
-            + special.gammaln(0.5 * (nu + n))
-            - special.gammaln(0.5 * nu)
-            - 0.5 * (nu + n) * log1p_term
-        )
-        # d/dK of -(nu+n)/2 log(1 + beta/(nu-2)) gives the weight on alpha alpha^T
-        w = (nu + n) / (nu - 2.0 + beta)
-        if len(extra):
-            dnu = (
-                -0.5 * n / (nu - 2.0)
-                + 0.5 * special.digamma(0.5 * (nu + n))
-                - 0.5 * special.digamma(0.5 * nu)
-                - 0.5 * log1p_term
-                + 0.5 * (nu + n) * beta / ((nu - 2.0) * (nu - 2.0 + beta))
-            )
-            extra_grad = np.array([dnu * (nu - 2.0)])  # chain rule: nu = 2 + exp(t)
+        value = tp_log_marginal_likelihood(n, beta, log_det, nu)
+        w = tp_likelihood_weight(n, beta, nu)
+        if len(extra):  # chain rule: nu = 2 + exp(t)
+            extra_grad = np.array([tp_log_marginal_likelihood_dnu(n, beta, nu) * (nu - 2.0)])
         else:
             extra_grad = np.empty(0)
-        return float(value), w, extra_grad
+        return value, w, extra_grad
 
-    def _condition_on(self, X, y):
-        super()._condition_on(X, y)
-        n = y.shape[0]  # every row counts, repeated inputs too
-        self.variance_scale_ = self._variance_factor(self.beta_, n)
-        self.df_ = self._predictive_df(n)
+    def _predictive_scale(self, n, beta):
+        return tp_variance_factor(n, beta, self.nu_), self.nu_ + n
 
-    def _variance_factor(self, beta, n):
-        # paper eq. 6 with Shah et al.'s beta (training covariance)
-        return (self.nu_ + beta - 2.0) / (self.nu_ + n - 2.0)
-
-    def _predictive_df(self, n):
-        return self.nu_ + n
-
-    def _scaled(self, latent, factor, noise):
-        if self.noise_convention == "shah":
-            return factor * (latent + noise)
-        return factor * latent + noise
-
-    def _marginal(self, mean, var):
-        df = self.df_
-        # a Student-t with df dof and scale s has variance s^2 df / (df - 2)
-        return stats.t(df=df, loc=mean, scale=np.sqrt(var * (df - 2.0) / df))
-
-    def _sample_scale(self, rng, n_samples):
-        # y = mean + sqrt((df - 2) / W) z, W ~ chi2(df), z ~ N(0, cov): a
-        # multivariate t with covariance cov (Shah et al.'s parameterisation)
-        df = self.df_
-        return np.sqrt((df - 2.0) / rng.chisquare(df, size=n_samples))[None, :]
+    def _predictive_variance(self, latent, factor, noise):
+        return tp_predictive_variance(latent, factor, noise, self.noise_convention)
 
     def __repr__(self) -> str:
         return super().__repr__().replace("(kernel=", f"(nu={self.nu:.4g}, kernel=", 1)

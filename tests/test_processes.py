@@ -192,11 +192,10 @@ def test_gradients_match_finite_differences(dataset, model):
 def test_prior_gradient_matches_finite_differences():
     X, y = make_data(0, n=15, d=2)
     from sarsp_edu.kernels import squared_distances
-
-    from sarsp_edu.processes import _group
+    from sarsp_edu.linalg import group_rows
 
     model = StudentTProcess(optimizer=None).fit(X, y)
-    data = _group(X, y)
+    data = group_rows(X, y)
     D2 = squared_distances(data.X)
     theta = np.array([0.3, -0.2, -1.0])
     _, grad = model._log_joint(theta, D2, data)
@@ -438,12 +437,12 @@ def repeated_rows(seed, n_distinct=40, max_copies=12):
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
 def test_grouped_likelihood_and_gradient_equal_the_expanded_rows(model_cls):
     from sarsp_edu.kernels import squared_distances
-    from sarsp_edu.processes import _group, _Groups
+    from sarsp_edu.linalg import GroupedRows, group_rows
 
     X, y = repeated_rows(0)
-    grouped = _group(X, y)
+    grouped = group_rows(X, y)
     assert len(grouped.counts) < len(X) / 3  # the folding does something here
-    plain = _Groups(X, np.ones(len(X)), y, 0.0, len(X))  # every row on its own: the textbook path
+    plain = GroupedRows.ungrouped(X, y)  # every row on its own: the textbook path
     model = model_cls(optimizer=None).fit(X, y)
     for theta in (np.array([0.3, -0.2, -1.0]), np.array([1.2, 0.5, -3.0]), np.array([-0.5, 1.0, 0.7])):
         v_g, g_g = model._lml_from_distances(theta, squared_distances(grouped.X), grouped, True)
@@ -480,17 +479,17 @@ def test_grouped_model_equals_scipy_density_and_predicts_as_the_expanded_rows(mo
 
 def test_fit_on_repeated_rows_equals_fit_on_the_expanded_rows():
     """Adam's path is the same whether the likelihood is folded or not."""
-    from sarsp_edu.processes import _Groups
     import sarsp_edu.processes as processes
+    from sarsp_edu.linalg import GroupedRows
 
     X, y = repeated_rows(2, n_distinct=25)
     folded = StudentTProcess(max_iter=10).fit(X, y)
-    original = processes._group
+    original = processes.group_rows
     try:
-        processes._group = lambda X, y: _Groups(X, np.ones(len(X)), y, 0.0, len(X))
+        processes.group_rows = GroupedRows.ungrouped
         expanded = StudentTProcess(max_iter=10).fit(X, y)
     finally:
-        processes._group = original
+        processes.group_rows = original
     np.testing.assert_allclose(folded.theta_, expanded.theta_, rtol=1e-8)
     np.testing.assert_allclose(folded.objective_trace_, expanded.objective_trace_, rtol=1e-9)
 
