@@ -779,6 +779,10 @@ class GaussianProcess(_ProcessRegressor):
         (with distinct inputs, ``K^-1 y``).
     beta_ : float
         ``y^T K^-1 y`` over all the training rows.
+    variance_scale_ : float
+        1.0: the factor the TP puts on the latent variance, which the GP does not.
+    df_ : float
+        ``inf``: the predictive distribution is a normal (the TP's has ``nu_ + n`` dof).
     log_marginal_likelihood_value_ : float
     objective_trace_ : ndarray
         The log joint (likelihood + prior) on the fit subset during the search.
