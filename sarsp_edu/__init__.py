@@ -9,7 +9,9 @@ The layout, lowest layer first (a module imports only from those above it):
   loads no numerical library.
 - ``rng``: seeds to generators, uniform row subsets.
 - ``kernels``: the RBF kernel and its gradient.
-- ``processes``: GP and TP regression in closed form, their fits.
+- ``linalg``: Cholesky factors and solves, repeated rows folded exactly.
+- ``optimizers``: Adam (the paper's) and L-BFGS-B.
+- ``processes``: GP and TP regression in closed form: the equations, the fits.
 - ``tails``: the densities' tail limits in sympy (paper section 3.3).
 - ``gridworld``: the safe gridworld (a Gymnasium environment) and its shift.
 - ``offline``: the models' inputs, the training sets, offline data, outliers.
@@ -21,8 +23,13 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``tables``: the paper's Tables 1-4 and their statistics.
 - ``ablation``: the comparison under several settings.
 - ``paper``: the paper's published numbers, for comparison only.
-- ``demos``, ``plotting``, ``widgets``: the tutorials' computations, drawings
-  and dashboards.
+- ``demos``: the tutorials' computations (GP and TP on 1-D data, the world
+  and its data as an experiment prepares them).
+- ``plotting``: matplotlib drawings, ``plot_*(ax, data)``, no state.
+- ``markup``: the same pictures as SVG and HTML strings, for live redraws.
+- ``dashboard``: the redraw framework (``Dashboard``, ``Panel``, sliders).
+- ``widgets``: the dashboards of tutorials 1-3 (and ``agent_dashboard``).
+- ``live``: tutorial 4's live TP-versus-GP dashboard.
 - ``cli``: the ``sarsp-edu`` command.
 - ``_io``, ``_validation``, ``_threads``, ``_version``: atomic files and
   stored-result errors, argument checks, BLAS threads, the version.

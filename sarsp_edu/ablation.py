@@ -32,7 +32,14 @@ from .config import PRESETS, ExperimentConfig
 from .metrics import backup_share
 from .sweep import SweepResults, run_sweep
 
-__all__ = ["ABLATION_SETTINGS", "ABLATION_CELLS", "AblationResults", "run_ablation", "setting_config"]
+__all__ = [
+    "ABLATION_CELLS",
+    "ABLATION_SETTINGS",
+    "AblationResults",
+    "run_ablation",
+    "setting_config",
+    "setting_folder",
+]
 
 #: the three configurations of the measurements in the reproduction issue: mild, middle, severe
 ABLATION_CELLS = ((40.0, 0.2, 2), (60.0, 0.3, 6), (80.0, 0.4, 10))
@@ -65,7 +72,8 @@ def setting_config(setting: dict, **changes) -> ExperimentConfig:
     return ExperimentConfig.from_preset(preset, **{**setting, **changes})
 
 
-def _slug(name: str) -> str:
+def setting_folder(name: str) -> str:
+    """The folder, inside an ablation's results, of the setting called ``name``."""
     return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")[:80]
 
 
@@ -160,7 +168,7 @@ def _write_meta(folder: Path, settings: dict, cells, seeds, episodes: int, comma
     meta = folder / "ablation.json"
     design = {"cells": [[float(m), float(p), int(nss)] for m, p, nss in cells], "seeds": [int(s) for s in seeds],
               "episodes": int(episodes)}
-    entries = {name: {"folder": _slug(name), "changes": dict(s)} for name, s in settings.items()}
+    entries = {name: {"folder": setting_folder(name), "changes": dict(s)} for name, s in settings.items()}
     payload = {**design, "settings": {}, "commands": [], "sarsp_edu_version": __version__}
     if meta.exists():
         stored = json.loads(meta.read_text(encoding="utf-8"))
@@ -232,6 +240,6 @@ def run_ablation(
     for name, config in configs.items():
         results.sweeps[name] = run_sweep(
             config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,
-            results_dir=None if folder is None else folder / _slug(name),
+            results_dir=None if folder is None else folder / setting_folder(name),
         )
     return results

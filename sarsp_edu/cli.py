@@ -7,6 +7,9 @@ Examples::
     sarsp-edu sweep --jobs 2 --out results/paper
     sarsp-edu tables results/paper
     sarsp-edu info
+
+One file of about 450 lines, one idea: the command's parser, the checks on
+its paths made before any work, and the one-line errors and interruptions.
 """
 
 from __future__ import annotations
@@ -283,10 +286,10 @@ def _ablation(args, parser) -> int:
     if args.out:
         from pathlib import Path
 
-        from .ablation import _slug
+        from .ablation import setting_folder
 
         keys = {(float(m), float(p), int(nss), int(seed)) for seed in args.seeds for m, p, nss in cells}
-        args.stored = [(Path(args.out) / _slug(name), keys) for name in settings]
+        args.stored = [(Path(args.out) / setting_folder(name), keys) for name in settings]
     command = "sarsp-edu " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if args.record_command else None
     try:
         results = run_ablation(settings, cells=cells, seeds=args.seeds, episodes=args.episodes,

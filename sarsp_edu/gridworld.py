@@ -2,9 +2,11 @@
 
 The agent walks an ``n x n`` grid from a random start to a random goal while
 avoiding unsafe cells.  After the offline phase, ``shift`` moves some of the
-unsafe cells: the covariate shift of the paper.  The module also builds the
-model inputs both SARSP models use, so that the agent and the offline data
-never duplicate that logic.
+unsafe cells: the covariate shift of the paper.  The models' inputs are
+built from its observations in :mod:`sarsp_edu.offline`; this module knows
+nothing of the models.  It is one idea, the environment (its rules, its
+placement of unsafe states that cannot fail below the stated capacity, its
+shift and its renderings), and so stays one file of about 500 lines.
 
 Coordinates are ``(x, y)`` with ``x`` the column and ``y`` the row; ``y``
 grows downwards (``DOWN`` is ``(0, +1)``), as in the reference code.

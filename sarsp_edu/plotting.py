@@ -18,8 +18,8 @@ __all__ = [
     "plot_posterior",
     "plot_variances",
     "plot_outlier_scatter",
-    "gridworld_svg",
-    "decision_table_html",
+    "plot_live_metrics",
+    "plot_tail_ratio_comparison",
     "METRIC_LABELS",
     "COLOURS",
 ]
@@ -239,6 +239,33 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
     return ax
 
 
+def plot_live_metrics(axes, records, metrics):
+    """Running metrics of a TP and a GP run, one Axes per metric (tutorial 4's live dashboard).
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib Axes, one per metric
+    records : dict
+        ``{"tp": frame, "gp": frame}``, each the per-episode records of a run
+        (``Experiment.records()``), which may be empty.
+    metrics : sequence of str
+        Columns of the records.
+    """
+    for ax, metric in zip(axes, metrics):
+        for model in ("tp", "gp"):
+            frame = records[model]
+            if len(frame):
+                ax.plot(frame["episode"], frame[metric], color=COLOURS[model], lw=2,
+                        marker="o" if len(frame) < 15 else None, ms=3, label=model.upper())
+        ax.set_title(metric.replace("_", " "), fontsize=10)
+        ax.set_xlabel("episode", fontsize=9)
+        ax.tick_params(labelsize=8)
+        ax.grid(alpha=0.3)
+    if axes[0].lines:
+        axes[0].legend(fontsize=8, frameon=False)
+    return axes
+
+
 def plot_macro(ax, frame, *, metric: str, title: str | None = None):
     """A metric averaged over outlier settings, against nss, TP beside GP (Figures 8-9).
 
@@ -293,6 +320,16 @@ def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = 
             label += f" (limit λ^(-1-ν) = {limit:.3g})"
         ax.plot(data["x_t"], data["student_t"][nu], color=colour, lw=2, label=label)
     _finish(ax, "x", f"f({data['lam']:g} x) / f(x)", title or f"Student-t ratio, lambda = {data['lam']:g}")
+    return ax
+
+
+def plot_tail_ratio_comparison(ax, data, nu: float):
+    """The Student-t ratio for one nu beside the Gaussian's, on a log scale (tutorial 1's dashboard)."""
+    plot_tail_ratios(ax, data, title="Karamata ratio f(λx)/f(x)")
+    ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, ls=":", label="Gaussian")
+    log_scale(ax)
+    ax.set_ylim(max(data["limits"][nu] / 100, 1e-30), 1.5)
+    ax.legend(fontsize=8, frameon=False)
     return ax
 
 
@@ -388,85 +425,3 @@ def plot_outlier_scatter(ax, world, *, title: str | None = None):
         handle.set_sizes([20])
     ax.set_title(title or f"cost-model data: {len(world['outlier_rows'])} of {len(y)} rows are outliers")
     return ax
-
-
-# --------------------------------------------------------------------------
-# SVG drawings for the live dashboard: microseconds per frame, drawn by the browser
-# --------------------------------------------------------------------------
-_ACTION_ARROWS = ("→", "↓", "←", "↑")
-
-
-def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, title: str = "") -> str:
-    """The world as an SVG string: unsafe states, moved states, S_u, path, agent, goal.
-
-    The same picture as :func:`plot_gridworld`, cheap enough to redraw at
-    every agent step.
-    """
-    n = layout.size
-    size = n * cell
-    top = 22 if title else 0
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{size + 2}" height="{size + 2 + top}" '
-             f'viewBox="-1 {-1 - top} {size + 2} {size + 2 + top}" font-family="sans-serif">']
-    if title:
-        parts.append(f'<text x="{size / 2}" y="-7" text-anchor="middle" font-size="13">{title}</text>')
-    parts.append(f'<rect x="0" y="0" width="{size}" height="{size}" fill="#fafafa" stroke="#999"/>')
-    for k in range(1, n):
-        parts.append(f'<line x1="{k * cell}" y1="0" x2="{k * cell}" y2="{size}" stroke="{COLOURS["grid"]}"/>')
-        parts.append(f'<line x1="0" y1="{k * cell}" x2="{size}" y2="{k * cell}" stroke="{COLOURS["grid"]}"/>')
-    moved = {int(i) for i in layout.moved}
-    for ox, oy in layout.moved_from:
-        parts.append(f'<rect x="{ox * cell + 3}" y="{oy * cell + 3}" width="{cell - 6}" height="{cell - 6}" '
-                     f'fill="none" stroke="{COLOURS["unsafe"]}" stroke-dasharray="3,2"/>')
-    for i, (x, y) in enumerate(layout.unsafe_states):
-        stroke = 'stroke="black" stroke-width="2"' if i in moved else ""
-        parts.append(f'<rect x="{x * cell + 2}" y="{y * cell + 2}" width="{cell - 4}" height="{cell - 4}" '
-                     f'fill="{COLOURS["unsafe"]}" {stroke}/>')
-    half = cell / 2
-    for (x, y), action in unsafe_pairs:
-        dx, dy = ACTION_MOVES[int(action)]
-        cx, cy = x * cell + half, y * cell + half
-        parts.append(f'<line x1="{cx + dx * 4}" y1="{cy + dy * 4}" x2="{cx + dx * (half - 2)}" '
-                     f'y2="{cy + dy * (half - 2)}" stroke="{COLOURS["unsafe"]}" stroke-width="4"/>')
-    if trajectory is not None and len(trajectory) > 1:
-        points = " ".join(f"{x * cell + half},{y * cell + half}" for x, y in trajectory)
-        parts.append(f'<polyline points="{points}" fill="none" stroke="{COLOURS["path"]}" stroke-width="3" '
-                     'stroke-opacity="0.8"/>')
-    if layout.start is not None:
-        sx, sy = layout.start
-        parts.append(f'<circle cx="{sx * cell + half}" cy="{sy * cell + half}" r="{cell * 0.3}" fill="white" '
-                     f'stroke="{COLOURS["start"]}" stroke-width="3"/>')
-    if layout.goal is not None:
-        gx, gy = layout.goal
-        parts.append(f'<text x="{gx * cell + half}" y="{gy * cell + half + 7}" text-anchor="middle" '
-                     f'font-size="{int(cell * 0.8)}" fill="{COLOURS["goal"]}">★</text>')
-    if layout.agent is not None:
-        ax_, ay = layout.agent
-        parts.append(f'<circle cx="{ax_ * cell + half}" cy="{ay * cell + half}" r="{cell * 0.22}" '
-                     f'fill="{COLOURS["agent"]}" stroke="white" stroke-width="2"/>')
-    parts.append("</svg>")
-    return "".join(parts)
-
-
-def decision_table_html(decision, d: float, variance_threshold: float) -> str:
-    """Algorithm 1's view of one decision: per-action predictions, S_u, safe set, the choice."""
-    if decision is None:
-        return "<i>no decision yet</i>"
-    rows = []
-    for a in range(4):
-        known = bool(decision.known_unsafe[a])
-        safe = bool(decision.safe[a])
-        chosen = a == decision.action
-        status = "in S_u" if known else ("safe" if safe else "not safe")
-        style = "font-weight:bold;background:#e8f1fa" if chosen else ""
-        rows.append(
-            f'<tr style="{style}"><td>{_ACTION_ARROWS[a]}</td><td>{decision.mu_cost[a]:.2f}</td>'
-            f"<td>{decision.var_cost[a]:.3g}</td><td>{decision.mu_reward[a]:.2f}</td><td>{status}</td></tr>"
-        )
-    rule = "backup: no action safe, highest reward" if decision.backup else "safe action with the highest reward"
-    return (
-        '<table style="font-size:12px;border-collapse:collapse" cellpadding="2">'
-        "<tr><th>a</th><th>cost μ</th><th>cost σ²</th><th>reward μ</th><th>status</th></tr>"
-        + "".join(rows)
-        + f'</table><div style="font-size:12px">safe ⇔ σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
-        f"chosen: {_ACTION_ARROWS[decision.action]} ({rule})</div>"
-    )

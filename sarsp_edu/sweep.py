@@ -1,10 +1,11 @@
 """The paper's experiment grid: m x p x nss (x seeds), each cell a paired TP-vs-GP run.
 
 ``run_sweep`` runs the cells locally (joblib processes) or on a Dask cluster,
-storing each finished cell in a results folder as soon as it finishes;
-``summary_tables`` turns the results into the paper's Tables 1-4 plus the
-statistics a single run per configuration cannot give (bootstrap intervals,
-a paired Wilcoxon signed-rank test).
+storing each finished cell in a results folder as soon as it finishes, and
+``SweepResults`` reads a folder back, checking every file.  The tables
+(:func:`sarsp_edu.tables.summary_tables`, re-exported here) are in
+:mod:`sarsp_edu.tables`.  Running and reading back a sweep are one idea, the
+stored grid, and stay one file of about 450 lines.
 
 Each cell's seed is derived from the sweep seed and the cell's (m, p, nss),
 never from the order in which cells run, so the numbers do not depend on how

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from sarsp_edu import demos, plotting
+from sarsp_edu import demos, markup, plotting
 from sarsp_edu.widgets import Dashboard, gridworld_dashboard, posterior_dashboard, tail_decay_dashboard
 
 
@@ -59,6 +59,24 @@ def test_compute_world():
     np.testing.assert_array_equal(world["dirty"]["X"][rows], 40 * world["clean"]["X"][rows])
     again = demos.compute_world(seed=1, n_switch_states=0, magnitude=40, proportion=0.2, offline_episodes=10)
     np.testing.assert_array_equal(again["after"].unsafe_states, world["before"].unsafe_states)
+
+
+def test_the_dashboards_seed_is_the_experiments_seed():
+    """Seed 3 in tutorial 3's dashboard is the world, data, outliers and shift of a run with seed 3."""
+    from sarsp_edu.experiment import ExperimentConfig, prepare
+
+    world = demos.compute_world(seed=3, n_switch_states=6, magnitude=60, proportion=0.3, offline_episodes=10)
+    config = ExperimentConfig(seed=3, n_switch_states=6, outlier_magnitude=60.0, outlier_proportion=0.3,
+                              offline_episodes=10)
+    prepared = prepare(config)
+    np.testing.assert_array_equal(world["after"].unsafe_states, prepared.env.unsafe_states)
+    np.testing.assert_array_equal(world["before"].unsafe_states, prepared.layout_before.unsafe_states)
+    np.testing.assert_array_equal(world["dirty"]["X"], prepared.data.cost.X)
+    np.testing.assert_array_equal(world["dirty"]["y"], prepared.data.cost.y)
+    np.testing.assert_array_equal(world["outlier_rows"], prepared.data.outlier_indices)
+    # a second call with other sliders reuses the cached world and leaves it unshifted
+    again = demos.compute_world(seed=3, n_switch_states=0, magnitude=60, proportion=0.3, offline_episodes=10)
+    np.testing.assert_array_equal(again["after"].unsafe_states, prepared.layout_before.unsafe_states)
 
 
 # --------------------------------------------------------------------------
@@ -398,13 +416,13 @@ def test_svg_and_table_drawings():
 
     env = SafeGridWorld(seed=0)
     env.shift(2, rng=0)
-    svg = plotting.gridworld_svg(env.layout(), trajectory=[(0, 0), (1, 0)], unsafe_pairs=[((1, 0), 1)], title="t")
+    svg = markup.gridworld_svg(env.layout(), trajectory=[(0, 0), (1, 0)], unsafe_pairs=[((1, 0), 1)], title="t")
     assert svg.count('stroke-dasharray="3,2"') == 2  # the two cells states moved away from
     assert svg.count(f'fill="{plotting.COLOURS["unsafe"]}"') == 15
     decision = Decision((0, 0), np.array([2.0, 0.5, 3, 1]), np.array([0.1, 0.1, 2, 0.5]), np.zeros(4),
                         np.zeros(4), np.array([False, False, False, True]), np.array([True, False, False, False]),
                         0, False)
-    table = plotting.decision_table_html(decision, 1.0, 0.8)
+    table = markup.decision_table_html(decision, 1.0, 0.8)
     assert table.count("<tr") == 5 and "in S_u" in table and "safe action with the highest reward" in table
 
 
