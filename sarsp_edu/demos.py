@@ -7,16 +7,14 @@ Each ``compute_*`` returns plain data (dicts of arrays and numbers) that a
 
 from __future__ import annotations
 
-import copy
 from functools import lru_cache
 
 import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
-from .config import GRID_SIZE, N_UNSAFE, OFFLINE_EPISODES
-from .gridworld import SafeGridWorld
+from .config import GRID_SIZE, N_UNSAFE, OFFLINE_EPISODES, ExperimentConfig
+from .experiment import offline_world, prepare
 from .kernels import RBF
-from .offline import collect_offline_data, inject_outliers
 from .processes import GaussianProcess, StudentTProcess
 from .rng import as_generator
 
@@ -137,19 +135,20 @@ def compute_nu_path(nus, magnitude: float = 40.0, proportion: float = 0.1, seed:
 
 
 @lru_cache(maxsize=8)
-def _world_and_data(seed: int, offline_episodes: int, size: int, n_unsafe: int):
-    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(2)[1])
-    env = SafeGridWorld(size=size, n_unsafe=n_unsafe, seed=seed)
-    data = collect_offline_data(env, offline_episodes, rng=rng)
-    return env, data
+def _offline_world(seed: int, offline_episodes: int, size: int, n_unsafe: int):
+    config = ExperimentConfig(seed=seed, offline_episodes=offline_episodes, grid_size=size, n_unsafe=n_unsafe)
+    return offline_world(config)
 
 
 def compute_world(seed: int = 0, n_switch_states: int = 6, magnitude: float = 40.0, proportion: float = 0.2,
                   offline_episodes: int = OFFLINE_EPISODES, size: int = GRID_SIZE, n_unsafe: int = N_UNSAFE):
     """The world before and after the shift, the offline data's coverage and its outliers.
 
-    The world and its offline data are cached per seed, so moving the nss,
-    m or p sliders only redoes the shift and the injection.
+    Built by :func:`sarsp_edu.experiment.prepare`, as an experiment builds
+    them: seed 0 here is the world, the data, the outliers and the shift of
+    ``ExperimentConfig(seed=0, ...)`` in a run, a sweep and tutorial 4.  The
+    world and its offline data are cached per seed, so moving the nss, m or
+    p sliders only redoes the injection and the shift.
 
     Returns
     -------
@@ -161,14 +160,15 @@ def compute_world(seed: int = 0, n_switch_states: int = 6, magnitude: float = 40
     """
     seed = check_int("seed", seed, 0)
     offline_episodes = check_int("offline_episodes", offline_episodes, 1)
-    env, data = _world_and_data(seed, offline_episodes, size, n_unsafe)
-    dirty = inject_outliers(data, magnitude, proportion, rng=seed)
-    shifted = copy.deepcopy(env)  # the cached world stays unshifted
-    before = shifted.layout()
-    moved = shifted.shift(n_switch_states, rng=seed)
+    config = ExperimentConfig(seed=seed, offline_episodes=offline_episodes, grid_size=size, n_unsafe=n_unsafe,
+                              n_switch_states=n_switch_states, outlier_magnitude=magnitude,
+                              outlier_proportion=proportion)
+    prepared = prepare(config, offline=_offline_world(seed, offline_episodes, size, n_unsafe))
+    data, dirty, before = prepared.clean_data, prepared.data, prepared.layout_before
+    moved = prepared.env.moved_indices
     return {
         "before": before,
-        "after": shifted.layout(),
+        "after": prepared.env.layout(),
         "moved": moved,
         "visits": data.visits,
         "transitions": data.transitions,
