@@ -30,6 +30,7 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``dashboard``: the redraw framework (``Dashboard``, ``Panel``, sliders).
 - ``widgets``: the dashboards of tutorials 1-3 (and ``agent_dashboard``).
 - ``live``: tutorial 4's live TP-versus-GP dashboard.
+- ``exercises``: the tutorials' exercises, each checked against the package.
 - ``cli``: the ``sarsp-edu`` command.
 - ``_io``, ``_validation``, ``_threads``, ``_version``: atomic files and
   stored-result errors, argument checks, BLAS threads, the version.

@@ -24,18 +24,13 @@ from .metrics import (
     displayed_summary,
     percent_difference,
     prefers,
+    symmetric_percent_difference,
 )
 
 if TYPE_CHECKING:
     from .sweep import SweepResults
 
-__all__ = ["summary_tables", "tables_markdown", "frame_to_markdown"]
-
-
-def _symmetric_percent(a: float, b: float) -> float:
-    """|a - b| / ((a + b) / 2) * 100: Table 1's "% difference" in total cost."""
-    mean = (a + b) / 2
-    return 0.0 if a == b else (abs(a - b) / abs(mean) * 100 if mean else math.nan)
+__all__ = ["beside_paper", "frame_to_markdown", "summary_tables", "tables_markdown"]
 
 
 def _paper_mode(values: np.ndarray) -> float:
@@ -113,7 +108,7 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
             verdict = "n/a (p_c undefined)"
         else:
             verdict = "TP > GP" if tp_first else ("GP > TP" if gp_first else "neither")
-        diff = _symmetric_percent(tp["total_cost"], gp["total_cost"])
+        diff = symmetric_percent_difference(tp["total_cost"], gp["total_cost"])
         for row, label in ((tp, "TP"), (gp, "GP")):
             shown = displayed_summary(row)
             rows.append({"m": m, "p": p, "nss": nss, "model": label,
@@ -222,3 +217,26 @@ def tables_markdown(tables: dict, title: str = "sarsp_edu sweep: the paper's tab
     for key, frame in tables.items():
         parts += [f"## {_TABLE_TITLES.get(key, key)}", "", frame_to_markdown(frame), ""]
     return "\n".join(parts)
+
+
+def beside_paper(ours: pd.DataFrame, published: dict) -> pd.DataFrame:
+    """Our Table 2, 3 or 4 beside the paper's, one row per metric.
+
+    Parameters
+    ----------
+    ours : DataFrame
+        ``summary_tables(...)["mean"]``, ``["median"]`` or ``["mode"]``.
+    published : dict
+        ``{metric: (TP, GP)}``, e.g. ``sarsp_edu.paper.TABLE2``.
+
+    Returns
+    -------
+    DataFrame with columns ``ours TP``, ``ours GP``, ``ours %``, ``paper TP``,
+    ``paper GP``, ``paper %`` (``%``: TP against GP, the paper's convention).
+    """
+    rows = []
+    for metric, (paper_tp, paper_gp) in published.items():
+        rows.append({"metric": metric, "ours TP": ours.loc[metric, "TP"], "ours GP": ours.loc[metric, "GP"],
+                     "ours %": ours.loc[metric, "% change"], "paper TP": paper_tp, "paper GP": paper_gp,
+                     "paper %": percent_difference(paper_tp, paper_gp)})
+    return pd.DataFrame(rows).set_index("metric")

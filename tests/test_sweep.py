@@ -176,11 +176,11 @@ def test_tables_by_hand(sweep_dir):
 
 
 def test_table1_uses_definition_4_and_the_symmetric_difference():
-    from sarsp_edu.tables import _symmetric_percent
+    from sarsp_edu.metrics import symmetric_percent_difference
 
-    assert _symmetric_percent(28, 58) == pytest.approx(69.77, abs=0.01)  # the paper's 69.8%
-    assert _symmetric_percent(31, 58) == pytest.approx(60.67, abs=0.01)  # and 60.7%
-    assert _symmetric_percent(5, 5) == 0.0
+    assert symmetric_percent_difference(28, 58) == pytest.approx(69.77, abs=0.01)  # the paper's 69.8%
+    assert symmetric_percent_difference(31, 58) == pytest.approx(60.67, abs=0.01)  # and 60.7%
+    assert symmetric_percent_difference(5, 5) == 0.0
 
 
 def test_mode_is_scipys_rule():
