@@ -12,10 +12,8 @@ Examples
 >>> from sarsp_edu.exercises import check
 >>> check("1.1", ...)
 Exercise 1.1: not answered yet; replace ... with your answer.
-False
 >>> check("1.1", 0.5)
 Exercise 1.1: not yet. Use eq. 8: the limit is lambda**(-1 - nu).
-False
 """
 
 from __future__ import annotations
@@ -24,7 +22,7 @@ import math
 from dataclasses import dataclass
 from collections.abc import Callable
 
-__all__ = ["EXERCISES", "Exercise", "check"]
+__all__ = ["EXERCISES", "Exercise", "check", "is_right"]
 
 
 @dataclass(frozen=True)
@@ -269,27 +267,35 @@ EXERCISES: dict[str, Exercise] = {
     ),
 }
 
-def check(exercise: str, answer, **context) -> bool:
-    """Say whether ``answer`` to ``exercise`` is right; return True if it is.
+def is_right(exercise: str, answer, **context) -> bool:
+    """Whether ``answer`` to ``exercise`` is right (silent; :func:`check` says so in words).
 
     Parameters
     ----------
     exercise : str
         ``"tutorial.number"``, e.g. ``"1.1"``.
     answer : object
-        The student's answer; ``...`` (Ellipsis) means not answered yet.
+        The student's answer; ``...`` (Ellipsis) is never right.
     **context
         Objects of the notebook some checks need (named in the exercise).
     """
     if exercise not in EXERCISES:
         raise ValueError(f"exercise must be one of {sorted(EXERCISES)}, got exercise={exercise!r}")
+    return answer is not Ellipsis and bool(EXERCISES[exercise].is_right(answer, **context))
+
+
+def check(exercise: str, answer, **context) -> None:
+    """Say whether ``answer`` to ``exercise`` is right: with why if it is, a hint if not.
+
+    Takes the arguments of :func:`is_right`; prints one line and returns
+    nothing, so that a notebook cell shows only the verdict.
+    """
+    right = is_right(exercise, answer, **context)
     item = EXERCISES[exercise]
     if answer is Ellipsis:
         print(f"Exercise {exercise}: not answered yet; replace ... with your answer.")
-        return False
-    if item.is_right(answer, **context):
+    elif right:
         explanation = item.explanation() if callable(item.explanation) else item.explanation
         print(f"Exercise {exercise}: right. {explanation}")
-        return True
-    print(f"Exercise {exercise}: not yet. {item.hint}")
-    return False
+    else:
+        print(f"Exercise {exercise}: not yet. {item.hint}")

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from sarsp_edu.exercises import EXERCISES, check
+from sarsp_edu.exercises import EXERCISES, check, is_right
 from sarsp_edu.sarsp import Decision
 
 #: a right and a wrong answer to each exercise, worked out here by hand
@@ -34,11 +34,14 @@ def gp_like_decision():
 @pytest.mark.parametrize("exercise", sorted(ANSWERS))
 def test_right_wrong_and_missing_answers(exercise, capsys):
     right, wrong = ANSWERS[exercise]
-    assert check(exercise, right) is True
+    assert is_right(exercise, right) is True
+    check(exercise, right)
     assert "right." in capsys.readouterr().out
-    assert check(exercise, wrong) is False
+    assert is_right(exercise, wrong) is False
+    check(exercise, wrong)
     assert "not yet." in capsys.readouterr().out
-    assert check(exercise, ...) is False
+    assert is_right(exercise, ...) is False
+    check(exercise, ...)
     assert "not answered yet" in capsys.readouterr().out
 
 
@@ -49,16 +52,16 @@ def test_the_nu_that_doubles_the_variance():
 
     X, y, _ = regression_data(n=40, magnitude=10.0, proportion=0.1, seed=0)
     beta = StudentTProcess(RBF(1.5, 0.5), nu=3.0, noise_variance=0.5, optimizer=None).fit(X, y).beta_
-    assert check("2.1", beta - 2 * 40 + 2) is True
-    assert check("2.1", beta - 40 + 2) is False
-    assert check("2.1", 1.5) is False  # not a valid nu
+    assert is_right("2.1", beta - 2 * 40 + 2) is True
+    assert is_right("2.1", beta - 40 + 2) is False
+    assert is_right("2.1", 1.5) is False  # not a valid nu
 
 
 def test_the_gps_safe_set_needs_its_decision():
     decision = gp_like_decision()
-    assert check("4.1", [0, 1], decision=decision) is True  # variance <= 10 and distance >= 1
-    assert check("4.1", [0, 1, 3], decision=decision) is False
-    assert check("4.1", [], decision=decision) is False
+    assert is_right("4.1", [0, 1], decision=decision) is True  # variance <= 10 and distance >= 1
+    assert is_right("4.1", [0, 1, 3], decision=decision) is False
+    assert is_right("4.1", [], decision=decision) is False
     with pytest.raises(ValueError, match="decision="):
         check("4.1", [0, 1])
 
@@ -70,7 +73,7 @@ def test_every_exercise_is_tested_and_unknown_ones_are_refused():
 
 
 def test_text_and_wrong_types_are_wrong_not_errors():
-    assert check("1.1", "1/32") is False
-    assert check("3.1", 50.0) is False  # a count is an integer
-    assert check("3.2", "right right down") is False
-    assert check("2.2", 0.5) is False
+    assert is_right("1.1", "1/32") is False
+    assert is_right("3.1", 50.0) is False  # a count is an integer
+    assert is_right("3.2", "right right down") is False
+    assert is_right("2.2", 0.5) is False
