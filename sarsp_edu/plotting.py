@@ -39,7 +39,7 @@ COLOURS = {
 
 
 class _PlainLogFormatter(ticker.Formatter):
-    """Tick labels of a log axis as "1e-04".
+    """Tick labels of a log axis as plain numbers ("0.5", "20") from 0.001 to 10,000, else as "1e-06".
 
     matplotlib's default labels are mathtext, whose parsing was a sixth of a
     dashboard redraw.  With ``minor=True`` the ticks at 2 and 5 times a power
@@ -58,12 +58,14 @@ class _PlainLogFormatter(ticker.Formatter):
             mantissa = round(value / 10 ** np.floor(np.log10(value)), 6)
             if low <= 0 or high / low >= 100 or mantissa not in (2.0, 5.0):
                 return ""
+        if 1e-3 <= value < 1e4:
+            return f"{value:g}"
         return f"{value:.0e}".replace("e-0", "e-").replace("e+0", "e")
 
 
 def log_scale(ax, axis: str = "y") -> None:
-    """A log axis with plain tick labels ("1e-04"), minor ticks at 2 and 5 times
-    each power of ten (labelled on a short axis)."""
+    """A log axis with plain tick labels ("0.5", "20", "1e-06"), minor ticks at 2 and 5
+    times each power of ten (labelled on a short axis)."""
     target = ax.yaxis if axis == "y" else ax.xaxis
     (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
     target.set_minor_locator(ticker.LogLocator(subs=(2.0, 5.0)))
@@ -341,15 +343,22 @@ def plot_gaussian_ratio(ax, data, *, title: str | None = None):
 
 
 def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None):
-    """Posterior mean and latent 2-sd band of one model (``demos.compute_posteriors``), outliers marked.
+    """Posterior mean, latent 2-sd band and the wider band of a new observation, outliers marked.
+
+    ``data`` is ``demos.compute_posteriors``'s output.  The outer band (``var_noisy``)
+    shows the fitted noise, where the GP and the TP differ most visibly.
 
     Outliers outside ``ylim`` are drawn as triangles on the edge they lie beyond.
     """
     post = data[model]
     colour = COLOURS[model]
     x = data["x_grid"]
+    if "var_noisy" in post:  # the band of a new observation y*: the fitted noise made visible
+        sd_y = np.sqrt(post["var_noisy"])
+        ax.fill_between(x, post["mean"] - 2 * sd_y, post["mean"] + 2 * sd_y, color=colour, alpha=0.08,
+                        label=f"± 2 sd of y* (noise {post['noise_variance']:.2g})")
     sd = np.sqrt(post["var"])
-    ax.fill_between(x, post["mean"] - 2 * sd, post["mean"] + 2 * sd, color=colour, alpha=0.2,
+    ax.fill_between(x, post["mean"] - 2 * sd, post["mean"] + 2 * sd, color=colour, alpha=0.25,
                     label="mean ± 2 sd (latent f)")
     ax.plot(x, post["mean"], color=colour, lw=2, label="posterior mean")
     inliers = ~data["outliers"]
@@ -386,15 +395,19 @@ def plot_variances(ax, data, *, title: str | None = None):
     x = data["x_grid"]
     ax.plot(x, data["gp"]["var"], color=COLOURS["gp"], lw=2, label="GP, eq. 5")
     ax.plot(x, data["tp"]["var"], color=COLOURS["tp"], lw=2, label="TP, eq. 6 (corrected)")
+    for model in ("gp", "tp"):
+        if "var_noisy" in data[model]:
+            ax.plot(x, data[model]["var_noisy"], color=COLOURS[model], lw=1.2, ls="--",
+                    label=f"{model.upper()}, of y* (with noise)")
     ax.vlines(data["X"][data["outliers"] & (data["X"] <= x[-1])], 0, 1, transform=ax.get_xaxis_transform(),
               color=COLOURS["unsafe"], lw=0.8, alpha=0.5, label="outlier inputs")
     log_scale(ax)
     ax.set_xlabel("x")
-    ax.set_ylabel("posterior variance of f")
+    ax.set_ylabel("posterior variance")
     ax.grid(alpha=0.3)
     low, high = ax.get_ylim()
-    ax.set_ylim(low, high * (high / low) ** 0.4)  # headroom for the legend, above the curves
-    ax.legend(fontsize=8, frameon=False, loc="upper right", ncols=3, handlelength=1.5, columnspacing=1.0)
+    ax.set_ylim(low, high * (high / low) ** 0.7)  # headroom for the legend, above the curves
+    ax.legend(fontsize=7, frameon=False, loc="upper right", ncols=2, handlelength=1.5, columnspacing=1.0)
     ax.set_title(title or "posterior variance: eq. 5 (GP) and eq. 6 (TP)")
     return ax
 
