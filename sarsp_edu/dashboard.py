@@ -15,6 +15,7 @@ dashboards are in :mod:`sarsp_edu.widgets` and :mod:`sarsp_edu.live`.
 
 from __future__ import annotations
 
+import base64
 import html
 import io
 import time
@@ -29,7 +30,7 @@ from matplotlib.transforms import ScaledTranslation
 from ._threads import one_blas_thread
 from ._validation import check_choice, check_int, check_positive, check_range
 
-__all__ = ["Dashboard", "Panel", "fixed_layout_axes", "render_figure", "slider", "wipe_axes"]
+__all__ = ["Dashboard", "Panel", "fixed_layout_axes", "render_figure", "slider", "stitch_png", "wipe_axes"]
 
 
 @dataclass(frozen=True)
@@ -154,6 +155,17 @@ class Dashboard(widgets.VBox):
             control.observe(self._on_change, names="value")
         self.refresh()
 
+    def snapshot(self, dpi: int = 72) -> bytes:
+        """The pictures on show, side by side, as one PNG (what a static copy of the notebook shows)."""
+        return stitch_png([render_figure(figure, "png", dpi) for figure in self.figures])
+
+    def _repr_mimebundle_(self, **kwargs):
+        # A live front end (JupyterLab, Voila) renders the widget view; a static
+        # one (GitHub, nbviewer, a printed handout) falls back to the PNG.
+        bundle = dict(super()._repr_mimebundle_(**kwargs))
+        bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
+        return bundle
+
     def _on_change(self, change):
         self.refresh(changed=(self._names[id(change["owner"])],))
 
@@ -246,6 +258,19 @@ def fixed_layout_axes(figure: Figure, label_offsets=None, ncols: int = 1) -> lis
             ax.yaxis.set_label_coords(
                 0, 0.5, transform=ax.transAxes + ScaledTranslation(-left / 72, 0, figure.dpi_scale_trans))
     return axes
+
+
+def stitch_png(images: list) -> bytes:
+    """PNG images (bytes) placed side by side on white, tops aligned, as one PNG."""
+    import matplotlib.image as mpimg
+    import numpy as np
+
+    arrays = [mpimg.imread(io.BytesIO(image), format="png")[..., :3] for image in images]
+    height = max(a.shape[0] for a in arrays)
+    padded = [np.vstack([a, np.ones((height - a.shape[0], a.shape[1], 3), dtype=a.dtype)]) for a in arrays]
+    buffer = io.BytesIO()
+    mpimg.imsave(buffer, np.hstack(padded), format="png")
+    return buffer.getvalue()
 
 
 def render_figure(figure: Figure, fmt: str, dpi: int = 72) -> bytes:

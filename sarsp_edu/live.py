@@ -8,6 +8,7 @@ without blocking the notebook; the pictures come from :mod:`sarsp_edu.plotting`
 
 from __future__ import annotations
 
+import base64
 import html
 import time
 
@@ -16,7 +17,7 @@ from matplotlib.figure import Figure
 
 from . import markup, plotting
 from ._threads import one_blas_thread
-from .dashboard import fixed_layout_axes, render_figure, slider, wipe_axes
+from .dashboard import fixed_layout_axes, render_figure, slider, stitch_png, wipe_axes
 
 __all__ = ["AgentDashboard", "agent_dashboard"]
 
@@ -128,6 +129,37 @@ class AgentDashboard(widgets.VBox):
         self._drawn_episodes = -1
         self.frames = 0
         self._frame_times = []
+
+    def snapshot(self, dpi: int = 72) -> bytes:
+        """A static picture of the dashboard as one PNG: the world the agents walk, and their metrics once they ran.
+
+        Before a run the world is built from the sliders (as ``prepare`` builds
+        it, without fitting the models), so a static copy of the notebook shows
+        where the agents will start.
+        """
+        from .experiment import prepare
+
+        figure = Figure(figsize=(5.6, 4.4))
+        figure.subplots_adjust(left=0.09, right=1 - 1.8 / 5.6, bottom=0.11, top=0.9)
+        ax = figure.subplots()
+        if self.experiments is None:
+            env = prepare(self.config()).env
+            title = "the world after the shift (press Run)"
+        else:
+            env = self.experiments["tp"].env
+            done = len(self.experiments["tp"].episodes)
+            title = f"after {done} episode{'' if done == 1 else 's'}"
+        plotting.plot_gridworld(ax, env.layout(), title=title)
+        images = [render_figure(figure, "png", dpi)]
+        if self.experiments is not None and self._drawn_episodes > 0:
+            images.append(render_figure(self.metrics_figure, "png", dpi))
+        return stitch_png(images)
+
+    def _repr_mimebundle_(self, **kwargs):
+        # the widget view for live front ends, a PNG for static ones (GitHub, nbviewer)
+        bundle = dict(super()._repr_mimebundle_(**kwargs))
+        bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
+        return bundle
 
     @property
     def finished(self) -> bool:
