@@ -19,6 +19,7 @@ __all__ = [
     "plot_variances",
     "plot_outlier_scatter",
     "plot_live_metrics",
+    "plot_curves_by_model",
     "plot_tail_ratio_comparison",
     "METRIC_LABELS",
     "COLOURS",
@@ -97,6 +98,7 @@ def plot_gridworld(
     show_agent: bool = False,
     legend: bool = True,
     title: str | None = None,
+    colorbar: bool = False,
 ):
     """Draw a :class:`~sarsp_edu.SafeGridWorld`: unsafe states, start, goal, the shift.
 
@@ -120,6 +122,9 @@ def plot_gridworld(
         Mark the agent's current cell.
     legend : bool, default True
     title : str, optional
+    colorbar : bool, default False
+        With ``visits``, add a colour bar of the visit counts beside the Axes
+        (for a figure drawn once: a redrawn Axes would gain a bar each time).
 
     Returns
     -------
@@ -142,8 +147,10 @@ def plot_gridworld(
     ax.hlines(edges, -0.5, n - 0.5, color=COLOURS["grid"], lw=0.6, zorder=1)
     if visits is not None:
         visits = np.asarray(visits, dtype=float)
-        ax.imshow(visits, cmap="Greys", alpha=0.55, zorder=0, origin="upper",
-                  extent=(-0.5, n - 0.5, n - 0.5, -0.5), vmin=0, vmax=max(visits.max(), 1))
+        shading = ax.imshow(visits, cmap="Greys", alpha=0.55, zorder=0, origin="upper",
+                            extent=(-0.5, n - 0.5, n - 0.5, -0.5), vmin=0, vmax=max(visits.max(), 1))
+        if colorbar:
+            ax.figure.colorbar(shading, ax=ax, fraction=0.046, pad=0.03, label="offline visits of the cell")
 
     moved = set(int(i) for i in layout.moved) if show_moved else set()
     handles = {}
@@ -169,9 +176,10 @@ def plot_gridworld(
                                                            ls="--")
         for i, (ox, oy) in zip(layout.moved, layout.moved_from):
             nx, ny = layout.unsafe_states[int(i)]
+            # curved, so that crossing moves stay apart
             ax.add_artist(patches.FancyArrowPatch(
-                (ox, oy), (nx, ny), arrowstyle="->", mutation_scale=10, color="black", lw=0.9, alpha=0.6,
-                shrinkA=6, shrinkB=8, zorder=4))
+                (ox, oy), (nx, ny), arrowstyle="->", mutation_scale=10, color="black", lw=0.9, alpha=0.5,
+                shrinkA=6, shrinkB=8, zorder=4, connectionstyle="arc3,rad=0.25"))
     if unsafe_pairs:
         ticks = []
         for (cx, cy), action in unsafe_pairs:
@@ -213,7 +221,8 @@ METRIC_LABELS = {
 }
 
 
-def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, legend: bool = True):
+def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, legend: bool = True,
+                       settle: int = 0):
     """Per-episode values of a metric, one line per number of switch states (Figures 2-7).
 
     Parameters
@@ -223,6 +232,11 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
         Index: episode; one column per nss (``SweepResults.curves``).
     metric : str
         A summary metric name, for the axis label.
+    settle : int, default 0
+        Set the y range from the episodes after this one: a running mean
+        swings widely over its first few episodes, and a range set by those
+        swings flattens the rest.  The early curve is still drawn (clipped),
+        and the Axes says so.
     """
     from matplotlib import colormaps
 
@@ -231,6 +245,8 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
     for i, column in enumerate(columns):
         colour = cmap(i / max(len(columns) - 1, 1) * 0.9)
         ax.plot(curves.index, curves[column], color=colour, lw=1.6, label=f"nss = {column}")
+    if settle:
+        _settled_ylim([ax], [curves], settle)
     ax.set_xlabel("episode")
     ax.set_ylabel(METRIC_LABELS.get(metric, metric))
     ax.grid(alpha=0.3)
@@ -268,8 +284,38 @@ def plot_live_metrics(axes, records, metrics):
     return axes
 
 
+def _settled_ylim(axes, frames, settle: int) -> None:
+    """One y range for ``axes``, from the values of ``frames`` after episode ``settle``, said on each Axes."""
+    later = np.concatenate([f[f.index > settle].to_numpy(dtype=float).ravel() for f in frames])
+    low, high = float(np.nanmin(later)), float(np.nanmax(later))
+    pad = 0.08 * (high - low) if high > low else max(abs(high), 1.0) * 0.1
+    for ax in axes:
+        ax.set_ylim(low - pad, high + pad)
+        ax.text(0.01, 0.01, f"y range from episode {settle + 1}", transform=ax.transAxes, fontsize=7,
+                color="#666666", va="bottom")
+
+
+def plot_curves_by_model(axes, curves, *, metric: str, settle: int = 0):
+    """Figures 2-7 as the paper lays them out: the TP's curves beside the GP's, on one y range.
+
+    Parameters
+    ----------
+    axes : two matplotlib Axes
+    curves : dict
+        ``{"TP": frame, "GP": frame}``, each as :func:`plot_metric_curves` takes.
+    metric : str
+    settle : int, default 0
+        As in :func:`plot_metric_curves`, over both models' curves.
+    """
+    for ax, model in zip(axes, ("TP", "GP")):
+        plot_metric_curves(ax, curves[model], metric=metric, title=model, legend=(model == "GP"))
+    if settle:
+        _settled_ylim(axes, [curves["TP"], curves["GP"]], settle)
+    return axes
+
+
 def plot_macro(ax, frame, *, metric: str, title: str | None = None):
-    """A metric averaged over outlier settings, against nss, TP beside GP (Figures 8-9).
+    """A metric averaged over outlier settings, against nss, TP beside GP (Figures 8-9); the y axis includes 0.
 
     Parameters
     ----------
@@ -280,6 +326,9 @@ def plot_macro(ax, frame, *, metric: str, title: str | None = None):
     for model in ("TP", "GP"):
         if model in frame:
             ax.plot(frame.index, frame[model], marker="o", lw=2, color=COLOURS[model.lower()], label=model)
+    # the axis reaches 0, so that the gap between the lines is read against the values themselves
+    low, high = ax.get_ylim()
+    ax.set_ylim(min(low, 0.0), max(high, 0.0))
     ax.set_xlabel("number of switch states nss")
     ax.set_xticks(list(frame.index))
     ax.set_ylabel(METRIC_LABELS.get(metric, metric))
