@@ -18,6 +18,7 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``sarsp``: the SARSP agent (Algorithm 1).
 - ``metrics``: the paper's metrics, their comparison, Definition 4.
 - ``results``: results of runs and paired comparisons, stored and read back.
+- ``preparation``: what a run needs before its agent (world, data, outliers, shift, seeds).
 - ``experiment``: one run, or a paired TP-vs-GP comparison, of a config.
 - ``sweep``: the 45-configuration grid, run and stored cell by cell.
 - ``tables``: the paper's Tables 1-4 and their statistics.
@@ -25,7 +26,8 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``paper``: the paper's published numbers, for comparison only.
 - ``demos``: the tutorials' computations (GP and TP on 1-D data, the world
   and its data as an experiment prepares them).
-- ``plotting``: matplotlib drawings, ``plot_*(ax, data)``, no state.
+- ``plotting``: matplotlib drawings, ``plot_*(ax, data)``, no state; a package of
+  ``style``, ``models`` (tutorials 1-2), ``world`` (3-4) and ``results`` (4-5).
 - ``markup``: the same pictures as SVG and HTML strings, for live redraws.
 - ``dashboard``: the redraw framework (``Dashboard``, ``Panel``, sliders).
 - ``widgets``: the dashboards of tutorials 1-3 (and ``agent_dashboard``).

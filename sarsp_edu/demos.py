@@ -13,7 +13,7 @@ import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
 from .config import GRID_SIZE, N_UNSAFE, OFFLINE_EPISODES, ExperimentConfig
-from .experiment import offline_world, prepare
+from .preparation import offline_world, prepare
 from .kernels import RBF
 from .processes import GaussianProcess, StudentTProcess
 from .rng import as_generator

@@ -137,7 +137,7 @@ class AgentDashboard(widgets.VBox):
         it, without fitting the models), so a static copy of the notebook shows
         where the agents will start.
         """
-        from .experiment import prepare
+        from .preparation import prepare
 
         figure = Figure(figsize=(5.6, 4.4))
         figure.subplots_adjust(left=0.09, right=1 - 1.8 / 5.6, bottom=0.11, top=0.9)

@@ -40,7 +40,7 @@ def test_figures_8_and_9_reach_zero():
 
 
 def test_log_ticks_read_as_plain_numbers():
-    formatter = plotting._PlainLogFormatter()
+    formatter = plotting.PlainLogFormatter()
     assert [formatter(v) for v in (0.5, 2.0, 10.0, 5000.0)] == ["0.5", "2", "10", "5000"]
     assert formatter(1e-6) == "1e-6" and formatter(1e5) == "1e5"
 

@@ -1,0 +1,42 @@
+"""Drawing functions: ``plot_*(ax, data)`` draws what it is handed and keeps no state.
+
+One module per subject, all re-exported here (``sarsp_edu.plotting.plot_*``):
+
+- ``style``: the shared colours, log axes with plain labels, the usual finish;
+- ``models``: densities and tail ratios (tutorial 1), GP and TP posteriors (tutorial 2);
+- ``world``: the gridworld and the cost model's data (tutorials 3 and 4);
+- ``results``: the paper's Figures 2-9 and the live dashboard's curves (tutorials 4 and 5).
+"""
+
+from __future__ import annotations
+
+from .models import (
+    plot_densities,
+    plot_gaussian_ratio,
+    plot_posterior,
+    plot_tail_ratio_comparison,
+    plot_tail_ratios,
+    plot_variances,
+)
+from .results import METRIC_LABELS, plot_curves_by_model, plot_live_metrics, plot_macro, plot_metric_curves
+from .style import COLOURS, PlainLogFormatter, log_scale
+from .world import plot_gridworld, plot_outlier_scatter
+
+__all__ = [
+    "COLOURS",
+    "METRIC_LABELS",
+    "PlainLogFormatter",
+    "log_scale",
+    "plot_curves_by_model",
+    "plot_densities",
+    "plot_gaussian_ratio",
+    "plot_gridworld",
+    "plot_live_metrics",
+    "plot_macro",
+    "plot_metric_curves",
+    "plot_outlier_scatter",
+    "plot_posterior",
+    "plot_tail_ratio_comparison",
+    "plot_tail_ratios",
+    "plot_variances",
+]

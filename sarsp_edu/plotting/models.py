@@ -1,0 +1,138 @@
+"""The models' pictures: densities and tail ratios (tutorial 1), GP and TP posteriors (tutorial 2)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .style import COLOURS, finish_axes, log_scale
+
+__all__ = [
+    "plot_densities",
+    "plot_gaussian_ratio",
+    "plot_posterior",
+    "plot_tail_ratio_comparison",
+    "plot_tail_ratios",
+    "plot_variances",
+]
+
+
+def plot_densities(ax, data, *, log: bool = False):
+    """Student-t and Gaussian densities (``tails.compute_densities``), linear or log scale."""
+    ax.plot(data["x"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian N(0, 1)")
+    ax.plot(data["x"], data["student_t"], color=COLOURS["tp"], lw=2, label=f"Student-t, nu = {data['nu']:g}")
+    if log:
+        log_scale(ax)
+        ax.set_ylim(1e-16, 1.0)
+        ax.set_title("log scale: the tails")
+    else:
+        ax.set_title("linear scale")
+    ax.set_xlabel("x")
+    ax.set_ylabel("density f(x)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, frameon=False)
+    return ax
+
+
+def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = None):
+    """Paper Figure 1(a): the Student-t ratio f(lambda x)/f(x) against x, with its limit lambda^(-1-nu)."""
+    from matplotlib import colormaps
+
+    cmap = colormaps["Blues"]
+    nus = list(data["student_t"])
+    for i, nu in enumerate(nus):
+        colour = cmap(0.5 + 0.5 * i / max(len(nus) - 1, 1))
+        limit = data["limits"][nu]
+        label = f"Student-t, nu = {nu:g}"
+        if show_limits:
+            ax.axhline(limit, color=colour, ls="--", lw=1)
+            label += f" (limit λ^(-1-ν) = {limit:.3g})"
+        ax.plot(data["x_t"], data["student_t"][nu], color=colour, lw=2, label=label)
+    finish_axes(ax, "x", f"f({data['lam']:g} x) / f(x)", title or f"Student-t ratio, lambda = {data['lam']:g}")
+    return ax
+
+
+def plot_tail_ratio_comparison(ax, data, nu: float):
+    """The Student-t ratio for one nu beside the Gaussian's, on a log scale (tutorial 1's dashboard)."""
+    plot_tail_ratios(ax, data, title="Karamata ratio f(λx)/f(x)")
+    ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, ls=":", label="Gaussian")
+    log_scale(ax)
+    ax.set_ylim(max(data["limits"][nu] / 100, 1e-30), 1.5)
+    ax.legend(fontsize=8, frameon=False)
+    return ax
+
+
+def plot_gaussian_ratio(ax, data, *, title: str | None = None):
+    """Paper Figure 1(b): the Gaussian ratio f(lambda x)/f(x) = exp((1 - lambda^2) x^2 / 2) on [0, 1]."""
+    ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian")
+    finish_axes(ax, "x", f"f({data['lam']:g} x) / f(x)", title or f"Gaussian ratio, lambda = {data['lam']:g}")
+    return ax
+
+
+def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None):
+    """Posterior mean, latent 2-sd band and the wider band of a new observation, outliers marked.
+
+    ``data`` is ``demos.compute_posteriors``'s output.  The outer band (``var_noisy``)
+    shows the fitted noise, where the GP and the TP differ most visibly.
+
+    Outliers outside ``ylim`` are drawn as triangles on the edge they lie beyond.
+    """
+    post = data[model]
+    colour = COLOURS[model]
+    x = data["x_grid"]
+    if "var_noisy" in post:  # the band of a new observation y*: the fitted noise made visible
+        sd_y = np.sqrt(post["var_noisy"])
+        ax.fill_between(x, post["mean"] - 2 * sd_y, post["mean"] + 2 * sd_y, color=colour, alpha=0.08,
+                        label=f"± 2 sd of y* (noise {post['noise_variance']:.2g})")
+    sd = np.sqrt(post["var"])
+    ax.fill_between(x, post["mean"] - 2 * sd, post["mean"] + 2 * sd, color=colour, alpha=0.25,
+                    label="mean ± 2 sd (latent f)")
+    ax.plot(x, post["mean"], color=colour, lw=2, label="posterior mean")
+    inliers = ~data["outliers"]
+    ax.scatter(data["X"][inliers], data["y"][inliers], s=14, color="black", zorder=3, label="data")
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    low, high = ax.get_ylim()
+    in_view = data["outliers"] & (data["X"] <= x[-1])
+    ys = data["y"]
+    inside = in_view & (ys >= low) & (ys <= high)
+    if inside.any():
+        ax.scatter(data["X"][inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4,
+                   label="outliers")
+    label = "outliers off scale"
+    for mask, edge, marker in ((in_view & (ys > high), high, "^"), (in_view & (ys < low), low, "v")):
+        if mask.any():
+            ax.scatter(data["X"][mask], np.full(mask.sum(), edge), s=60, marker=marker, color=COLOURS["unsafe"],
+                       zorder=5, clip_on=False, label=label)
+            label = None
+    hidden = int((data["outliers"] & (data["X"] > x[-1])).sum())
+    if hidden:
+        ax.text(0.99, 0.02, f"{hidden} outliers beyond x = {x[-1]:g}", transform=ax.transAxes, ha="right",
+                fontsize=8, color=COLOURS["unsafe"])
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, frameon=False, loc="upper left")
+    ax.set_title(title or {"gp": "Gaussian process", "tp": f"Student-t process, nu = {data['nu']:g}"}[model])
+    return ax
+
+
+def plot_variances(ax, data, *, title: str | None = None):
+    """The two posterior variances on one log axis: paper eq. 5 (GP) against eq. 6 (TP)."""
+    x = data["x_grid"]
+    ax.plot(x, data["gp"]["var"], color=COLOURS["gp"], lw=2, label="GP, eq. 5")
+    ax.plot(x, data["tp"]["var"], color=COLOURS["tp"], lw=2, label="TP, eq. 6 (corrected)")
+    for model in ("gp", "tp"):
+        if "var_noisy" in data[model]:
+            ax.plot(x, data[model]["var_noisy"], color=COLOURS[model], lw=1.2, ls="--",
+                    label=f"{model.upper()}, of y* (with noise)")
+    ax.vlines(data["X"][data["outliers"] & (data["X"] <= x[-1])], 0, 1, transform=ax.get_xaxis_transform(),
+              color=COLOURS["unsafe"], lw=0.8, alpha=0.5, label="outlier inputs")
+    log_scale(ax)
+    ax.set_xlabel("x")
+    ax.set_ylabel("posterior variance")
+    ax.grid(alpha=0.3)
+    low, high = ax.get_ylim()
+    ax.set_ylim(low, high * (high / low) ** 0.7)  # headroom for the legend, above the curves
+    ax.legend(fontsize=7, frameon=False, loc="upper right", ncols=2, handlelength=1.5, columnspacing=1.0)
+    ax.set_title(title or "posterior variance: eq. 5 (GP) and eq. 6 (TP)")
+    return ax

@@ -1,0 +1,137 @@
+"""The paper's result figures: running metrics per episode (Figures 2-7), macro averages (8-9), live curves."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .style import COLOURS
+
+__all__ = ["METRIC_LABELS", "plot_curves_by_model", "plot_live_metrics", "plot_macro", "plot_metric_curves"]
+
+#: axis labels of the summary metrics, in the paper's symbols
+METRIC_LABELS = {
+    "mean_reward": "mean reward $J_r$",
+    "mean_cost": "mean cost $\\mu_{cost}$",
+    "total_cost": "total cost $\\Sigma_{cost}$",
+    "task_success_rate": "task success rate TSR (%)",
+    "mean_steps": "mean steps $\\mu_{steps}$",
+    "cost_rate": "cost rate $p_c$",
+}
+
+
+def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, legend: bool = True,
+                       settle: int = 0):
+    """Per-episode values of a metric, one line per number of switch states (Figures 2-7).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    curves : pandas.DataFrame
+        Index: episode; one column per nss (``SweepResults.curves``).
+    metric : str
+        A summary metric name, for the axis label.
+    settle : int, default 0
+        Set the y range from the episodes after this one: a running mean
+        swings widely over its first few episodes, and a range set by those
+        swings flattens the rest.  The early curve is still drawn (clipped),
+        and the Axes says so.
+    """
+    from matplotlib import colormaps
+
+    columns = list(curves.columns)
+    cmap = colormaps["viridis"]
+    for i, column in enumerate(columns):
+        colour = cmap(i / max(len(columns) - 1, 1) * 0.9)
+        ax.plot(curves.index, curves[column], color=colour, lw=1.6, label=f"nss = {column}")
+    if settle:
+        _settled_ylim([ax], [curves], settle)
+    ax.set_xlabel("episode")
+    ax.set_ylabel(METRIC_LABELS.get(metric, metric))
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend(fontsize=8, frameon=False)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def plot_live_metrics(axes, records, metrics):
+    """Running metrics of a TP and a GP run, one Axes per metric (tutorial 4's live dashboard).
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib Axes, one per metric
+    records : dict
+        ``{"tp": frame, "gp": frame}``, each the per-episode records of a run
+        (``Experiment.records()``), which may be empty.
+    metrics : sequence of str
+        Columns of the records.
+    """
+    for ax, metric in zip(axes, metrics):
+        for model in ("tp", "gp"):
+            frame = records[model]
+            if len(frame):
+                ax.plot(frame["episode"], frame[metric], color=COLOURS[model], lw=2,
+                        marker="o" if len(frame) < 15 else None, ms=3, label=model.upper())
+        ax.set_title(metric.replace("_", " "), fontsize=10)
+        ax.set_xlabel("episode", fontsize=9)
+        ax.tick_params(labelsize=8)
+        ax.grid(alpha=0.3)
+    if axes[0].lines:
+        axes[0].legend(fontsize=8, frameon=False)
+    return axes
+
+
+def _settled_ylim(axes, frames, settle: int) -> None:
+    """One y range for ``axes``, from the values of ``frames`` after episode ``settle``, said on each Axes."""
+    later = np.concatenate([f[f.index > settle].to_numpy(dtype=float).ravel() for f in frames])
+    low, high = float(np.nanmin(later)), float(np.nanmax(later))
+    pad = 0.08 * (high - low) if high > low else max(abs(high), 1.0) * 0.1
+    for ax in axes:
+        ax.set_ylim(low - pad, high + pad)
+        ax.text(0.01, 0.01, f"y range from episode {settle + 1}", transform=ax.transAxes, fontsize=7,
+                color="#666666", va="bottom")
+
+
+def plot_curves_by_model(axes, curves, *, metric: str, settle: int = 0):
+    """Figures 2-7 as the paper lays them out: the TP's curves beside the GP's, on one y range.
+
+    Parameters
+    ----------
+    axes : two matplotlib Axes
+    curves : dict
+        ``{"TP": frame, "GP": frame}``, each as :func:`plot_metric_curves` takes.
+    metric : str
+    settle : int, default 0
+        As in :func:`plot_metric_curves`, over both models' curves.
+    """
+    for ax, model in zip(axes, ("TP", "GP")):
+        plot_metric_curves(ax, curves[model], metric=metric, title=model, legend=(model == "GP"))
+    if settle:
+        _settled_ylim(axes, [curves["TP"], curves["GP"]], settle)
+    return axes
+
+
+def plot_macro(ax, frame, *, metric: str, title: str | None = None):
+    """A metric averaged over outlier settings, against nss, TP beside GP (Figures 8-9); the y axis includes 0.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    frame : pandas.DataFrame
+        Index: nss; columns ``TP`` and ``GP`` (``SweepResults.macro``).
+    """
+    for model in ("TP", "GP"):
+        if model in frame:
+            ax.plot(frame.index, frame[model], marker="o", lw=2, color=COLOURS[model.lower()], label=model)
+    # the axis reaches 0, so that the gap between the lines is read against the values themselves
+    low, high = ax.get_ylim()
+    ax.set_ylim(min(low, 0.0), max(high, 0.0))
+    ax.set_xlabel("number of switch states nss")
+    ax.set_xticks(list(frame.index))
+    ax.set_ylabel(METRIC_LABELS.get(metric, metric))
+    ax.grid(alpha=0.3)
+    ax.legend(frameon=False)
+    if title:
+        ax.set_title(title)
+    return ax
