@@ -281,7 +281,7 @@ def _ablation(args, parser) -> int:
             parser.error(f"--cells takes m p nss triples, got {len(args.cells)} numbers")
         cells = [(args.cells[i], args.cells[i + 1], int(args.cells[i + 2])) for i in range(0, len(args.cells), 3)]
     else:
-        from .ablation import ABLATION_CELLS as cells
+        from .config import ABLATION_CELLS as cells
     _check_out(parser, args.out, "ablation")
     if args.out:
         from pathlib import Path
@@ -321,7 +321,14 @@ def _info(args, parser) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+    from .config import (
+        ABLATION_CELLS,
+        ABLATION_SEEDS,
+        DEFINITION_4_A,
+        PAPER_MAGNITUDES,
+        PAPER_PROPORTIONS,
+        PAPER_SWITCH_STATES,
+    )
 
     parser = argparse.ArgumentParser(
         prog="sarsp-edu",
@@ -408,13 +415,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the paired comparison under a list of settings and tabulate what each changes",
         description="Run the TP-vs-GP comparison of a few configurations and seeds once per setting (a preset "
         "with some fields changed) and tabulate TSR, steps, total cost, cost rate, backup share and trapped "
-        "failures with 95%% intervals. With --out every run is stored and a rerun resumes.",
+        "failures with 95% intervals. With --out every run is stored and a rerun resumes.",
     )
     ablation.add_argument("--settings", nargs="+", metavar="NAME", help="setting names [default: all; see --list]")
     ablation.add_argument("--list", action="store_true", help="list the settings and exit")
     ablation.add_argument("--cells", type=float, nargs="+", metavar="M P NSS",
-                          help="configurations as m p nss triples [default: 40 0.2 2 60 0.3 6 80 0.4 10]")
-    ablation.add_argument("--seeds", type=int, nargs="+", default=[0, 1], help="seeds [default: 0 1]")
+                          help=f"configurations as m p nss triples [default: {listed(sum(ABLATION_CELLS, ()))}]")
+    ablation.add_argument("--seeds", type=int, nargs="+", default=list(ABLATION_SEEDS),
+                          help=f"seeds [default: {listed(ABLATION_SEEDS)}]")
     ablation.add_argument("--episodes", type=int, default=80, help="episodes per run [default: 80]")
     ablation.add_argument("--jobs", type=int, default=1, help="local worker processes [default: 1]")
     ablation.add_argument("--out", metavar="DIR", help="results folder (runs stored as they finish)")

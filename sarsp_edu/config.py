@@ -99,6 +99,9 @@ PAPER_PROPORTIONS = (0.2, 0.3, 0.4)
 PAPER_SWITCH_STATES = (2, 4, 6, 8, 10)
 #: Definition 4's TSR threshold a (%): the strictest, 100, unless a task says otherwise
 DEFINITION_4_A = 100.0
+#: the ablation's (m, p, nss) cells, one per row of the paper's grid, and its seeds
+ABLATION_CELLS = ((40.0, 0.2, 2), (60.0, 0.3, 6), (80.0, 0.4, 10))
+ABLATION_SEEDS = (0, 1)
 
 # -- Algorithm 1 ---------------------------------------------------------------
 #: how predictions are made: exact, or the reference code's sampled estimate

@@ -244,7 +244,16 @@ def test_tables_name_a_damaged_file_and_refuse_a_partial_sweep(tmp_path, capsys)
     assert "partial sweep: 1 of 2 cells stored; missing: m=40 p=0.2 nss=2 seed=0" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["info"], ["run", "--help"], ["sweep", "--help"]])
+@pytest.mark.parametrize("command", ["run", "compare", "sweep", "tables", "ablation"])
+def test_every_commands_help_reads_as_written(command, capsys):
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    text = capsys.readouterr().out
+    assert "%%" not in text and "%(" not in text  # argparse formats help, not descriptions
+    assert "[default: None]" not in text
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["info"], ["run", "--help"], ["sweep", "--help"], ["ablation", "--help"]])
 def test_help_and_info_load_no_numerical_library(argv):
     # --help must answer at once: no scipy, pandas or matplotlib behind it (issue 12, item 10)
     code = (f"import sys\nfrom sarsp_edu.cli import main\ntry:\n    main({argv!r})\nexcept SystemExit:\n    pass\n"
