@@ -28,13 +28,14 @@ from scipy import stats
 
 from ._io import atomic_write_text
 from ._version import __version__
-from .config import PRESETS, ExperimentConfig
+from .config import ABLATION_CELLS, ABLATION_SEEDS, PRESETS, ExperimentConfig
 from .metrics import backup_share
 from .sweep import SweepResults, run_sweep
 
 __all__ = [
     "ABLATION_CELLS",
     "ABLATION_SETTINGS",
+    "PRIOR_AND_FITS",
     "AblationResults",
     "run_ablation",
     "setting_config",
@@ -42,7 +43,6 @@ __all__ = [
 ]
 
 #: the three configurations of the measurements in the reproduction issue: mild, middle, severe
-ABLATION_CELLS = ((40.0, 0.2, 2), (60.0, 0.3, 6), (80.0, 0.4, 10))
 
 _OLD_FITS = dict(cost_fit_points=500, reward_fit_points=500)
 
@@ -70,6 +70,16 @@ def setting_config(setting: dict, **changes) -> ExperimentConfig:
     setting = dict(setting)
     preset = setting.pop("preset", "default")
     return ExperimentConfig.from_preset(preset, **{**setting, **changes})
+
+
+#: the two questions of the reproduction issue as a 2 x 2 design: how the strategic
+#: prior is drawn, and on how many rows the hyperparameters are fitted
+PRIOR_AND_FITS = {
+    ("per step", "500 rows"): "per step, k=100, 500-row fits (the package before)",
+    ("per action", "500 rows"): "per action, k=100, 500-row fits",
+    ("per step", "default fits"): "per step, k=100, default fits",
+    ("per action", "default fits"): "default (per action, k=100, whole cost fit, 1,000-row reward fit)",
+}
 
 
 def setting_folder(name: str) -> str:
@@ -102,7 +112,7 @@ class AblationResults:
     settings: dict = field(default_factory=dict)
 
     def runs(self) -> pd.DataFrame:
-        """One row per setting, configuration, seed and model, with the per-run measures."""
+        """One row per setting, configuration, seed and model, with the per-run measures and counts."""
         rows = []
         for name, sweep in self.sweeps.items():
             for (m, p, nss, seed), comparison in sorted(sweep.comparisons.items()):
@@ -112,6 +122,7 @@ class AblationResults:
                     failed = ~records["task_completed"].astype(bool)
                     rows.append({
                         "setting": name, "m": m, "p": p, "nss": nss, "seed": seed, "model": model.upper(),
+                        "episodes": len(records), "successes": int((~failed).sum()),
                         "task_success_rate": summary["task_success_rate"], "mean_steps": summary["mean_steps"],
                         "total_cost": summary["total_cost"], "cost_rate": summary["cost_rate"],
                         "backup_share": 100.0 * backup_share(records),
@@ -193,7 +204,7 @@ def run_ablation(
     settings: dict | None = None,
     *,
     cells=ABLATION_CELLS,
-    seeds=(0, 1),
+    seeds=ABLATION_SEEDS,
     episodes: int = 80,
     results_dir=None,
     n_jobs: int = 1,

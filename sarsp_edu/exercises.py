@@ -183,6 +183,22 @@ def _gp_safe_at_ten(answer, decision=None, **_) -> bool:
     return named == [int(a) for a in safe.nonzero()[0]]
 
 
+# -- tutorial 6 ---------------------------------------------------------------
+def _trapped_share(answer, results=None, **_) -> bool:
+    """The share (%) of the GP's failures that ended trapped, per step with 500-row fits (``results``: the ablation)."""
+    if results is None:
+        raise ValueError("exercise 6.1 checks against the stored ablation: check('6.1', answer, results=ablation)")
+    return _close(answer, _trapped_value(results), rel=0, abs_=1.0)
+
+
+def _trapped_value(results) -> float:
+    from .ablation import PRIOR_AND_FITS
+
+    runs = results.runs()
+    part = runs[(runs["setting"] == PRIOR_AND_FITS[("per step", "500 rows")]) & (runs["model"] == "GP")]
+    return 100.0 * part["stuck_failures"].sum() / part["failures"].sum()
+
+
 # -- tutorial 5 ---------------------------------------------------------------
 def _table1_percent(answer, **_) -> bool:
     return _close(answer, _table1_value(), rel=0, abs_=0.05)
@@ -264,6 +280,13 @@ EXERCISES: dict[str, Exercise] = {
         "Not (TP - GP)/GP; try the difference over the two values' mean.",
         lambda: (f"|28 - 58| / ((28 + 58) / 2) x 100 = {_table1_value():.1f}%: a symmetric % difference, "
                  "not the TP-vs-GP change."),
+    ),
+    "6.1": Exercise(
+        "the share (%) of the GP's failures that ended trapped with one prior per step and 500-row fits",
+        _trapped_share,
+        "Divide the trapped failures by all failures in the GP's row of 'per step, k=100, 500-row fits', "
+        "times 100.",
+        "Most of them: with one shared prior the GP loops on the same choice until the step limit.",
     ),
 }
 

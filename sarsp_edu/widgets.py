@@ -9,15 +9,19 @@ tutorial.  The live agents of tutorial 4 are in :mod:`sarsp_edu.live`.
 
 from __future__ import annotations
 
+import html
+
 import ipywidgets as widgets
 import numpy as np
 
 from . import demos, plotting, tails
+from ._validation import check_choice
 from .dashboard import Dashboard, Panel, slider
 from .live import AgentDashboard, agent_dashboard
 
 __all__ = [
     "AgentDashboard",
+    "ablation_dashboard",
     "Dashboard",
     "Panel",
     "agent_dashboard",
@@ -168,3 +172,58 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
             5.0, inputs=("seed", "magnitude", "proportion"), margins={"left": 0.7}, label_offsets=(24, 30)),
     ]
     return Dashboard(controls, compute, panels, height=4.4)
+
+
+# --------------------------------------------------------------------------
+# tutorial 6: the printed algorithm and the code
+# --------------------------------------------------------------------------
+def ablation_dashboard(results, prior: str = "per step", fits: str = "500 rows") -> Dashboard:
+    """Stored ablation runs, one setting at a time: how the prior is drawn x how the models are fitted.
+
+    Parameters
+    ----------
+    results : AblationResults
+        ``AblationResults.load(folder)``; the four settings of
+        ``ablation.PRIOR_AND_FITS`` are shown where they have runs.
+    prior : {"per step", "per action"}
+    fits : {"500 rows", "default fits"}
+    """
+    from .ablation import PRIOR_AND_FITS
+
+    check_choice("prior", prior, ("per step", "per action"))
+    check_choice("fits", fits, ("500 rows", "default fits"))
+    runs = results.runs()
+    controls = {
+        "prior": widgets.ToggleButtons(options=["per step", "per action"], value=prior,
+                                       description="strategic prior", style={"description_width": "initial"}),
+        "fits": widgets.ToggleButtons(options=["500 rows", "default fits"], value=fits,
+                                      description="hyperparameters fitted on", style={"description_width": "initial"}),
+    }
+    shown = runs[runs["setting"].isin(PRIOR_AND_FITS.values())]
+    limits = {"task_success_rate": (0, 100), "stuck_share": (0, 100),
+              "total_cost": (0, 1.1 * max(float(shown["total_cost"].max()) if len(shown) else 1.0, 1.0))}
+
+    def compute(prior, fits):
+        name = PRIOR_AND_FITS[(prior, fits)]
+        part = runs[runs["setting"] == name]
+        if not len(part):
+            raise ValueError(f"the ablation holds no finished run of {name!r} yet; run: "
+                             f"sarsp-edu ablation --settings '{name}' --out <its folder>")
+        count = part.groupby("model").size().to_dict()
+        info = (f"<b>{html.escape(name)}</b>: {count.get('TP', 0)} TP and {count.get('GP', 0)} GP runs "
+                f"(configurations x seeds, {int(part.episodes.max())} episodes each); "
+                f"trapped failures TP {int(part[part.model == 'TP'].stuck_failures.sum())} of "
+                f"{int(part[part.model == 'TP'].failures.sum())}, GP {int(part[part.model == 'GP'].stuck_failures.sum())} "
+                f"of {int(part[part.model == 'GP'].failures.sum())}.")
+        return part, info
+
+    panels = [
+        Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
+            ax, part, "task_success_rate", title="reaching the goal", ylim=limits["task_success_rate"]), 3.6),
+        Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
+            ax, part, "total_cost", title="violations", ylim=limits["total_cost"]), 3.6),
+        Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
+            ax, part, "stuck_share", title="trapped", ylim=limits["stuck_share"]), 3.6),
+    ]
+    return Dashboard(controls, compute, panels, height=3.4)
+

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import io
 
 import matplotlib
@@ -492,3 +493,47 @@ def test_the_live_dashboards_static_picture_before_and_after_a_run():
     dashboard.fast_forward(1)
     after = dashboard.snapshot()
     assert len(after) > len(before)  # the metric curves are added
+
+
+# --------------------------------------------------------------------------
+# tutorial 6: the stored ablation, one setting at a time
+# --------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def ablation():
+    from pathlib import Path
+
+    from sarsp_edu.ablation import AblationResults
+
+    return AblationResults.load(Path(__file__).resolve().parents[1] / "results" / "ablation")
+
+
+def test_the_ablation_dashboard_shows_the_setting_its_toggles_name(ablation):
+    from sarsp_edu.ablation import PRIOR_AND_FITS
+    from sarsp_edu.widgets import ablation_dashboard
+
+    dashboard = ablation_dashboard(ablation)
+    assert dashboard.message.value == ""
+    assert "per step, k=100, 500-row fits" in dashboard.info.value
+    runs = ablation.runs()
+    gp = runs[(runs.setting == PRIOR_AND_FITS[("per step", "500 rows")]) & (runs.model == "GP")]
+    assert f"GP {gp.stuck_failures.sum()} of {gp.failures.sum()}" in dashboard.info.value
+    before = [image.value for image in dashboard.images]
+    dashboard.controls["prior"].value = "per action"
+    assert dashboard.message.value == ""
+    assert "per action, k=100, 500-row fits" in dashboard.info.value
+    assert all(image.value != old for image, old in zip(dashboard.images, before))
+
+
+def test_the_ablation_dashboard_says_which_runs_are_missing(ablation):
+    from sarsp_edu.ablation import PRIOR_AND_FITS, AblationResults
+    from sarsp_edu.widgets import ablation_dashboard
+
+    only = PRIOR_AND_FITS[("per step", "500 rows")]
+    partial = AblationResults(sweeps={only: ablation.sweeps[only]}, settings={only: ablation.settings[only]})
+    dashboard = ablation_dashboard(partial)
+    dashboard.controls["fits"].value = "default fits"
+    message = html.unescape(dashboard.message.value)
+    assert "holds no finished run of 'per step, k=100, default fits'" in message
+    assert "sarsp-edu ablation --settings 'per step, k=100, default fits'" in message
+    with pytest.raises(ValueError, match="prior must be one of"):
+        ablation_dashboard(ablation, prior="per episode")

@@ -67,7 +67,7 @@ def test_the_gps_safe_set_needs_its_decision():
 
 
 def test_every_exercise_is_tested_and_unknown_ones_are_refused():
-    assert set(EXERCISES) == {*ANSWERS, "2.1", "4.1"}
+    assert set(EXERCISES) == {*ANSWERS, "2.1", "4.1", "6.1"}
     with pytest.raises(ValueError, match="exercise must be one of"):
         check("9.9", 1)
 
@@ -77,3 +77,18 @@ def test_text_and_wrong_types_are_wrong_not_errors():
     assert is_right("3.1", 50.0) is False  # a count is an integer
     assert is_right("3.2", "right right down") is False
     assert is_right("2.2", 0.5) is False
+
+
+
+def test_the_trapped_share_is_read_from_the_ablation():
+    from pathlib import Path
+
+    from sarsp_edu.ablation import AblationResults
+
+    results = AblationResults.load(Path(__file__).resolve().parents[1] / "results" / "ablation")
+    # the stored per-step, 500-row GP runs: 309 of their 375 failures ended on at most 2 cells
+    assert is_right("6.1", 82.4, results=results) is True
+    assert is_right("6.1", 309 / 375, results=results) is False  # a fraction, not a percentage
+    assert is_right("6.1", 70, results=results) is False
+    with pytest.raises(ValueError, match="results="):
+        check("6.1", 50)

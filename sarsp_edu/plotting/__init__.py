@@ -18,7 +18,14 @@ from .models import (
     plot_tail_ratios,
     plot_variances,
 )
-from .results import METRIC_LABELS, plot_curves_by_model, plot_live_metrics, plot_macro, plot_metric_curves
+from .results import (
+    METRIC_LABELS,
+    plot_ablation_runs,
+    plot_curves_by_model,
+    plot_live_metrics,
+    plot_macro,
+    plot_metric_curves,
+)
 from .style import COLOURS, PlainLogFormatter, log_scale
 from .world import plot_gridworld, plot_outlier_scatter
 
@@ -27,6 +34,7 @@ __all__ = [
     "METRIC_LABELS",
     "PlainLogFormatter",
     "log_scale",
+    "plot_ablation_runs",
     "plot_curves_by_model",
     "plot_densities",
     "plot_gaussian_ratio",

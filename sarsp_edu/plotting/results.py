@@ -6,7 +6,14 @@ import numpy as np
 
 from .style import COLOURS
 
-__all__ = ["METRIC_LABELS", "plot_curves_by_model", "plot_live_metrics", "plot_macro", "plot_metric_curves"]
+__all__ = [
+    "METRIC_LABELS",
+    "plot_ablation_runs",
+    "plot_curves_by_model",
+    "plot_live_metrics",
+    "plot_macro",
+    "plot_metric_curves",
+]
 
 #: axis labels of the summary metrics, in the paper's symbols
 METRIC_LABELS = {
@@ -132,6 +139,58 @@ def plot_macro(ax, frame, *, metric: str, title: str | None = None):
     ax.set_ylabel(METRIC_LABELS.get(metric, metric))
     ax.grid(alpha=0.3)
     ax.legend(frameon=False)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+#: the ablation's per-run measures, as axis labels
+ABLATION_LABELS = {
+    "task_success_rate": "task success rate TSR (%)",
+    "total_cost": "total cost (violations)",
+    "stuck_share": "failures that ended trapped (%)",
+    "backup_share": "decisions by the backup rule (%)",
+}
+
+
+def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=None):
+    """One ablation setting's runs: a dot per (configuration, seed) run and a bar at the mean, TP beside GP.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    runs : pandas.DataFrame
+        ``AblationResults.runs()`` rows of one setting (``model``, the metric;
+        for ``"stuck_share"``, ``failures`` and ``stuck_failures``).
+    metric : str
+        A column of ``runs``, or ``"stuck_share"``: trapped failures over
+        failures, pooled over the runs.
+    ylim : (float, float), optional
+        Fixed limits, so that moving between settings compares like with like.
+    """
+    for i, model in enumerate(("TP", "GP")):
+        part = runs[runs["model"] == model]
+        if not len(part):
+            continue
+        if metric == "stuck_share":
+            failures = part["failures"].to_numpy(dtype=float)
+            values = np.divide(100.0 * part["stuck_failures"].to_numpy(dtype=float), failures,
+                               out=np.full(len(part), np.nan), where=failures > 0)
+            mean = 100.0 * part["stuck_failures"].sum() / max(part["failures"].sum(), 1)
+        else:
+            values = part[metric].to_numpy(dtype=float)
+            mean = float(np.nanmean(values))
+        ax.bar(i, mean, width=0.6, color=COLOURS[model.lower()], alpha=0.35)
+        jitter = np.linspace(-0.15, 0.15, len(values)) if len(values) > 1 else np.zeros(1)
+        ax.scatter(i + jitter, values, s=18, color=COLOURS[model.lower()], zorder=3)
+        ax.text(i, mean, f"{mean:.0f}", ha="center", va="bottom", fontsize=9)
+    ax.set_xticks([0, 1])
+    ax.set_xticklabels(["TP", "GP"])
+    ax.set_xlim(-0.6, 1.6)
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    ax.set_ylabel(ABLATION_LABELS.get(metric, metric))
+    ax.grid(alpha=0.3, axis="y")
     if title:
         ax.set_title(title)
     return ax
