@@ -30,7 +30,7 @@ The layout, lowest layer first (a module imports only from those above it):
   ``style``, ``models`` (tutorials 1-2), ``world`` (3-4) and ``results`` (4-5).
 - ``markup``: the same pictures as SVG and HTML strings, for live redraws.
 - ``dashboard``: the redraw framework (``Dashboard``, ``Panel``, sliders).
-- ``widgets``: the dashboards of tutorials 1-3 (and ``agent_dashboard``).
+- ``widgets``: the dashboards of tutorials 1-3 and 6 (and ``agent_dashboard``).
 - ``live``: tutorial 4's live TP-versus-GP dashboard.
 - ``exercises``: the tutorials' exercises, each checked against the package.
 - ``cli``: the ``sarsp-edu`` command.

@@ -49,6 +49,7 @@ __all__ = [
     "Prepared",
     "prepare",
     "offline_world",
+    "experiments_on_one_world",
     "paired_experiments",
     "ExperimentResult",
     "Comparison",
@@ -307,15 +308,51 @@ def _finish(experiment: "Experiment", progress: bool) -> ExperimentResult:
     return experiment.result()
 
 
+def experiments_on_one_world(config: ExperimentConfig, sides: dict) -> dict:
+    """Experiments of ``config`` with some settings changed, all on one prepared world.
+
+    Every experiment shares the world, its shift, the offline data with its
+    outlier rows, the sequence of episode starts and goals and the agent's
+    seed (:func:`prepare` builds them once), so that the runs differ only in
+    what ``sides`` changes: the model, or a setting of the agent.
+
+    Parameters
+    ----------
+    config : ExperimentConfig
+    sides : dict
+        Name -> the ``ExperimentConfig`` fields to change for that
+        experiment, e.g. ``{"tp": {"model": "tp"}, "gp": {"model": "gp"}}``.
+        A field that the preparation reads (``PREPARATION_FIELDS``) cannot
+        differ between sides: change it in ``config``.
+
+    Returns
+    -------
+    dict
+        Name -> :class:`Experiment`.
+    """
+    from .preparation import PREPARATION_FIELDS
+
+    if not isinstance(sides, dict) or not sides:
+        raise ValueError(f"sides must be a non-empty dict of name -> changed settings, got sides={sides!r}")
+    shared = sorted({name for changes in sides.values() for name in changes if name in PREPARATION_FIELDS})
+    if shared:
+        raise ValueError(
+            f"sides may change only the model and the agent's settings; {shared} shape the world and its data, "
+            f"so change them in config (the fields of PREPARATION_FIELDS)"
+        )
+    configs = {name: config.replace(**changes) for name, changes in sides.items()}  # validated before any work
+    prepared = prepare(config)
+    return {name: Experiment(side, prepared=prepared) for name, side in configs.items()}
+
+
 def paired_experiments(config: ExperimentConfig) -> dict:
     """The TP and the GP experiment of ``config``, paired: ``{"tp": Experiment, "gp": Experiment}``.
 
     Both share the world, its shift, the offline data with its outlier rows,
-    the sequence of episode starts and goals and the agent's seed
-    (:func:`prepare` builds them once); only the regression model differs.
+    the sequence of episode starts and goals and the agent's seed; only the
+    regression model differs (:func:`experiments_on_one_world`).
     """
-    prepared = prepare(config)
-    return {model: Experiment(config.replace(model=model), prepared=prepared) for model in ("tp", "gp")}
+    return experiments_on_one_world(config, {model: {"model": model} for model in ("tp", "gp")})
 
 
 def run_experiment(config: ExperimentConfig | None = None, progress: bool = False) -> ExperimentResult:

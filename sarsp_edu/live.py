@@ -1,7 +1,9 @@
-"""The live TP-versus-GP dashboard of tutorial 4: both agents stepping side by side.
+"""The live dashboards: two agents stepping side by side on one world.
 
-An asyncio loop animates the paired runs of :func:`sarsp_edu.experiment.paired_experiments`
-without blocking the notebook; the pictures come from :mod:`sarsp_edu.plotting`
+Tutorial 4 runs the TP agent beside the GP agent, tutorial 6 one agent as the
+printed algorithm and as the reference code run it.  An asyncio loop animates
+the runs of :func:`sarsp_edu.experiment.experiments_on_one_world` without
+blocking the notebook; the pictures come from :mod:`sarsp_edu.plotting`
 (``plot_live_metrics``) and :mod:`sarsp_edu.markup` (``gridworld_svg``,
 ``decision_table_html``).
 """
@@ -19,13 +21,19 @@ from . import markup, plotting
 from ._threads import one_blas_thread
 from .dashboard import fixed_layout_axes, render_figure, slider, stitch_png, wipe_axes
 
-__all__ = ["AgentDashboard", "agent_dashboard"]
+__all__ = ["TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
 _LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
 
+#: tutorial 4's two sides: name -> (title, the settings that side changes)
+TP_AND_GP = {
+    "tp": ("Student-t process", {"model": "tp"}),
+    "gp": ("Gaussian process", {"model": "gp"}),
+}
+
 
 class AgentDashboard(widgets.VBox):
-    """The TP agent and the GP agent running paired, side by side, live.
+    """Two agents running paired on one world, side by side, live: by default the TP agent and the GP agent.
 
     Sliders for nu, m, p, nss, the seed and the number of episodes; *Run*
     animates both agents step by step, *Stop* pauses, *Fast-forward* runs
@@ -49,13 +57,28 @@ class AgentDashboard(widgets.VBox):
         ``displayed_steps_per_second``.
     config : ExperimentConfig, optional
         Other settings (grid size, k_prior, ...); the sliders override theirs.
+    sides : dict, optional
+        Name -> (title, the settings that side changes), two of them; default
+        ``TP_AND_GP``.  The sides share the world, the data and the episodes,
+        so they may change only the model and the agent's settings
+        (:func:`~sarsp_edu.experiment.experiments_on_one_world`).
     """
 
     def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
-                 steps_per_second=30.0, config=None):
+                 steps_per_second=30.0, config=None, sides=None):
         from .config import ExperimentConfig
+        from .preparation import PREPARATION_FIELDS
 
         self.base_config = ExperimentConfig() if config is None else config
+        self.sides = dict(TP_AND_GP if sides is None else sides)
+        if len(self.sides) != 2 or not all(isinstance(v, tuple) and len(v) == 2 for v in self.sides.values()):
+            raise ValueError(f"sides must map two names to (title, changed settings), got sides={sides!r}")
+        for title, changes in self.sides.values():
+            wrong = sorted(set(changes) & set(PREPARATION_FIELDS))
+            if wrong:
+                raise ValueError(f"sides may change only the model and the agent's settings, got {wrong} "
+                                 f"in {title!r}; those shape the world: set them in config")
+            self.base_config.replace(**changes)  # refused now, not at the first Run
         self.controls = {
             "nu": slider("float", "nu", "ν", nu, 2.1, 30.0, 0.1),
             "magnitude": slider("float", "magnitude", "m", magnitude, 1.0, 100.0, 1.0),
@@ -78,10 +101,10 @@ class AgentDashboard(widgets.VBox):
         self.buttons["stop"].on_click(lambda _: self.stop())
         self.buttons["forward"].on_click(lambda _: self.start(episodes=10))
         self.buttons["new"].on_click(lambda _: self.reset())
-        self.status = widgets.HTML("Press <b>Run</b> to prepare the data, fit both models and start.")
-        self.worlds = {m: widgets.HTML() for m in ("tp", "gp")}
-        self.decisions = {m: widgets.HTML() for m in ("tp", "gp")}
-        self.summaries = {m: widgets.HTML() for m in ("tp", "gp")}
+        self.status = widgets.HTML("Press <b>Run</b> to prepare the data, fit the agents' models and start.")
+        self.worlds = {name: widgets.HTML() for name in self.sides}
+        self.decisions = {name: widgets.HTML() for name in self.sides}
+        self.summaries = {name: widgets.HTML() for name in self.sides}
         # A fixed layout and plain-text titles: constrained layout and mathtext
         # would cost several times the whole agent step at each redraw.
         self.metrics_figure = Figure(figsize=(14, 2.5))
@@ -89,9 +112,9 @@ class AgentDashboard(widgets.VBox):
         self.metrics_axes = fixed_layout_axes(self.metrics_figure, ncols=len(_LIVE_METRICS))
         self.metrics_image = widgets.Image(format="png", layout=widgets.Layout(width="100%"))
         sides = []
-        for model, label in (("tp", "Student-t process"), ("gp", "Gaussian process")):
-            sides.append(widgets.VBox([widgets.HTML(f"<b>{label}</b>"), self.worlds[model],
-                                       self.decisions[model], self.summaries[model]],
+        for name, (label, _) in self.sides.items():
+            sides.append(widgets.VBox([widgets.HTML(f"<b>{html.escape(label)}</b>"), self.worlds[name],
+                                       self.decisions[name], self.summaries[name]],
                                       layout=widgets.Layout(width="50%")))
         super().__init__(children=[
             widgets.HBox([self.controls[k] for k in ("nu", "magnitude", "proportion")]),
@@ -102,7 +125,7 @@ class AgentDashboard(widgets.VBox):
             self.metrics_image,
         ])
         self.experiments = None
-        self._last = {"tp": None, "gp": None}
+        self._last = dict.fromkeys(self.sides)
         self._task = None
         self._running = False
         self.frames = 0
@@ -122,10 +145,11 @@ class AgentDashboard(widgets.VBox):
 
     def prepare(self):
         """Build the paired runs from the sliders (offline data, outliers, fits, shift)."""
-        from .experiment import paired_experiments
+        from .experiment import experiments_on_one_world
 
-        self.experiments = paired_experiments(self.config())
-        self._last = {"tp": None, "gp": None}
+        self.experiments = experiments_on_one_world(
+            self.config(), {name: changes for name, (_, changes) in self.sides.items()})
+        self._last = dict.fromkeys(self.sides)
         self._drawn_episodes = -1
         self.frames = 0
         self._frame_times = []
@@ -146,8 +170,9 @@ class AgentDashboard(widgets.VBox):
             env = prepare(self.config()).env
             title = "the world after the shift (press Run)"
         else:
-            env = self.experiments["tp"].env
-            done = len(self.experiments["tp"].episodes)
+            first = next(iter(self.experiments.values()))
+            env = first.env
+            done = len(first.episodes)
             title = f"after {done} episode{'' if done == 1 else 's'}"
         plotting.plot_gridworld(ax, env.layout(), title=title)
         images = [render_figure(figure, "png", dpi)]
@@ -222,17 +247,18 @@ class AgentDashboard(widgets.VBox):
     def reset(self) -> None:
         self.stop()
         self.experiments = None
-        self._last = {"tp": None, "gp": None}
+        self._last = dict.fromkeys(self.sides)
         self._draw_world()
         self.metrics_image.value = b""
-        self.status.value = "Press <b>Run</b> to prepare the data, fit both models and start."
+        self.status.value = "Press <b>Run</b> to prepare the data, fit the agents' models and start."
 
     async def _loop(self, episodes):
         import asyncio
 
         try:
             if self.experiments is None:
-                self.status.value = "Preparing: 100 offline episodes, outliers, fitting both models ..."
+                self.status.value = (f"Preparing: {self.base_config.offline_episodes} offline episodes, outliers, "
+                                     "fitting the agents' models ...")
                 await asyncio.get_running_loop().run_in_executor(None, self.prepare)
             if episodes is not None:
                 self.status.value = f"Fast-forwarding {episodes} episodes ..."
@@ -274,7 +300,7 @@ class AgentDashboard(widgets.VBox):
 
     # -- drawing ------------------------------------------------------------
     def _draw_world(self) -> None:
-        for model in ("tp", "gp"):
+        for model in self.sides:
             if self.experiments is None:
                 self.worlds[model].value = ""
                 self.decisions[model].value = ""
@@ -314,8 +340,12 @@ class AgentDashboard(widgets.VBox):
         for ax in self.metrics_axes:
             wipe_axes(ax)
         plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
-                                   _LIVE_METRICS)
+                                   _LIVE_METRICS, labels=self._legend_labels())
         self.metrics_image.value = render_figure(self.metrics_figure, "png", 80)
+
+
+    def _legend_labels(self) -> dict | None:
+        return None if self.sides == TP_AND_GP else {name: name for name in self.sides}
 
 
 def agent_dashboard(**kwargs) -> AgentDashboard:

@@ -19,7 +19,16 @@ from .config import ExperimentConfig
 from .gridworld import GridLayout, SafeGridWorld
 from .offline import OfflineData, collect_offline_data, inject_outliers
 
-__all__ = ["Prepared", "offline_world", "prepare"]
+__all__ = ["PREPARATION_FIELDS", "Prepared", "offline_world", "prepare"]
+
+#: the ExperimentConfig fields a preparation reads: two configs that differ in
+#: none of them (only in the model or the agent's settings) share one world,
+#: one shift, one offline data set and one sequence of episodes
+PREPARATION_FIELDS = (
+    "seed", "grid_size", "n_unsafe", "d", "max_steps", "placement", "offline_episodes", "cost_duplicates",
+    "reward_duplicates", "outlier_magnitude", "outlier_proportion", "cost_outliers", "reward_outliers",
+    "n_switch_states", "episodes",
+)
 
 _STREAMS = ("world", "offline", "outliers", "shift", "episodes", "agent")
 

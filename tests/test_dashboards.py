@@ -385,6 +385,28 @@ def test_live_dashboard_runs_to_the_end_and_matches_a_plain_run(live):
     pd.testing.assert_frame_equal(live.experiments["tp"].records(), plain.records)
 
 
+def test_a_live_dashboard_of_two_settings_of_one_model():
+    from sarsp_edu import ExperimentConfig
+    from sarsp_edu.widgets import agent_dashboard
+
+    sides = {"per step": ("one prior per step", {"model": "gp", "prior_draw": "per_step"}),
+             "per action": ("a prior per action", {"model": "gp", "prior_draw": "per_action"})}
+    live = agent_dashboard(episodes=2, n_switch_states=2, config=ExperimentConfig(**SMALL), sides=sides)
+    assert "one prior per step" in live.children[4].children[0].children[0].value
+    live.fast_forward(2)
+    step, action = live.experiments["per step"], live.experiments["per action"]
+    assert (step.config.model, step.config.prior_draw) == ("gp", "per_step")
+    assert (action.config.model, action.config.prior_draw) == ("gp", "per_action")
+    np.testing.assert_array_equal(step.env.unsafe_states, action.env.unsafe_states)
+    assert live.metrics_axes[0].get_legend_handles_labels()[1] == ["per step", "per action"]
+    with pytest.raises(ValueError, match="those shape the world"):
+        agent_dashboard(sides={"a": ("A", {"model": "tp"}), "b": ("B", {"n_switch_states": 3})})
+    with pytest.raises(ValueError, match="two names"):
+        agent_dashboard(sides={"a": ("A", {"model": "tp"})})
+    with pytest.raises(ValueError, match="prior_draw"):
+        agent_dashboard(sides={"a": ("A", {"model": "tp"}), "b": ("B", {"prior_draw": "per_episode"})})
+
+
 def test_live_dashboard_reads_the_sliders(live):
     live.controls["nu"].value = 5.0
     live.controls["n_switch_states"].value = 3

@@ -151,6 +151,53 @@ def test_paired_runs_see_the_same_world():
     assert len(experiments[0].env.moved_indices) == TINY.n_switch_states
 
 
+def test_experiments_on_one_world_differ_only_in_what_their_sides_change():
+    from sarsp_edu.experiment import experiments_on_one_world
+
+    sides = {"per step": {"model": "gp", "prior_draw": "per_step"}, "per action": {"model": "gp"}}
+    experiments = experiments_on_one_world(TINY, sides)
+    step, action = experiments["per step"], experiments["per action"]
+    assert step.config.prior_draw == "per_step" and action.config.prior_draw == "per_action"
+    assert step.config.replace(prior_draw="per_action") == action.config
+    np.testing.assert_array_equal(step.env.unsafe_states, action.env.unsafe_states)
+    np.testing.assert_array_equal(step.data.cost.y, action.data.cost.y)
+    np.testing.assert_array_equal(step._episode_seeds, action._episode_seeds)
+    # the side that changes nothing of the agent is the plain run of its config
+    while not action.finished:
+        action.run_episode()
+    pd.testing.assert_frame_equal(action.records(), run_experiment(TINY.replace(model="gp")).records)
+
+
+@pytest.mark.parametrize("changes, named", [({"n_switch_states": 2}, "n_switch_states"), ({"seed": 4}, "seed")])
+def test_sides_cannot_change_the_world(changes, named):
+    from sarsp_edu.experiment import experiments_on_one_world
+
+    with pytest.raises(ValueError, match=f"shape the world.*{named}|{named}.*shape the world"):
+        experiments_on_one_world(TINY, {"a": {"model": "tp"}, "b": changes})
+    with pytest.raises(ValueError, match="sides must be a non-empty dict"):
+        experiments_on_one_world(TINY, {})
+
+
+def test_a_preparation_reads_only_the_fields_it_names():
+    from dataclasses import fields
+
+    from sarsp_edu.preparation import PREPARATION_FIELDS, prepare
+
+    names = {f.name for f in fields(ExperimentConfig)}
+    assert set(PREPARATION_FIELDS) <= names
+    base = prepare(TINY)
+    changed = {"model": "gp", "nu": 5.0, "k_prior": 20, "prior_draw": "per_step", "optimizer_steps": 3,
+               "variance_threshold": 0.5, "n_matching": 4, "retrain": "always"}
+    assert not set(changed) & set(PREPARATION_FIELDS)
+    other = prepare(TINY.replace(**changed))
+    np.testing.assert_array_equal(base.env.unsafe_states, other.env.unsafe_states)
+    np.testing.assert_array_equal(base.data.cost.y, other.data.cost.y)
+    np.testing.assert_array_equal(base.episode_seeds, other.episode_seeds)
+    assert base.agent_seed == other.agent_seed
+    moved = prepare(TINY.replace(n_switch_states=2))
+    assert len(moved.env.moved_indices) == 2 != len(base.env.moved_indices)
+
+
 def test_comparison_table_and_verdict(tiny_comparison):
     table = tiny_comparison.table()
     assert list(table.index) == list(SUMMARY_METRICS)

@@ -62,24 +62,30 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
     return ax
 
 
-def plot_live_metrics(axes, records, metrics):
-    """Running metrics of a TP and a GP run, one Axes per metric (tutorial 4's live dashboard).
+def plot_live_metrics(axes, records, metrics, *, labels=None, colours=None):
+    """Running metrics of two or more runs side by side, one Axes per metric (the live dashboards).
 
     Parameters
     ----------
     axes : sequence of matplotlib Axes, one per metric
     records : dict
-        ``{"tp": frame, "gp": frame}``, each the per-episode records of a run
-        (``Experiment.records()``), which may be empty.
+        Name -> the per-episode records of a run (``Experiment.records()``),
+        which may be empty; e.g. ``{"tp": frame, "gp": frame}``.
     metrics : sequence of str
         Columns of the records.
+    labels, colours : dict, optional
+        Name -> legend label and colour; by default the name in capitals and
+        the package's colour of that name (``"tp"``, ``"gp"``), else the
+        matplotlib cycle.
     """
+    labels = labels or {}
+    colours = colours or {}
     for ax, metric in zip(axes, metrics):
-        for model in ("tp", "gp"):
-            frame = records[model]
+        for i, (name, frame) in enumerate(records.items()):
             if len(frame):
-                ax.plot(frame["episode"], frame[metric], color=COLOURS[model], lw=2,
-                        marker="o" if len(frame) < 15 else None, ms=3, label=model.upper())
+                colour = colours.get(name, COLOURS.get(name, f"C{i}"))
+                ax.plot(frame["episode"], frame[metric], color=colour, lw=2,
+                        marker="o" if len(frame) < 15 else None, ms=3, label=labels.get(name, name.upper()))
         ax.set_title(metric.replace("_", " "), fontsize=10)
         ax.set_xlabel("episode", fontsize=9)
         ax.tick_params(labelsize=8)
