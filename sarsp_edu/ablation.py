@@ -29,7 +29,7 @@ from scipy import stats
 from ._io import atomic_write_text
 from ._version import __version__
 from .config import ABLATION_CELLS, ABLATION_SEEDS, PRESETS, ExperimentConfig
-from .metrics import backup_share
+from .metrics import backup_share, trapped_episodes
 from .sweep import SweepResults, run_sweep
 
 __all__ = [
@@ -127,7 +127,7 @@ class AblationResults:
                         "total_cost": summary["total_cost"], "cost_rate": summary["cost_rate"],
                         "backup_share": 100.0 * backup_share(records),
                         "failures": int(failed.sum()),
-                        "stuck_failures": int((records.loc[failed, "final_cells"] <= 2).sum()),
+                        "stuck_failures": int(trapped_episodes(records).sum()),
                         "retrains": int(records["retrains"].iloc[-1]),
                     })
         return pd.DataFrame(rows)

@@ -28,6 +28,8 @@ __all__ = [
     "check_a",
     "backup_share",
     "stuck_share",
+    "TRAPPED_CELLS",
+    "trapped_episodes",
     "cost_rate_undefined",
     "prefers",
 ]
@@ -158,18 +160,33 @@ def backup_share(records: pd.DataFrame) -> float:
     return float((records["backup_rate"] * records["episode_steps"]).sum() / steps) if steps else math.nan
 
 
-def stuck_share(records: pd.DataFrame) -> float:
-    """Share of failed episodes (goal not reached) that ended trapped on at most 2 cells.
+#: a failed episode whose last positions lie on at most this many cells was trapped
+TRAPPED_CELLS = 2
+
+
+def trapped_episodes(records: pd.DataFrame) -> pd.Series:
+    """Per episode: whether it failed (goal not reached) trapped on at most ``TRAPPED_CELLS`` cells.
 
     A greedy agent that pushes into a wall, or steps back and forth between
-    two cells, until the step limit (see ``final_cells``).  NaN when no
-    episode failed, or for results stored before version 0.2.0, which did
-    not record ``final_cells``.
+    two cells, until the step limit (see ``final_cells``).  All False for
+    results stored before version 0.2.0, which did not record ``final_cells``.
+    """
+    failed = ~records["task_completed"].astype(bool)
+    if "final_cells" not in records:
+        return failed & False
+    return failed & (records["final_cells"] <= TRAPPED_CELLS)
+
+
+def stuck_share(records: pd.DataFrame) -> float:
+    """Share of failed episodes (goal not reached) that ended trapped (:func:`trapped_episodes`).
+
+    NaN when no episode failed, or for results stored before version 0.2.0,
+    which did not record ``final_cells``.
     """
     failed = ~records["task_completed"].astype(bool)
     if not failed.any() or "final_cells" not in records:  # results stored before 0.2.0 lack the column
         return math.nan
-    return float((records.loc[failed, "final_cells"] <= 2).mean())
+    return float(trapped_episodes(records).sum() / failed.sum())
 
 
 def cost_rate_undefined(summary) -> bool:

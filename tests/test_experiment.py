@@ -392,3 +392,7 @@ def test_stuck_share_by_hand_and_for_results_stored_before_it_existed():
     assert stuck_share(records) == pytest.approx(2 / 3)  # of three failures, two ended on <= 2 cells
     assert np.isnan(stuck_share(records.assign(task_completed=True)))  # no failure
     assert np.isnan(stuck_share(records.drop(columns="final_cells")))  # stored by 0.1
+    from sarsp_edu.metrics import trapped_episodes
+
+    assert trapped_episodes(records).tolist() == [False, True, True, False]  # a success on 7 cells is no trap
+    assert not trapped_episodes(records.drop(columns="final_cells")).any()
