@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._threads import one_blas_thread
 from ._validation import check_choice, check_int, check_positive
 from .config import (  # Algorithm 1's defaults, defined once in config
     COST_FIT_POINTS,
@@ -263,9 +264,15 @@ class SARSPAgent:
         model.fit(buffer.X[rows], buffer.y[rows])
 
     def fit(self) -> "SARSPAgent":
-        """Offline training: fit both models' hyperparameters on the data."""
-        self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
-        self._fit(self.reward_model, self.reward_data, self.reward_fit_points)
+        """Offline training: fit both models' hyperparameters on the data.
+
+        With one BLAS thread (:func:`~sarsp_edu._threads.one_blas_thread`):
+        the agent's fits are a few hundred rows square, where more threads
+        only add overhead, and many times more where the cores are busy.
+        """
+        with one_blas_thread():
+            self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
+            self._fit(self.reward_model, self.reward_data, self.reward_fit_points)
         return self
 
     # -- prediction -------------------------------------------------------------
