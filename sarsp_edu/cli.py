@@ -223,8 +223,8 @@ def _sweep(args, parser) -> int:
 
 def _tables(args, parser) -> int:
     from ._io import StoredResultError, atomic_write_text
-    from .sweep import SweepResults
-    from .tables import summary_tables, tables_markdown
+    from .sweep import SweepResults, describe_cells
+    from .tables import frame_to_markdown, summary_tables, tables_markdown
 
     if args.markdown:
         _check_file(parser, "--markdown", args.markdown)
@@ -236,18 +236,42 @@ def _tables(args, parser) -> int:
     except (FileNotFoundError, ValueError) as exc:
         parser.error(str(exc))
     if results.missing:
-        listed = "; ".join(" ".join(f"{n}={v:g}" for n, v in zip(("m", "p", "nss", "seed"), key))
-                           for key in results.missing)
         print(f"partial sweep: {len(results)} of {len(results) + len(results.missing)} cells stored; "
-              f"missing: {listed}")
+              f"missing: {describe_cells(results.missing)}")
     for key, frame in tables.items():
         if key == "seeds":
             continue
         print(f"\n{key}\n{_format_table(frame)}")
+    sections = _beside_paper_sections(tables, results)
+    for title, frame in sections:
+        print(f"\n{title}\n{_format_table(frame)}")
     if args.markdown:
-        atomic_write_text(args.markdown, tables_markdown(tables) + "\n")
+        markdown = tables_markdown(tables)
+        for title, frame in sections:
+            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(frame.reset_index())}\n"
+        atomic_write_text(args.markdown, markdown + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     return 0
+
+
+def _beside_paper_sections(tables: dict, results) -> list:
+    """(title, frame) pairs: the sweep's mean and Table 1 rows beside the paper's.
+
+    The paper's Table 2 is a mean over its 45 configurations; a partial
+    sweep's mean is over fewer, and the title says how many.
+    """
+    from . import paper
+    from .tables import beside_paper, table1_beside_paper
+
+    n = results.frame().groupby(["m", "p", "nss"]).ngroups
+    over = "all 45 configurations" if n == 45 else f"the {n} configurations stored (the paper's: all 45)"
+    sections = [(f"beside the paper's Table 2: mean over {over}", beside_paper(tables["mean"], paper.TABLE2))]
+    rows = table1_beside_paper(tables["table1"], paper.TABLE1)
+    if len(rows):
+        shown = rows.index.droplevel("metric").nunique()
+        sections.append((f"beside the paper's Table 1: {shown} of its {len(paper.TABLE1)} configurations stored",
+                         rows))
+    return sections
 
 
 def _describe(config) -> str:

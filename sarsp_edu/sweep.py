@@ -42,6 +42,7 @@ __all__ = [
     "SweepResults",
     "summary_tables",
     "cell_config",
+    "describe_cells",
     "frame_to_markdown",
     "PAPER_MAGNITUDES",
     "PAPER_PROPORTIONS",
@@ -72,6 +73,19 @@ def cell_config(base: ExperimentConfig, m: float, p: float, nss: int, seed: int)
         n_switch_states=int(nss),
         seed=cell_seed(seed, m, p, nss),
     )
+
+
+def describe_cells(keys) -> str:
+    """Cell keys ``(m, p, nss, seed)`` in a line: those of one (m, p, seed) together.
+
+    >>> describe_cells([(40.0, 0.2, 6, 0), (40.0, 0.2, 8, 0), (60.0, 0.3, 2, 1)])
+    'm=40 p=0.2 nss=6,8 seed=0; m=60 p=0.3 nss=2 seed=1'
+    """
+    groups: dict = {}
+    for m, p, nss, seed in keys:
+        groups.setdefault((float(m), float(p), int(seed)), []).append(int(nss))
+    return "; ".join(f"m={m:g} p={p:g} nss={','.join(str(n) for n in nss)} seed={seed}"
+                     for (m, p, seed), nss in groups.items())
 
 
 def _cell_name(m, p, nss, seed) -> str:

@@ -30,7 +30,7 @@ from .metrics import (
 if TYPE_CHECKING:
     from .sweep import SweepResults
 
-__all__ = ["beside_paper", "frame_to_markdown", "summary_tables", "tables_markdown"]
+__all__ = ["beside_paper", "frame_to_markdown", "summary_tables", "table1_beside_paper", "tables_markdown"]
 
 
 def _paper_mode(values: np.ndarray) -> float:
@@ -240,3 +240,38 @@ def beside_paper(ours: pd.DataFrame, published: dict) -> pd.DataFrame:
                      "ours %": ours.loc[metric, "% change"], "paper TP": paper_tp, "paper GP": paper_gp,
                      "paper %": percent_difference(paper_tp, paper_gp)})
     return pd.DataFrame(rows).set_index("metric")
+
+
+def table1_beside_paper(table1: pd.DataFrame, published: dict) -> pd.DataFrame:
+    """Our Table 1 rows beside the paper's, for the configurations both hold.
+
+    Parameters
+    ----------
+    table1 : DataFrame
+        ``summary_tables(...)["table1"]``.
+    published : dict
+        ``{(m, p, nss): {"tp": {metric: value}, "gp": {...}}}``, e.g.
+        ``sarsp_edu.paper.TABLE1``.
+
+    Returns
+    -------
+    DataFrame indexed by ``(m, p, nss, metric)``, with columns ``ours TP``,
+    ``paper TP``, ``ours GP``, ``paper GP``: one row per metric the paper
+    gives, for each of its configurations that ``table1`` holds (none: an
+    empty frame with those columns).
+    """
+    columns = ["ours TP", "paper TP", "ours GP", "paper GP"]
+    ours = {(float(row.m), float(row.p), int(row.nss), row.model): row for row in table1.itertuples(index=False)}
+    rows = []
+    for (m, p, nss), paper_rows in published.items():
+        key = (float(m), float(p), int(nss))
+        if key + ("TP",) not in ours:
+            continue
+        for metric in paper_rows["tp"]:
+            rows.append({"m": m, "p": p, "nss": nss, "metric": metric,
+                         "ours TP": getattr(ours[key + ("TP",)], metric), "paper TP": paper_rows["tp"][metric],
+                         "ours GP": getattr(ours[key + ("GP",)], metric), "paper GP": paper_rows["gp"][metric]})
+    index = ["m", "p", "nss", "metric"]
+    if not rows:
+        return pd.DataFrame(columns=index + columns).set_index(index)
+    return pd.DataFrame(rows).set_index(index)[columns]

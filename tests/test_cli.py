@@ -82,10 +82,15 @@ def test_sweep_and_tables(tmp_path, capsys):
     assert main(["tables", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "table1" in printed and "wilcoxon" in printed
+    # the mean beside the paper's, saying over how many configurations; (40, 0.2, 2) is a row of Table 1
+    assert "beside the paper's Table 2: mean over the 2 configurations stored (the paper's: all 45)" in printed
+    assert "beside the paper's Table 1: 1 of its 6 configurations stored" in printed
     assert not (out / "tables.md").exists()  # nothing written unless asked
     assert main(["tables", str(out), "--markdown", str(tmp_path / "t" / "tables.md")]) == 0
     markdown = (tmp_path / "t" / "tables.md").read_text()
     assert markdown.startswith("# sarsp_edu sweep") and "## Table 2" in markdown
+    assert "## Beside the paper's Table 2: mean over the 2 configurations stored" in markdown
+    assert "| metric | ours TP | ours GP | ours % | paper TP |" in markdown
 
 
 def test_tables_of_a_missing_folder(tmp_path, capsys):

@@ -201,6 +201,34 @@ def test_markdown_export(sweep_dir):
     assert doc.count("## ") == len(tables)
 
 
+def test_table1_beside_the_paper_holds_only_the_configurations_both_have():
+    from sarsp_edu.paper import TABLE1
+    from sarsp_edu.tables import table1_beside_paper
+
+    ours = pd.DataFrame([
+        {"m": 40.0, "p": 0.2, "nss": 2, "model": "TP", **{k: 1.0 for k in SUMMARY_METRICS}},
+        {"m": 40.0, "p": 0.2, "nss": 2, "model": "GP", **{k: 2.0 for k in SUMMARY_METRICS}},
+        {"m": 40.0, "p": 0.3, "nss": 4, "model": "TP", **{k: 3.0 for k in SUMMARY_METRICS}},  # not in Table 1
+        {"m": 40.0, "p": 0.3, "nss": 4, "model": "GP", **{k: 4.0 for k in SUMMARY_METRICS}},
+    ])
+    rows = table1_beside_paper(ours, TABLE1)
+    paper = TABLE1[(40.0, 0.2, 2)]
+    assert list(rows.columns) == ["ours TP", "paper TP", "ours GP", "paper GP"]
+    assert len(rows) == len(paper["tp"])  # one configuration, each metric the paper gives (no cost rate)
+    row = rows.loc[(40.0, 0.2, 2, "task_success_rate")]
+    assert (row["ours TP"], row["paper TP"], row["ours GP"], row["paper GP"]) == (1.0, 96.4, 2.0, 90.8)
+    none = table1_beside_paper(ours.iloc[2:], TABLE1)
+    assert len(none) == 0 and list(none.columns) == ["ours TP", "paper TP", "ours GP", "paper GP"]
+
+
+def test_cells_are_described_grouped_by_configuration_and_seed():
+    from sarsp_edu.sweep import describe_cells
+
+    keys = [(40.0, 0.2, 6, 0), (40.0, 0.2, 8, 0), (40.0, 0.2, 6, 1), (80.0, 0.4, 10, 0)]
+    assert describe_cells(keys) == "m=40 p=0.2 nss=6,8 seed=0; m=40 p=0.2 nss=6 seed=1; m=80 p=0.4 nss=10 seed=0"
+    assert describe_cells([]) == ""
+
+
 def test_curves_and_macro(sweep_dir):
     _, results = sweep_dir
     curves = results.curves("total_cost", "TP", 40, 0.2)
