@@ -34,6 +34,9 @@ def test_settings_are_valid_configs():
         config = setting_config(setting, episodes=3)
         assert config.episodes == 3, name
     assert setting_config(ABLATION_SETTINGS["reference preset"]).preset == "reference"
+    fewer = setting_config(ABLATION_SETTINGS["reference preset, reward fit on 1,000 rows"])
+    reference = setting_config(ABLATION_SETTINGS["reference preset"])
+    assert fewer.reward_fit_points == 1000 and fewer.replace(reward_fit_points=None) == reference
     assert setting_config(ABLATION_SETTINGS["default (per action, k=100, whole cost fit, 1,000-row reward fit)"]).preset == "default"
 
 
