@@ -248,7 +248,10 @@ def _tables(args, parser) -> int:
     if args.markdown:
         markdown = tables_markdown(tables)
         for title, frame in sections:
-            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(frame.reset_index())}\n"
+            flat = frame.reset_index()
+            for column in {"m", "p"} & set(flat.columns):  # 40 and 0.2, not 40.000 and 0.200
+                flat[column] = flat[column].map(lambda v: f"{v:g}")
+            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(flat)}\n"
         atomic_write_text(args.markdown, markdown + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     return 0

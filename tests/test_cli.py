@@ -91,6 +91,7 @@ def test_sweep_and_tables(tmp_path, capsys):
     assert markdown.startswith("# sarsp_edu sweep") and "## Table 2" in markdown
     assert "## Beside the paper's Table 2: mean over the 2 configurations stored" in markdown
     assert "| metric | ours TP | ours GP | ours % | paper TP |" in markdown
+    assert "| 40 | 0.2 | 2 | task_success_rate |" in markdown  # Table 1's configuration as the paper writes it
 
 
 def test_tables_of_a_missing_folder(tmp_path, capsys):
