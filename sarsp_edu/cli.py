@@ -242,7 +242,7 @@ def _tables(args, parser) -> int:
         if key == "seeds":
             continue
         print(f"\n{key}\n{_format_table(frame)}")
-    sections = _beside_paper_sections(tables, results)
+    sections = _beside_paper_sections(tables)
     for title, frame in sections:
         print(f"\n{title}\n{_format_table(frame)}")
     if args.markdown:
@@ -257,17 +257,20 @@ def _tables(args, parser) -> int:
     return 0
 
 
-def _beside_paper_sections(tables: dict, results) -> list:
+def _beside_paper_sections(tables: dict) -> list:
     """(title, frame) pairs: the sweep's mean and Table 1 rows beside the paper's.
 
     The paper's Table 2 is a mean over its 45 configurations; a partial
     sweep's mean is over fewer, and the title says how many.
     """
     from . import paper
+    from .sweep import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
     from .tables import beside_paper, table1_beside_paper
 
-    n = results.frame().groupby(["m", "p", "nss"]).ngroups
-    over = "all 45 configurations" if n == 45 else f"the {n} configurations stored (the paper's: all 45)"
+    n = len(tables["table1"]) // 2  # a TP row and a GP row per configuration
+    total = len(PAPER_MAGNITUDES) * len(PAPER_PROPORTIONS) * len(PAPER_SWITCH_STATES)
+    over = (f"all {total} configurations" if n == total
+            else f"the {n} configurations stored (the paper's: all {total})")
     sections = [(f"beside the paper's Table 2: mean over {over}", beside_paper(tables["mean"], paper.TABLE2))]
     rows = table1_beside_paper(tables["table1"], paper.TABLE1)
     if len(rows):
