@@ -86,6 +86,10 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
         relative to the GP), its 95% bootstrap interval (configurations
         resampled in pairs), and the coefficients of variation.
         ``"median"`` and ``"mode"``: Tables 3 and 4.
+        ``"levels"``: each model's mean over configurations with a 95%
+        bootstrap interval (configurations resampled): how far the mean of
+        this grid, or of the part of it stored, pins down a level to set
+        beside the paper's.
         ``"wilcoxon"``: a paired Wilcoxon signed-rank test of TP against GP
         over configurations, per metric.
         ``"seeds"`` (only with several seeds): per configuration and metric,
@@ -174,7 +178,22 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
                                   "% change": percent_difference(tp.mean(), gp.mean()),
                                   "95% CI low": low, "95% CI high": high})
         tables["seeds"] = pd.DataFrame(seed_rows)
-    return tables
+
+    # drawn last, so that the intervals above do not depend on it
+    level_rows = []
+    for metric in SUMMARY_METRICS:
+        tp, gp = _paired(per_config, metric)
+        row = {"metric": metric}
+        for label, column in (("TP", 0), ("GP", 1)):
+            values = (tp, gp)[column]
+            row[label] = float(np.mean(values))
+            row[f"{label} 95% CI low"], row[f"{label} 95% CI high"] = _bootstrap_ci(
+                tp, gp, lambda t, g, column=column: np.mean((t, g)[column]), n_boot, boot_rng
+            )
+        level_rows.append(row)
+    tables["levels"] = pd.DataFrame(level_rows).set_index("metric")
+    order = ["table1", "mean", "levels", "median", "mode", "wilcoxon", "seeds"]
+    return {key: tables[key] for key in order if key in tables}
 
 
 def _cv(values: np.ndarray) -> float:
@@ -204,6 +223,7 @@ def frame_to_markdown(frame: pd.DataFrame, digits: int = 3) -> str:
 _TABLE_TITLES = {
     "table1": "Table 1: every configuration (TP row, GP row; Definition 4 and the % difference in total cost)",
     "mean": "Table 2: mean over configurations (% change relative to the GP, 95% bootstrap interval, CV)",
+    "levels": "Each model's mean over configurations with a 95% bootstrap interval (configurations resampled)",
     "median": "Table 3: median over configurations",
     "mode": "Table 4: mode over configurations (the smallest most frequent value, as scipy.stats.mode)",
     "wilcoxon": "Paired Wilcoxon signed-rank test of TP against GP over configurations",
@@ -219,7 +239,14 @@ def tables_markdown(tables: dict, title: str = "sarsp_edu sweep: the paper's tab
     return "\n".join(parts)
 
 
-def beside_paper(ours: pd.DataFrame, published: dict) -> pd.DataFrame:
+def _three_digits(value: float) -> str:
+    """``value`` to 3 significant digits in fixed notation (57.6, -127, 0.00731, 2000)."""
+    if value == 0 or not math.isfinite(value):
+        return f"{value:g}"
+    return f"{value:.{max(0, 2 - math.floor(math.log10(abs(value))))}f}"
+
+
+def beside_paper(ours: pd.DataFrame, published: dict, levels: pd.DataFrame | None = None) -> pd.DataFrame:
     """Our Table 2, 3 or 4 beside the paper's, one row per metric.
 
     Parameters
@@ -228,16 +255,26 @@ def beside_paper(ours: pd.DataFrame, published: dict) -> pd.DataFrame:
         ``summary_tables(...)["mean"]``, ``["median"]`` or ``["mode"]``.
     published : dict
         ``{metric: (TP, GP)}``, e.g. ``sarsp_edu.paper.TABLE2``.
+    levels : DataFrame, optional
+        ``summary_tables(...)["levels"]``, with ``ours`` the ``"mean"``
+        table: adds each model's 95% bootstrap interval beside its mean.
 
     Returns
     -------
     DataFrame with columns ``ours TP``, ``ours GP``, ``ours %``, ``paper TP``,
-    ``paper GP``, ``paper %`` (``%``: TP against GP, the paper's convention).
+    ``paper GP``, ``paper %`` (``%``: TP against GP, the paper's convention);
+    with ``levels``, ``TP 95% CI`` after ``ours TP`` and ``GP 95% CI`` after
+    ``ours GP``, each written ``[low, high]`` to 3 significant digits.
     """
     rows = []
     for metric, (paper_tp, paper_gp) in published.items():
-        rows.append({"metric": metric, "ours TP": ours.loc[metric, "TP"], "ours GP": ours.loc[metric, "GP"],
-                     "ours %": ours.loc[metric, "% change"], "paper TP": paper_tp, "paper GP": paper_gp,
+        row = {"metric": metric}
+        for model in ("TP", "GP"):
+            row[f"ours {model}"] = ours.loc[metric, model]
+            if levels is not None:
+                low, high = (levels.loc[metric, f"{model} 95% CI {end}"] for end in ("low", "high"))
+                row[f"{model} 95% CI"] = f"[{_three_digits(low)}, {_three_digits(high)}]"
+        rows.append({**row, "ours %": ours.loc[metric, "% change"], "paper TP": paper_tp, "paper GP": paper_gp,
                      "paper %": percent_difference(paper_tp, paper_gp)})
     return pd.DataFrame(rows).set_index("metric")
 

@@ -84,13 +84,15 @@ def test_sweep_and_tables(tmp_path, capsys):
     assert "table1" in printed and "wilcoxon" in printed
     # the mean beside the paper's, saying over how many configurations; (40, 0.2, 2) is a row of Table 1
     assert "beside the paper's Table 2: mean over the 2 configurations stored (the paper's: all 45)" in printed
+    assert "\nlevels\n" in printed and "TP 95% CI" in printed
     assert "beside the paper's Table 1: 1 of its 6 configurations stored" in printed
     assert not (out / "tables.md").exists()  # nothing written unless asked
     assert main(["tables", str(out), "--markdown", str(tmp_path / "t" / "tables.md")]) == 0
     markdown = (tmp_path / "t" / "tables.md").read_text()
     assert markdown.startswith("# sarsp_edu sweep") and "## Table 2" in markdown
     assert "## Beside the paper's Table 2: mean over the 2 configurations stored" in markdown
-    assert "| metric | ours TP | ours GP | ours % | paper TP |" in markdown
+    assert "| metric | ours TP | TP 95% CI | ours GP | GP 95% CI | ours % | paper TP |" in markdown
+    assert "## Each model's mean over configurations with a 95% bootstrap interval" in markdown
     assert "| 40 | 0.2 | 2 | task_success_rate |" in markdown  # Table 1's configuration as the paper writes it
 
 

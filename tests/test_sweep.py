@@ -159,13 +159,19 @@ def test_bad_sweep_arguments(kwargs, match):
 def test_tables_by_hand(sweep_dir):
     _, results = sweep_dir
     tables = summary_tables(results, n_boot=200)
-    assert set(tables) == {"table1", "mean", "median", "mode", "wilcoxon", "seeds"}
+    assert list(tables) == ["table1", "mean", "levels", "median", "mode", "wilcoxon", "seeds"]
     per_config = results.frame().groupby(["m", "p", "nss", "model"])[list(SUMMARY_METRICS)].mean()
     for metric in SUMMARY_METRICS:
         tp = per_config.xs("TP", level="model")[metric].to_numpy()
         gp = per_config.xs("GP", level="model")[metric].to_numpy()
         assert tables["mean"].loc[metric, "TP"] == pytest.approx(tp.mean())
         assert tables["median"].loc[metric, "GP"] == pytest.approx(np.median(gp))
+        for label, values in (("TP", tp), ("GP", gp)):
+            level = tables["levels"].loc[metric]
+            assert level[label] == pytest.approx(values.mean())
+            # a bootstrap mean of resampled configurations lies between their extremes
+            assert values.min() - 1e-12 <= level[f"{label} 95% CI low"] <= level[f"{label} 95% CI high"]
+            assert level[f"{label} 95% CI high"] <= values.max() + 1e-12
         if tp.mean() != 0 and len(tp) > 1:
             assert tables["mean"].loc[metric, "CV TP (%)"] == pytest.approx(tp.std(ddof=1) / abs(tp.mean()) * 100)
         expected = (tp.mean() - gp.mean()) / abs(gp.mean()) * 100 if gp.mean() else None
@@ -173,6 +179,23 @@ def test_tables_by_hand(sweep_dir):
             assert tables["mean"].loc[metric, "% change"] == pytest.approx(expected)
     assert len(tables["table1"]) == 2 * 4
     assert tables["wilcoxon"]["n"].tolist() == [4] * 6
+
+
+def test_level_intervals_leave_the_change_intervals_as_they_were(sweep_dir):
+    # the levels' resamples are drawn after every other interval, so adding
+    # them changed no interval that stored results and docs quote
+    from sarsp_edu.metrics import percent_difference
+    from sarsp_edu.tables import _bootstrap_ci, _paired, _per_configuration
+
+    _, results = sweep_dir
+    tables = summary_tables(results, n_boot=100, rng=3)
+    per_config = _per_configuration(results.frame())
+    rng = np.random.default_rng(3)
+    for metric in SUMMARY_METRICS:
+        tp, gp = _paired(per_config, metric)
+        low, high = _bootstrap_ci(tp, gp, lambda t, g: percent_difference(t.mean(), g.mean()), 100, rng)
+        np.testing.assert_equal([tables["mean"].loc[metric, "95% CI low"], tables["mean"].loc[metric, "95% CI high"]],
+                                [low, high])
 
 
 def test_table1_uses_definition_4_and_the_symmetric_difference():
@@ -219,6 +242,25 @@ def test_table1_beside_the_paper_holds_only_the_configurations_both_have():
     assert (row["ours TP"], row["paper TP"], row["ours GP"], row["paper GP"]) == (1.0, 96.4, 2.0, 90.8)
     none = table1_beside_paper(ours.iloc[2:], TABLE1)
     assert len(none) == 0 and list(none.columns) == ["ours TP", "paper TP", "ours GP", "paper GP"]
+
+
+def test_beside_the_paper_with_and_without_the_level_intervals():
+    from sarsp_edu.paper import TABLE2
+    from sarsp_edu.tables import beside_paper
+
+    metrics = list(TABLE2)
+    ours = pd.DataFrame({"TP": [1.0] * 6, "GP": [2.0] * 6, "% change": [-50.0] * 6}, index=metrics)
+    plain = beside_paper(ours, TABLE2)
+    assert list(plain.columns) == ["ours TP", "ours GP", "ours %", "paper TP", "paper GP", "paper %"]
+    assert plain.loc["total_cost", "paper TP"] == TABLE2["total_cost"][0]
+    levels = pd.DataFrame({"TP 95% CI low": [0.51234] * 6, "TP 95% CI high": [1.5] * 6,
+                           "GP 95% CI low": [-1.0] * 6, "GP 95% CI high": [2000.4] * 6}, index=metrics)
+    wide = beside_paper(ours, TABLE2, levels=levels)
+    assert list(wide.columns) == ["ours TP", "TP 95% CI", "ours GP", "GP 95% CI", "ours %", "paper TP", "paper GP",
+                                  "paper %"]
+    assert (wide.loc["task_success_rate", "TP 95% CI"], wide.loc["task_success_rate", "GP 95% CI"]) == (
+        "[0.512, 1.50]", "[-1.00, 2000]")
+    pd.testing.assert_frame_equal(wide[plain.columns], plain)
 
 
 def test_cells_are_described_grouped_by_configuration_and_seed():
