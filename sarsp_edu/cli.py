@@ -214,7 +214,8 @@ def _sweep(args, parser) -> int:
     except ValueError as exc:
         parser.error(str(exc))
     tables = summary_tables(results)
-    print(f"{len(results)} cells, each a paired TP-vs-GP run of {config.episodes} episodes; preset {config.preset}")
+    cells = f"{len(results)} cell{'' if len(results) == 1 else 's'}"
+    print(f"{cells}, each a paired TP-vs-GP run of {config.episodes} episodes; preset {config.preset}")
     print(_format_table(tables["mean"]))
     if args.out:
         print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {args.out}")

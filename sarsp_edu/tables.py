@@ -53,11 +53,16 @@ def _paired(frame: pd.DataFrame, metric: str):
 
 
 def _bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):
+    """A percentile interval over resampled pairs; NaN from a single pair, which has no spread to resample.
+
+    The resamples are drawn even then, so that the intervals computed after
+    this one do not depend on how many pairs it had.
+    """
     n = len(tp)
     idx = rng.integers(0, n, size=(n_boot, n))
     values = np.array([statistic(tp[i], gp[i]) for i in idx])
     values = values[np.isfinite(values)]
-    if len(values) == 0:
+    if n < 2 or len(values) == 0:
         return math.nan, math.nan
     return tuple(np.quantile(values, [(1 - level) / 2, (1 + level) / 2]))
 

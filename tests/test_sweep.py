@@ -403,6 +403,20 @@ def test_tables_say_n_a_where_eq_12_is_undefined():
     assert tables["mean"].loc["total_cost", "p_c undefined in"] == 0
 
 
+def test_one_configuration_has_no_bootstrap_interval():
+    # one pair has no spread to resample: its interval is undefined, not the value itself
+    row = {"m": 40, "p": 0.2, "nss": 2, "seed": 0, "mean_reward": -50.0, "mean_cost": 0.2,
+           "total_cost": 3.0, "task_success_rate": 80.0, "mean_steps": 20.0, "cost_rate": 0.01}
+    rows = [{**row, "model": "TP"}, {**row, "model": "GP", "total_cost": 9.0, "mean_cost": 0.6}]
+    results = type("R", (), {"frame": staticmethod(lambda: pd.DataFrame(rows)), "a": 100.0,
+                             "__len__": lambda self: 1})()
+    tables = summary_tables(results, n_boot=50)
+    assert tables["mean"].loc["total_cost", "% change"] == pytest.approx(-66.667, abs=1e-3)
+    assert tables["mean"][["95% CI low", "95% CI high"]].isna().all().all()
+    assert tables["levels"].filter(like="95% CI").isna().all().all()
+    assert tables["levels"].loc["total_cost", "TP"] == 3.0
+
+
 def test_load_one_seed_of_a_sweep(sweep_dir):
     folder, results = sweep_dir
     first = SweepResults.load(folder, seeds=[0])
