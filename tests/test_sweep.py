@@ -384,6 +384,13 @@ def test_a_partial_sweep_is_refused_unless_allowed(tmp_path):
     assert len(partial) == 3 and partial.missing == [(40.0, 0.2, 2, 1)]
 
 
+def _hand_made_sweep(rows):
+    """What summary_tables reads from a sweep (frame, a, len), built from per-model metric rows."""
+    frame = pd.DataFrame(rows)
+    n = len(frame[frame.model == "TP"])
+    return type("R", (), {"frame": staticmethod(lambda: frame.copy()), "a": 100.0, "__len__": lambda self: n})()
+
+
 def test_tables_say_n_a_where_eq_12_is_undefined():
     # a hand-made sweep: in one configuration the GP violated but never succeeded cleanly
     rows = []
@@ -392,8 +399,7 @@ def test_tables_say_n_a_where_eq_12_is_undefined():
             rows.append({"m": m, "p": 0.2, "nss": nss, "seed": 0, "model": model, "mean_reward": -50.0,
                          "mean_cost": cost / 10, "total_cost": cost, "task_success_rate": 80.0,
                          "mean_steps": 20.0, "cost_rate": rate})
-    results = type("R", (), {"frame": staticmethod(lambda: pd.DataFrame(rows)), "a": 100.0,
-                             "__len__": lambda self: 3})()
+    results = _hand_made_sweep(rows)
     tables = summary_tables(results, n_boot=50)
     t1 = tables["table1"]
     first = t1[(t1.m == 40) & (t1.nss == 2)]
@@ -408,8 +414,7 @@ def test_one_configuration_has_no_bootstrap_interval():
     row = {"m": 40, "p": 0.2, "nss": 2, "seed": 0, "mean_reward": -50.0, "mean_cost": 0.2,
            "total_cost": 3.0, "task_success_rate": 80.0, "mean_steps": 20.0, "cost_rate": 0.01}
     rows = [{**row, "model": "TP"}, {**row, "model": "GP", "total_cost": 9.0, "mean_cost": 0.6}]
-    results = type("R", (), {"frame": staticmethod(lambda: pd.DataFrame(rows)), "a": 100.0,
-                             "__len__": lambda self: 1})()
+    results = _hand_made_sweep(rows)
     tables = summary_tables(results, n_boot=50)
     assert tables["mean"].loc["total_cost", "% change"] == pytest.approx(-66.667, abs=1e-3)
     assert tables["mean"][["95% CI low", "95% CI high"]].isna().all().all()
