@@ -22,16 +22,20 @@ def _as_float(value) -> float:
         return math.nan
 
 
-def check_positive(name: str, value) -> float:
-    """A positive finite float."""
+def check_positive(name: str, value, maximum: float | None = None, why: str = "") -> float:
+    """A positive finite float, at most ``maximum`` if given (``why`` gives the bound's reason)."""
     number = _as_float(value)
     if not (math.isfinite(number) and number > 0):
         raise ValueError(f"{name} must be a positive finite number, got {name}={value!r}")
+    if maximum is not None and number > maximum:
+        reason = f" ({why})" if why else ""
+        raise ValueError(f"{name} must be a positive number of at most {maximum:g}{reason}, got {name}={value!r}")
     return number
 
 
-def check_int(name: str, value, minimum: int | None = None, maximum: int | None = None, *, allow_none=False):
-    """An integer in ``[minimum, maximum]`` (bools refused), or None if allowed."""
+def check_int(name: str, value, minimum: int | None = None, maximum: int | None = None, *, allow_none=False,
+              why: str = ""):
+    """An integer in ``[minimum, maximum]`` (bools refused), or None if allowed; ``why`` gives the bound's reason."""
     if value is None and allow_none:
         return None
     ok = not isinstance(value, bool) and isinstance(value, numbers.Integral)
@@ -45,6 +49,8 @@ def check_int(name: str, value, minimum: int | None = None, maximum: int | None 
             valid = "an integer"
         if allow_none:
             valid += " or None"
+        if why:
+            valid += f" ({why})"
         raise ValueError(f"{name} must be {valid}, got {name}={value!r}")
     return int(value)
 

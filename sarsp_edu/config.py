@@ -135,6 +135,39 @@ COST_FIT_POINTS = None
 REWARD_FIT_POINTS = 1000
 
 
+# -- upper bounds ------------------------------------------------------------
+#: the largest value of each setting that can still be useful, and why: a value
+#: beyond it is refused before any work starts (instead of a run that never
+#: ends, a request for more memory than a laptop has, or an overflow deep in a
+#: fit)
+LIMITS = {
+    "nu": (1e6, "beyond it the TP's variance factor is 1 to within (beta - n) / nu: a GP; use model='gp'"),
+    "outlier_magnitude": (1e4, "outlier rows are multiplied by m; the paper uses 40 to 80, and at 10^4 an "
+                               "outlier's square already dwarfs a clean row's by 10^8"),
+    "episodes": (100_000, "the paper runs 250; 100,000 already take about a day on one core"),
+    "offline_episodes": (10_000, "100 times the paper's 100; more only adds copies the duplicate caps drop"),
+    "grid_size": (50, "an episode may take n^2 steps and the offline data grows with the grid; the paper's is 10"),
+    "k_prior": (5_000, "every decision factorises a k x k matrix per action; the reference code used 400"),
+    "n_matching": (1_000, "the paper adds at most 10 matching rows"),
+    "max_steps": (100_000, "T_max is n^2 = 100 on the paper's grid"),
+    "n_samples": (10_000, "every prediction draws this many samples of each prior; the reference code drew 150"),
+    "optimizer_steps": (10_000, "the paper takes 50 Adam steps; L-BFGS-B converges in far fewer"),
+    "learning_rate": (10.0, "Adam's steps are in log space: one step of 10 multiplies a hyperparameter by e^10"),
+    "cost_fit_points": (100_000, "a fit factorises a matrix of this many rows; the buffers hold about 5,000"),
+    "reward_fit_points": (100_000, "a fit factorises a matrix of this many rows; the buffers hold about 5,000"),
+}
+
+
+def _plain(value):
+    """A numpy scalar as the Python number it holds (``np.int64(2)`` -> ``2``); anything else unchanged.
+
+    Settings are saved as JSON, which takes Python numbers only.
+    """
+    if type(value).__module__ == "numpy" and getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
+        return value.item()
+    return value
+
+
 def _field(default, help: str, **metadata):
     return field(default=default, metadata={"help": help, **metadata})
 
@@ -197,38 +230,46 @@ class ExperimentConfig:
                           "or 'never'", choices=RETRAIN_RULES)
 
     def __post_init__(self):
+        for f in fields(self):  # numpy scalars become Python numbers, so that the config saves as JSON
+            value = getattr(self, f.name)
+            if _plain(value) is not value:
+                object.__setattr__(self, f.name, _plain(value))
         check_choice("model", self.model, ("tp", "gp"))
         check_nu(self.nu)
-        check_positive("outlier_magnitude", self.outlier_magnitude)
+        if self.nu > LIMITS["nu"][0]:
+            raise ValueError(f"nu must be a number above 2 and at most {LIMITS['nu'][0]:g} ({LIMITS['nu'][1]}), "
+                             f"got nu={self.nu!r}")
+        check_positive("outlier_magnitude", self.outlier_magnitude, *LIMITS["outlier_magnitude"])
         check_fraction("outlier_proportion", self.outlier_proportion)
-        check_int("episodes", self.episodes, 1)
-        check_int("offline_episodes", self.offline_episodes, 1)
-        check_int("grid_size", self.grid_size, 2)
+        for name in ("episodes", "offline_episodes"):
+            check_int(name, getattr(self, name), 1, LIMITS[name][0], why=LIMITS[name][1])
+        check_int("grid_size", self.grid_size, 2, LIMITS["grid_size"][0], why=LIMITS["grid_size"][1])
         check_choice("placement", self.placement, PLACEMENTS)
         check_n_unsafe(self.n_unsafe, self.grid_size, self.placement, size_name="grid_size")
         check_switch_states(self.n_switch_states, self.n_unsafe)
         check_positive("d", self.d)
         check_positive("variance_threshold", self.variance_threshold)
-        check_int("k_prior", self.k_prior, 1)
-        check_int("n_matching", self.n_matching, 0)
+        check_int("k_prior", self.k_prior, 1, LIMITS["k_prior"][0], why=LIMITS["k_prior"][1])
+        check_int("n_matching", self.n_matching, 0, LIMITS["n_matching"][0], why=LIMITS["n_matching"][1])
         check_choice("prior_draw", self.prior_draw, PRIOR_DRAWS)
         check_choice("retrain", self.retrain, RETRAIN_RULES)
         for name in ("cost_outliers", "reward_outliers"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be True or False, got {name}={getattr(self, name)!r}")
         check_int("seed", self.seed, 0)
-        check_int("max_steps", self.max_steps, 1, allow_none=True)
+        check_int("max_steps", self.max_steps, 1, LIMITS["max_steps"][0], allow_none=True, why=LIMITS["max_steps"][1])
         check_int("cost_duplicates", self.cost_duplicates, 1)
         check_int("reward_duplicates", self.reward_duplicates, 1)
         check_choice("predictive", self.predictive, PREDICTIVE)
-        check_int("n_samples", self.n_samples, 2)
+        check_int("n_samples", self.n_samples, 2, LIMITS["n_samples"][0], why=LIMITS["n_samples"][1])
         check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
         check_choice("optimizer", self.optimizer, OPTIMIZERS)
-        check_positive("learning_rate", self.learning_rate)
-        check_int("optimizer_steps", self.optimizer_steps, 1)
+        check_positive("learning_rate", self.learning_rate, *LIMITS["learning_rate"])
+        check_int("optimizer_steps", self.optimizer_steps, 1, LIMITS["optimizer_steps"][0],
+                  why=LIMITS["optimizer_steps"][1])
         check_choice("prior", self.prior, PRIORS)
-        check_int("cost_fit_points", self.cost_fit_points, 2, allow_none=True)
-        check_int("reward_fit_points", self.reward_fit_points, 2, allow_none=True)
+        for name in ("cost_fit_points", "reward_fit_points"):
+            check_int(name, getattr(self, name), 2, LIMITS[name][0], allow_none=True, why=LIMITS[name][1])
 
     def replace(self, **changes) -> "ExperimentConfig":
         """A copy with some fields changed (validated again)."""
@@ -257,6 +298,25 @@ class ExperimentConfig:
         """
         return preset_of(self)
 
+    def ignored_settings(self) -> dict:
+        """The settings that this config's other choices leave unused: ``{field: reason}``.
+
+        Examples
+        --------
+        >>> sorted(ExperimentConfig(model="gp").ignored_settings())
+        ['n_samples', 'noise_convention', 'nu']
+        """
+        ignored = {}
+        if self.predictive != "sample":
+            ignored["n_samples"] = (f"predictions are exact (predictive={self.predictive!r}); it counts only with "
+                                    "predictive='sample'")
+        if self.optimizer != "adam":
+            ignored["learning_rate"] = f"it is Adam's, and optimizer={self.optimizer!r}"
+        if self.model == "gp":
+            ignored["nu"] = "it is the TP's degrees of freedom, and model='gp'"
+            ignored["noise_convention"] = "it says how the TP scales its noise, and model='gp'"
+        return ignored
+
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
 
@@ -264,9 +324,11 @@ class ExperimentConfig:
     def from_dict(cls, values: dict) -> "ExperimentConfig":
         """A config from ``to_dict``'s output, also from results stored by sarsp_edu 0.1.
 
-        Version 0.1 had one ``fit_points`` for both models, a boolean
-        ``retrain`` (True: after every corrective update) and always one
-        prior per step; such a config is read with exactly those settings.
+        Every field must be there (a stored config holds them all: a gap
+        means the file was cut or edited, and a default filled in would be
+        untrue).  Version 0.1 had one ``fit_points`` for both models, a
+        boolean ``retrain`` (True: after every corrective update) and always
+        one prior per step; such a config is read with exactly those settings.
         """
         values = dict(values)
         if "fit_points" in values:  # written by sarsp_edu 0.1
@@ -276,10 +338,16 @@ class ExperimentConfig:
             values.setdefault("prior_draw", "per_step")
             if isinstance(values.get("retrain"), bool):
                 values["retrain"] = "always" if values["retrain"] else "never"
+            legacy = True
+        else:
+            legacy = False
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(values) - known)
         if unknown:
             raise ValueError(f"unknown ExperimentConfig fields {unknown}; valid fields are {sorted(known)}")
+        lacking = sorted(known - set(values))
+        if lacking and not legacy:  # a stored config holds every field: a gap means it was cut or edited
+            raise ValueError(f"the config lacks the fields {lacking}, which every stored config holds")
         return cls(**values)
 
 

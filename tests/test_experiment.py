@@ -273,7 +273,7 @@ def test_failed_write_leaves_nothing_behind(tmp_path, monkeypatch):
         (dict(outlier_proportion=-0.1), "outlier_proportion"),
         (dict(outlier_magnitude=0), "outlier_magnitude must be a positive finite number"),
         (dict(n_switch_states=16), "n_switch_states must be an integer from 0 to n_unsafe=15, got n_switch_states=16"),
-        (dict(episodes=0), "episodes must be an integer >= 1, got episodes=0"),
+        (dict(episodes=0), r"episodes must be an integer from 1 to 100000 \(.*\), got episodes=0"),
         (dict(offline_episodes=0), "offline_episodes"),
         (dict(grid_size=1), "grid_size"),
         (dict(n_unsafe=20), "n_unsafe must be an integer from 1 to 19, the most unsafe states"),
