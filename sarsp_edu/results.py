@@ -19,6 +19,7 @@ import pandas as pd
 from ._io import StoredResultError, atomic_write_text, read_json
 from ._version import __version__
 from .config import DEFINITION_4_A, ExperimentConfig
+from .provenance import code_provenance
 from .metrics import (
     RECORD_COLUMNS,
     SUMMARY_METRICS,
@@ -45,11 +46,15 @@ class ExperimentResult:
         median seconds of one decision, and the number of steps.
     summary : dict
         The final value of each of ``SUMMARY_METRICS`` (the paper's run figures).
+    code : dict
+        What computed it (:func:`~sarsp_edu.provenance.code_provenance`); empty
+        for results stored before version 0.2.2, which did not record it.
     """
 
     config: ExperimentConfig
     records: pd.DataFrame
     timings: dict = field(default_factory=dict)
+    code: dict = field(default_factory=lambda: dict(code_provenance()))
 
     @property
     def summary(self) -> dict:
@@ -74,6 +79,7 @@ class ExperimentResult:
             "summary": self.summary,
             "timings": self.timings,
             "sarsp_edu_version": __version__,
+            "code": self.code,
         }
         atomic_write_text(directory / "result.json", json.dumps(payload, indent=2, allow_nan=True) + "\n")
         return directory
@@ -91,7 +97,24 @@ class ExperimentResult:
         except (TypeError, ValueError) as exc:
             raise StoredResultError(f"{meta_path} holds an invalid config: {exc}") from None
         records = _read_records(csv_path, config.episodes)
-        return cls(config, records, payload.get("timings", {}))
+        result = cls(config, records, payload.get("timings", {}), payload.get("code") or {})
+        _check_summary(meta_path, payload.get("summary"), result.summary)
+        return result
+
+
+def _check_summary(meta_path: Path, stored, computed: dict) -> None:
+    """Refuse a ``result.json`` whose summary is not its ``records.csv``'s last row (one of them was edited)."""
+    if not isinstance(stored, dict):
+        raise StoredResultError(f"{meta_path} lacks 'summary'")
+    for name in SUMMARY_METRICS:
+        value = stored.get(name)
+        same = isinstance(value, (int, float)) and (
+            (math.isnan(value) and math.isnan(computed[name]))
+            or math.isclose(value, computed[name], rel_tol=1e-12, abs_tol=1e-12))
+        if not same:
+            raise StoredResultError(
+                f"{meta_path} gives {name}={value!r} where the last row of records.csv beside it gives "
+                f"{computed[name]!r}: one of the two was edited or comes from another run")
 
 
 #: records columns that results stored by older versions may lack

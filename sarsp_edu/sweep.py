@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import signal
 import warnings
@@ -29,6 +30,7 @@ import pandas as pd
 from ._io import StoredResultError, atomic_write_text, one_line_warning, read_json, staging_directory
 from ._validation import check_fraction, check_int, check_positive
 from ._version import __version__
+from .provenance import code_label
 from .config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
 from .config import ExperimentConfig
 from .experiment import compare
@@ -43,6 +45,8 @@ __all__ = [
     "summary_tables",
     "cell_config",
     "describe_cells",
+    "load_cell",
+    "stored_sweep",
     "frame_to_markdown",
     "PAPER_MAGNITUDES",
     "PAPER_PROPORTIONS",
@@ -92,6 +96,15 @@ def _cell_name(m, p, nss, seed) -> str:
     return f"m{float(m):g}_p{float(p):g}_nss{int(nss)}_seed{int(seed)}"
 
 
+def _name_key(name: str):
+    """The key ``(m, p, nss, seed)`` that a cell folder's name gives, or None (the inverse of ``_cell_name``)."""
+    match = re.fullmatch(r"m([^_]+)_p([^_]+)_nss(\d+)_seed(\d+)", name)
+    try:
+        return _as_key(match.groups()) if match else None
+    except ValueError:
+        return None
+
+
 def _shared_fields(config: ExperimentConfig) -> dict:
     values = config.to_dict()
     return {k: v for k, v in values.items() if k not in _SWEPT}
@@ -120,6 +133,18 @@ class SweepResults:
 
     def __len__(self) -> int:
         return len(self.comparisons)
+
+    def code_versions(self) -> dict:
+        """How many runs each version of the code computed: ``{code_label: runs}`` (see ``sarsp_edu.provenance``).
+
+        More than one entry means the cells come from different code, whose numbers may differ.
+        """
+        counts: dict = {}
+        for comparison in self.comparisons.values():
+            for result in (comparison.tp, comparison.gp):
+                label = code_label(result.code)
+                counts[label] = counts.get(label, 0) + 1
+        return counts
 
     def frame(self) -> pd.DataFrame:
         """One row per cell and model: m, p, nss, seed, model and the six summary metrics."""
@@ -187,19 +212,23 @@ class SweepResults:
             The sweep is partial and ``allow_partial`` is False.
         """
         results_dir = Path(results_dir)
-        meta = results_dir / "sweep.json"
-        if not meta.exists():
-            raise FileNotFoundError(f"{results_dir} is not a sweep results folder (no sweep.json)")
-        payload = read_json(meta, keys=("base_config",))
-        results = cls(_stored_base(meta, payload), a=a)
+        base, requested = stored_sweep(results_dir)
+        results = cls(base, a=a)
         wanted = None if seeds is None else {int(s) for s in seeds}
-        for cell in sorted((results_dir / "cells").glob("m*_p*_nss*_seed*")):
-            key = _stored_key(cell)
+        cells = sorted((results_dir / "cells").glob("m*_p*_nss*_seed*"))
+        if wanted is not None:
+            present = sorted({key[3] for key in map(_stored_key, cells) if key is not None} | {k[3] for k in requested})
+            absent = sorted(wanted - set(present))
+            if absent:
+                raise ValueError(f"{results_dir} holds no cell of seed{'s' if len(absent) > 1 else ''} "
+                                 f"{', '.join(map(str, absent))}; its seeds are {', '.join(map(str, present))}")
+        for cell in cells:
+            key = _name_key(cell.name)
             if key is None:
-                raise StoredResultError(f"{cell} holds no valid cell.json")
+                raise StoredResultError(f"{cell} is not named as a cell (m40_p0.2_nss2_seed0, say)")
             if wanted is None or key[3] in wanted:
-                results.comparisons[key] = Comparison.load(cell, a=a)
-        expected = {_as_key(key) for key in payload.get("requested", [])}
+                results.comparisons[key] = load_cell(base, cell, key, a=a)
+        expected = set(requested)
         if wanted is not None:
             expected = {key for key in expected if key[3] in wanted}
         results.missing = sorted(expected - set(results.comparisons))
@@ -211,6 +240,128 @@ class SweepResults:
                 "(allow_partial=True, or --allow-partial)"
             )
         return results
+
+
+def stored_sweep(results_dir) -> tuple:
+    """The shared settings and the requested cells of a sweep's results folder, checked against its cells.
+
+    Returns
+    -------
+    (ExperimentConfig, set of (m, p, nss, seed))
+
+    Raises
+    ------
+    FileNotFoundError
+        No ``sweep.json``.
+    StoredResultError
+        ``sweep.json`` cannot be read, lacks settings, or says what none of
+        the cells stored beside it ran (it was edited, or belongs to another
+        sweep): the message names the setting and both values.
+    """
+    results_dir = Path(results_dir)
+    meta = results_dir / "sweep.json"
+    if not meta.exists():
+        raise FileNotFoundError(f"{results_dir} is not a sweep results folder (no sweep.json)")
+    payload = read_json(meta, keys=("base_config",))
+    base = _stored_base(meta, payload)
+    try:
+        requested = {_as_key(key) for key in payload.get("requested", [])}
+    except (TypeError, ValueError):
+        raise StoredResultError(f"{meta} holds an invalid list of requested cells") from None
+    _check_base_against_cells(meta, base)
+    return base, requested
+
+
+def _check_base_against_cells(meta: Path, base: ExperimentConfig) -> None:
+    """Refuse a ``sweep.json`` whose shared settings no stored cell ran.
+
+    A setting in which *every* stored cell differs from ``sweep.json`` is
+    ``sweep.json``'s fault (edited, or copied from another sweep); a cell that
+    differs alone is that cell's (see :func:`load_cell`).
+    """
+    ours = _shared_fields(base)
+    seen: dict = {}
+    n = 0
+    for cell in (meta.parent / "cells").glob("m*_p*_nss*_seed*"):
+        try:
+            config = read_json(cell / "tp" / "result.json", keys=("config",))["config"]
+        except (FileNotFoundError, StoredResultError):
+            continue  # a damaged cell is named when it is loaded
+        if not isinstance(config, dict):
+            continue
+        n += 1
+        for name, value in ours.items():
+            if config.get(name, value) != value:
+                seen.setdefault(name, set()).add(repr(config.get(name)))
+            else:
+                seen.setdefault(name, set()).add(None)
+    wrong = {name: values for name, values in seen.items() if n and None not in values}
+    if wrong:
+        details = "; ".join(f"{name}={ours[name]!r} where they ran {name}={' or '.join(sorted(values))}"
+                            for name, values in sorted(wrong.items()))
+        raise StoredResultError(
+            f"{meta} does not describe the {n} cell{'s' if n > 1 else ''} stored beside it ({details}): it was "
+            "edited or belongs to another sweep; restore it, or move the cells to their own folder")
+
+
+def load_cell(base: ExperimentConfig, cell: Path, key: tuple, a: float = DEFINITION_4_A) -> Comparison:
+    """The comparison stored in ``cell``, checked to be the sweep's cell ``key``.
+
+    Raises
+    ------
+    StoredResultError
+        The folder's ``cell.json`` names another cell, or a run's settings
+        differ from what the sweep's settings give for this cell (a result
+        edited, or left from another run): the message names the cell, the
+        setting and both values.
+    """
+    stored = _stored_key(cell)
+    if stored is None:
+        raise StoredResultError(f"{cell / 'cell.json'} is missing or cannot be read")
+    if stored != tuple(key):
+        raise StoredResultError(f"{cell} belongs to another cell: its cell.json says "
+                                f"{describe_cells([stored])}, its place {describe_cells([key])}")
+    comparison = Comparison.load(cell, a=a)
+    expected = cell_config(base, *key)
+    for model in ("tp", "gp"):
+        ran = getattr(comparison, model).config.to_dict()
+        wanted = expected.replace(model=model).to_dict()
+        differing = sorted(name for name in wanted if ran[name] != wanted[name])
+        if differing:
+            details = ", ".join(f"{name}={ran[name]!r} where the sweep gives {wanted[name]!r}" for name in differing)
+            raise StoredResultError(f"{cell / model / 'result.json'} is not this sweep's cell "
+                                    f"{describe_cells([key])}: it ran {details}")
+    return comparison
+
+
+#: the lock a running sweep holds on its results folder (a hidden file, kept between runs)
+LOCK_NAME = ".sweep.lock"
+
+
+def _lock_folder(results_dir: Path):
+    """Hold ``results_dir``'s lock for this process, or say that another sweep holds it.
+
+    Returns the open lock file (closing it releases the lock); None where the
+    platform has no ``fcntl`` (Windows), which then runs without one.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not on Linux or macOS
+        return None
+    handle = open(results_dir / LOCK_NAME, "a+")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        handle.seek(0)
+        holder = handle.read().strip()
+        handle.close()
+        raise ValueError(f"another sweep is running in {results_dir}{f' (process {holder})' if holder else ''}; "
+                         "wait for it to finish, or use another folder") from None
+    handle.seek(0)
+    handle.truncate()
+    handle.write(f"{os.getpid()}\n")
+    handle.flush()
+    return handle
 
 
 # --------------------------------------------------------------------------
@@ -260,13 +411,13 @@ def _store_cell(results_dir: Path, key: tuple, comparison: Comparison) -> None:
 def _prepare_folder(results_dir: Path, base: ExperimentConfig, keys: list) -> set:
     """Check (or write) the folder's base config and add ``keys`` to the cells it is asked for.
 
-    Returns the keys of the cells stored there.
+    The caller holds the folder's lock.  Returns the keys of the cells stored there.
     """
-    results_dir.mkdir(parents=True, exist_ok=True)
     meta = results_dir / "sweep.json"
     payload = {"base_config": base.to_dict(), "requested": [], "sarsp_edu_version": __version__}
     if meta.exists():
         stored = read_json(meta, keys=("base_config",))
+        stored_sweep(results_dir)  # sweep.json and its cells agree
         ours, theirs = _shared_fields(base), _shared_fields(_stored_base(meta, stored))
         differing = sorted(k for k in ours if ours[k] != theirs.get(k))
         if differing:
@@ -401,31 +552,38 @@ def run_sweep(
     check_a(a)
     keys = [(float(m), float(p), int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
 
+    if scheduler is not None:
+        _dask()  # before any work: a missing Dask is said at once
     results = SweepResults(base, a=a)
     folder = None if results_dir is None else Path(results_dir)
-    if folder is not None:
-        done = _prepare_folder(folder, base, keys)
-        for key in keys:
-            cell = folder / "cells" / _cell_name(*key)
-            if not cell.exists():
-                continue
-            try:
-                if key not in done:
-                    raise StoredResultError(f"{cell / 'cell.json'} is missing or cannot be read")
-                results.comparisons[key] = Comparison.load(cell, a=a)
-            except (FileNotFoundError, StoredResultError) as exc:
-                warnings.warn(f"{exc}; computing the cell again", StoredResultWarning, stacklevel=2)
-                shutil.rmtree(cell)
-    todo = [key for key in keys if key not in results.comparisons]
+    lock = None
+    try:
+        if folder is not None:
+            folder.mkdir(parents=True, exist_ok=True)
+            lock = _lock_folder(folder)
+            _prepare_folder(folder, base, keys)
+            for key in keys:
+                cell = folder / "cells" / _cell_name(*key)
+                if not cell.exists():
+                    continue
+                try:
+                    results.comparisons[key] = load_cell(base, cell, key, a=a)
+                except (FileNotFoundError, StoredResultError) as exc:
+                    warnings.warn(f"{exc}; computing the cell again", StoredResultWarning, stacklevel=2)
+                    shutil.rmtree(cell)
+        todo = [key for key in keys if key not in results.comparisons]
 
-    from tqdm.auto import tqdm
+        from tqdm.auto import tqdm
 
-    with tqdm(total=len(keys), initial=len(keys) - len(todo), desc="sweep cells", unit="cell",
-              disable=not progress) as bar:
-        for key, comparison in _execute(base, todo, None if folder is None else str(folder), n_jobs, scheduler):
-            comparison.a = a
-            results.comparisons[key] = comparison
-            bar.update(1)
+        with tqdm(total=len(keys), initial=len(keys) - len(todo), desc="sweep cells", unit="cell",
+                  disable=not progress) as bar:
+            for key, comparison in _execute(base, todo, None if folder is None else str(folder), n_jobs, scheduler):
+                comparison.a = a
+                results.comparisons[key] = comparison
+                bar.update(1)
+    finally:
+        if lock is not None:
+            lock.close()
     return results
 
 
@@ -455,11 +613,18 @@ def _execute(base, todo, folder, n_jobs, scheduler):
             raise
 
 
-def _execute_dask(base, todo, folder, scheduler):
+def _dask():
+    """``dask.distributed``, or an ImportError that says how to install it."""
     try:
-        from dask.distributed import Client, as_completed
+        import dask.distributed
     except ImportError:
-        raise ImportError("scheduler= needs Dask: pip install 'sarsp_edu[dask]'") from None
+        raise ImportError("scheduler= needs Dask, which is not installed: pip install 'sarsp_edu[dask]'") from None
+    return dask.distributed
+
+
+def _execute_dask(base, todo, folder, scheduler):
+    distributed = _dask()
+    Client, as_completed = distributed.Client, distributed.as_completed
     client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
     try:
         futures = [client.submit(_run_cell, base, key, folder, pure=False) for key in todo]

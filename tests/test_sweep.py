@@ -8,6 +8,7 @@ import pytest
 
 from sarsp_edu import ExperimentConfig, compare, run_sweep, summary_tables
 from sarsp_edu.experiment import SUMMARY_METRICS
+from sarsp_edu.metrics import cost_rate_undefined
 from sarsp_edu.sweep import SweepResults, cell_config, cell_seed, frame_to_markdown, tables_markdown
 
 TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
@@ -161,13 +162,18 @@ def test_tables_by_hand(sweep_dir):
     tables = summary_tables(results, n_boot=200)
     assert list(tables) == ["table1", "mean", "levels", "median", "mode", "wilcoxon", "seeds"]
     per_config = results.frame().groupby(["m", "p", "nss", "model"])[list(SUMMARY_METRICS)].mean()
+    defined = {label: ~per_config.xs(label, level="model").apply(cost_rate_undefined, axis=1).to_numpy()
+               for label in ("TP", "GP")}
     for metric in SUMMARY_METRICS:
         tp = per_config.xs("TP", level="model")[metric].to_numpy()
         gp = per_config.xs("GP", level="model")[metric].to_numpy()
         assert tables["mean"].loc[metric, "TP"] == pytest.approx(tp.mean())
         assert tables["median"].loc[metric, "GP"] == pytest.approx(np.median(gp))
         for label, values in (("TP", tp), ("GP", gp)):
+            if metric == "cost_rate":  # eq. 12's undefined rates are left out of the levels
+                values = values[defined[label]]
             level = tables["levels"].loc[metric]
+            assert level[f"{label} n"] == len(values)
             assert level[label] == pytest.approx(values.mean())
             # a bootstrap mean of resampled configurations lies between their extremes
             assert values.min() - 1e-12 <= level[f"{label} 95% CI low"] <= level[f"{label} 95% CI high"]
@@ -178,7 +184,9 @@ def test_tables_by_hand(sweep_dir):
         if expected is not None:
             assert tables["mean"].loc[metric, "% change"] == pytest.approx(expected)
     assert len(tables["table1"]) == 2 * 4
-    assert tables["wilcoxon"]["n"].tolist() == [4] * 6
+    both = int(np.sum(defined["TP"] & defined["GP"]))
+    assert tables["wilcoxon"]["n"].tolist() == [4] * 5 + [both]
+    assert tables["wilcoxon"]["left out (p_c undefined)"].tolist() == [0] * 5 + [4 - both]
 
 
 def test_level_intervals_leave_the_change_intervals_as_they_were(sweep_dir):
@@ -363,7 +371,7 @@ def test_damaged_sweep_and_cell_json_are_named(tmp_path):
     run_sweep(TINY, **ONE, results_dir=tmp_path)
     cell_json = tmp_path / "cells" / "m40_p0.2_nss2_seed0" / "cell.json"
     _truncate(cell_json, 0.5)
-    with pytest.raises(StoredResultError, match="holds no valid cell.json"):
+    with pytest.raises(StoredResultError, match="cell.json is missing or cannot be read"):
         SweepResults.load(tmp_path)
     _truncate(tmp_path / "sweep.json", 0.3)
     for call in (lambda: SweepResults.load(tmp_path), lambda: run_sweep(TINY, **ONE, results_dir=tmp_path)):
