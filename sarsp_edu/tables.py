@@ -59,6 +59,8 @@ def _bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):
     this one do not depend on how many pairs it had.
     """
     n = len(tp)
+    if n == 0:
+        return math.nan, math.nan
     idx = rng.integers(0, n, size=(n_boot, n))
     values = np.array([statistic(tp[i], gp[i]) for i in idx])
     values = values[np.isfinite(values)]
@@ -92,11 +94,14 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
         resampled in pairs), and the coefficients of variation.
         ``"median"`` and ``"mode"``: Tables 3 and 4.
         ``"levels"``: each model's mean over configurations with a 95%
-        bootstrap interval (configurations resampled): how far the mean of
-        this grid, or of the part of it stored, pins down a level to set
-        beside the paper's.
+        bootstrap interval (configurations resampled) and the number of
+        configurations ``n``: how far the mean of this grid, or of the part
+        of it stored, pins down a level to set beside the paper's.  An
+        undefined cost rate (eq. 12 without a clean success) is left out of
+        the model's cost-rate level (NaN when none is defined).
         ``"wilcoxon"``: a paired Wilcoxon signed-rank test of TP against GP
-        over configurations, per metric.
+        over configurations, per metric; configurations where either cost
+        rate is undefined are left out of its cost-rate test, and counted.
         ``"seeds"`` (only with several seeds): per configuration and metric,
         the % difference of the seed means with a bootstrap interval over seeds.
     """
@@ -155,16 +160,31 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
         "mode": central(_paper_mode, False),
     }
 
+    # eq. 12's undefined cost rates (kept as the paper's 0 in Tables 1-4) carry no value to test or average
+    tp_defined, gp_defined = (~_paired(per_config.assign(undefined=undefined), "undefined")[i].astype(bool)
+                              for i in (0, 1))
+
+    def defined(metric, tp, gp):
+        """Masks of the configurations whose TP and GP values of ``metric`` are defined."""
+        if metric != "cost_rate":
+            return np.ones(len(tp), bool), np.ones(len(gp), bool)
+        return tp_defined, gp_defined
+
     tests = []
     for metric in SUMMARY_METRICS:
         tp, gp = _paired(per_config, metric)
+        keep = np.logical_and(*defined(metric, tp, gp))
+        tp, gp = tp[keep], gp[keep]
         diff = tp - gp
-        if np.all(diff == 0):
+        if len(diff) == 0:
+            statistic, pvalue = math.nan, math.nan
+        elif np.all(diff == 0):
             statistic, pvalue = math.nan, 1.0
         else:
             test = stats.wilcoxon(tp, gp)
             statistic, pvalue = float(test.statistic), float(test.pvalue)
-        tests.append({"metric": metric, "n": len(tp), "median TP - GP": float(np.median(diff)),
+        tests.append({"metric": metric, "n": len(tp), "left out (p_c undefined)": int(np.sum(~keep)),
+                      "median TP - GP": float(np.median(diff)) if len(diff) else math.nan,
                       "TP better in": int(np.sum(diff > 0) if HIGHER_IS_BETTER[metric] else np.sum(diff < 0)),
                       "W": statistic, "p-value": pvalue})
     tables["wilcoxon"] = pd.DataFrame(tests).set_index("metric")
@@ -189,12 +209,13 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
     for metric in SUMMARY_METRICS:
         tp, gp = _paired(per_config, metric)
         row = {"metric": metric}
-        for label, column in (("TP", 0), ("GP", 1)):
-            values = (tp, gp)[column]
-            row[label] = float(np.mean(values))
+        for label, values, keep in zip(("TP", "GP"), (tp, gp), defined(metric, tp, gp)):
+            values = values[keep]
+            row[label] = float(np.mean(values)) if len(values) else math.nan
             row[f"{label} 95% CI low"], row[f"{label} 95% CI high"] = _bootstrap_ci(
-                tp, gp, lambda t, g, column=column: np.mean((t, g)[column]), n_boot, boot_rng
+                values, values, lambda t, g: np.mean(t), n_boot, boot_rng
             )
+            row[f"{label} n"] = len(values)
         level_rows.append(row)
     tables["levels"] = pd.DataFrame(level_rows).set_index("metric")
     order = ["table1", "mean", "levels", "median", "mode", "wilcoxon", "seeds"]
