@@ -50,14 +50,14 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
     Defaults are left to the dataclass (one source of truth): a flag not
     given is not passed on.
     """
-    from .config import PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
+    from .config import LIMITS, PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
 
     preset_fields = set(PRESET_FIELDS)
 
     group = parser.add_argument_group(
         "experiment settings (defaults: the 'default' preset; a flag given overrides the preset)")
     group.add_argument(
-        "--preset", choices=list(PRESET_DOCS), default="default",
+        "--preset", choices=list(PRESET_DOCS), default=None,
         help="a named set of SARSP settings: " + "; ".join(f"'{k}': {v}" for k, v in PRESET_DOCS.items())
         + " [default: default]")
     for f in dataclasses.fields(ExperimentConfig):
@@ -66,7 +66,8 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
         names = [f"--{f.name.replace('_', '-')}"]
         if "flag" in f.metadata:
             names.insert(0, f"--{f.metadata['flag']}")
-        help_text = f"{f.metadata['help']} [default: {f.default}]"
+        bound = f"; at most {LIMITS[f.name][0]:,}" if f.name in LIMITS else ""
+        help_text = f"{f.metadata['help']} [default: {f.default}{bound}]"
         if f.name in preset_fields:
             help_text = help_text[:-1] + ", or the preset's]"
         kwargs = dict(dest=f.name, default=argparse.SUPPRESS, help=help_text)
@@ -81,16 +82,36 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
         group.add_argument(*names, **kwargs)
 
 
-def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace):
-    """Build the config (the preset, then the flags given), turning a bad value into a usage error."""
+def config_flags(args: argparse.Namespace) -> dict:
+    """The ``ExperimentConfig`` fields given as flags (a flag not given is absent)."""
     from .config import ExperimentConfig
 
     names = {f.name for f in dataclasses.fields(ExperimentConfig)}
-    values = {k: v for k, v in vars(args).items() if k in names}
+    return {k: v for k, v in vars(args).items() if k in names}
+
+
+def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace, base=None):
+    """Build the config (the preset, or ``base``, then the flags given), turning a bad value into a usage error.
+
+    A flag that the other settings leave unused (``--n-samples`` with exact
+    predictions, say) is reported on standard error.
+    """
+    from .config import ExperimentConfig
+
+    values = config_flags(args)
     try:
-        return ExperimentConfig.from_preset(getattr(args, "preset", "default"), **values)
+        if base is not None:
+            config = base.replace(**values)
+        else:
+            config = ExperimentConfig.from_preset(getattr(args, "preset", None) or "default", **values)
     except ValueError as exc:
         parser.error(str(exc))
+    ignored = config.ignored_settings()
+    if args.command == "compare":  # both models run: the TP's settings count
+        ignored = {k: v for k, v in ignored.items() if k not in ("nu", "noise_convention")}
+    for name in sorted(set(values) & set(ignored)):
+        print(f"warning: --{name.replace('_', '-')} is ignored: {ignored[name]}", file=sys.stderr)
+    return config
 
 
 #: what marks a folder as holding each command's results
@@ -98,22 +119,45 @@ _MARKERS = {"sweep": "sweep.json", "ablation": "ablation.json", "run": "result.j
 
 
 def _check_writable(parser: argparse.ArgumentParser, flag: str, name, path) -> None:
-    """Refuse ``path`` (a folder to make or write in) when its nearest existing ancestor is no writable folder."""
+    """Refuse a folder ``path`` (to make, or to write in) that cannot be written, before any work starts.
+
+    The folder is made and a file written and removed in it, then whatever
+    this made is removed again: a permission, a read-only or pseudo file
+    system (``/proc``), a file in the way, a name too long: each is found now,
+    not after the run, and nothing is left behind.
+    """
+    import tempfile
+
+    made = []
     ancestor = path
     while not ancestor.exists():
+        made.append(ancestor)
         ancestor = ancestor.parent
     if not ancestor.is_dir():
         parser.error(f"{flag} {name} cannot be made: {ancestor} is a file")
-    if not os.access(ancestor, os.W_OK | os.X_OK):
-        parser.error(f"{flag} {name} cannot be written: {ancestor} is not writable")
+    try:
+        for folder in reversed(made):
+            folder.mkdir()
+        handle, probe = tempfile.mkstemp(prefix=".sarsp-edu-probe-", dir=path)
+        os.close(handle)
+        os.unlink(probe)
+    except OSError as exc:
+        parser.error(f"{flag} {name} cannot be written: {exc.strerror or exc}")
+    finally:
+        for folder in made:  # the deepest first
+            try:
+                folder.rmdir()
+            except OSError:
+                pass
 
 
-def _check_out(parser: argparse.ArgumentParser, out, command: str) -> None:
-    """Refuse an ``--out`` folder the command could not write to, before any work starts.
+def _check_out(parser: argparse.ArgumentParser, out, command: str, config=None, overwrite: bool = False) -> None:
+    """Refuse an ``--out`` folder the command could not or should not write to, before any work starts.
 
     A command writes into a new folder, an empty one, or one holding its own
-    kind of results (a sweep or an ablation resumes there; a run or a
-    comparison replaces the result there).
+    kind of results: a sweep or an ablation resumes there; a run or a
+    comparison replaces a result of the same settings there, and one of other
+    settings only with ``--overwrite``.
     """
     if out is None:
         return
@@ -123,12 +167,33 @@ def _check_out(parser: argparse.ArgumentParser, out, command: str) -> None:
     if path.exists() and not path.is_dir():
         parser.error(f"--out {out} is a file; give a folder (new, empty, or holding a {command}'s results)")
     _check_writable(parser, "--out", out, path)
-    if path.is_dir() and any(path.iterdir()):
-        kind = next((k for k, marker in _MARKERS.items() if (path / marker).exists()), None)
-        if kind != command:
-            holds = f"a {kind}'s results" if kind else "other files"
-            parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
-                         f"or one holding a {command}'s results")
+    if not (path.is_dir() and any(not entry.name.startswith(".") for entry in path.iterdir())):
+        return
+    kind = next((k for k, marker in _MARKERS.items() if (path / marker).exists()), None)
+    if kind != command:
+        holds = f"a {kind}'s results" if kind else "other files"
+        parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
+                     f"or one holding a {command}'s results")
+    if command in ("run", "compare") and config is not None and not overwrite:
+        differing = _stored_settings_differ(path / _MARKERS[command], config)
+        if differing:
+            parser.error(f"--out {out} holds a {command} of other settings ({differing}); to keep both, give "
+                         "another folder; to replace it, add --overwrite")
+
+
+def _stored_settings_differ(result_json, config) -> str:
+    """The settings in which a stored run differs from ``config``, in a line ('' when none)."""
+    from ._io import StoredResultError, read_json
+    from .config import ExperimentConfig
+
+    try:
+        stored = read_json(result_json, keys=("config",))["config"]
+    except StoredResultError:
+        return f"{result_json} cannot be read"
+    ours = config.replace(model=stored.get("model", config.model)).to_dict()
+    known = {f.name for f in dataclasses.fields(ExperimentConfig)}
+    fields_ = sorted(k for k in known if stored.get(k, ours[k]) != ours[k] or k not in stored)
+    return ", ".join(f"{k}: stored {stored.get(k, 'nothing')!r}, now {ours[k]!r}" for k in fields_)
 
 
 def _check_file(parser: argparse.ArgumentParser, flag: str, name) -> None:
@@ -151,7 +216,7 @@ def _run(args, parser) -> int:
     from .metrics import SUMMARY_METRICS, backup_share, displayed_summary
 
     config = config_from_args(parser, args)
-    _check_out(parser, args.out, "run")
+    _check_out(parser, args.out, "run", config, args.overwrite)
     result = run_experiment(config, progress=not args.quiet)
     import pandas as pd
 
@@ -170,7 +235,7 @@ def _compare(args, parser) -> int:
     from .experiment import compare
 
     config = config_from_args(parser, args)
-    _check_out(parser, args.out, "compare")
+    _check_out(parser, args.out, "compare", config, args.overwrite)
     try:
         comparison = compare(config, progress=not args.quiet, a=args.a)
     except ValueError as exc:
@@ -190,27 +255,58 @@ def _compare(args, parser) -> int:
 
 
 def _sweep(args, parser) -> int:
-    from .sweep import run_sweep
+    import shlex
+    from pathlib import Path
+
+    from .sweep import SweepResults, run_sweep, stored_sweep
     from .tables import summary_tables
 
-    config = config_from_args(parser, args)
+    grid = {"magnitudes": args.magnitudes, "proportions": args.proportions, "nss": args.nss, "seeds": args.seeds}
+    stored = None
+    if args.out and (Path(args.out) / "sweep.json").exists():
+        try:
+            stored = stored_sweep(args.out)
+        except ValueError as exc:
+            parser.error(str(exc))
+    resume_settings = stored is not None and not config_flags(args) and args.preset is None
+    config = config_from_args(parser, args, base=stored[0] if resume_settings else None)
     _check_out(parser, args.out, "sweep")
+    if args.scheduler and not _dask_installed():
+        parser.error("--scheduler needs Dask, which is not installed: pip install 'sarsp_edu[dask]'")
+    if stored is not None and all(values is None for values in grid.values()):
+        keys = sorted(stored[1])  # the cells the stored sweep was asked for
+        print(f"resuming the sweep in {args.out}: {len(keys)} cells, preset {config.preset}"
+              + (" (its stored settings)" if resume_settings else ""), file=sys.stderr)
+    else:
+        from .config import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+
+        defaults = {"magnitudes": PAPER_MAGNITUDES, "proportions": PAPER_PROPORTIONS, "nss": PAPER_SWITCH_STATES,
+                    "seeds": (0,)}
+        grid = {name: defaults[name] if values is None else values for name, values in grid.items()}
+        keys = [(float(m), float(p), int(nss), int(seed)) for seed in grid["seeds"] for m in grid["magnitudes"]
+                for p in grid["proportions"] for nss in grid["nss"]]
     if args.out:
-        args.stored = [(args.out, {(float(m), float(p), int(nss), int(seed)) for seed in args.seeds
-                                   for m in args.magnitudes for p in args.proportions for nss in args.nss})]
+        args.stored = [(args.out, set(keys))]
     try:
-        results = run_sweep(
-            config,
-            magnitudes=args.magnitudes,
-            proportions=args.proportions,
-            n_switch_states=args.nss,
-            seeds=args.seeds,
-            results_dir=args.out,
-            n_jobs=args.jobs,
-            scheduler=args.scheduler,
-            progress=not args.quiet,
-            a=args.a,
-        )
+        if stored is not None and all(values is None for values in grid.values()):
+            for seed in sorted({key[3] for key in keys}):  # a stored sweep's cells, seed by seed
+                run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
+                          results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
+                          progress=not args.quiet, a=args.a)
+            results = SweepResults.load(args.out, a=args.a)
+        else:
+            results = run_sweep(
+                config,
+                magnitudes=grid["magnitudes"],
+                proportions=grid["proportions"],
+                n_switch_states=grid["nss"],
+                seeds=grid["seeds"],
+                results_dir=args.out,
+                n_jobs=args.jobs,
+                scheduler=args.scheduler,
+                progress=not args.quiet,
+                a=args.a,
+            )
     except ValueError as exc:
         parser.error(str(exc))
     tables = summary_tables(results)
@@ -218,8 +314,17 @@ def _sweep(args, parser) -> int:
     print(f"{cells}, each a paired TP-vs-GP run of {config.episodes} episodes; preset {config.preset}")
     print(_format_table(tables["mean"]))
     if args.out:
-        print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {args.out}")
+        print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {shlex.quote(str(args.out))}")
     return 0
+
+
+def _dask_installed() -> bool:
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec("dask.distributed") is not None
+    except ModuleNotFoundError:
+        return False
 
 
 def _tables(args, parser) -> int:
@@ -239,6 +344,10 @@ def _tables(args, parser) -> int:
     if results.missing:
         print(f"partial sweep: {len(results)} of {len(results) + len(results.missing)} cells stored; "
               f"missing: {describe_cells(results.missing)}")
+    versions = results.code_versions()
+    if len(versions) > 1:
+        print(f"note: the runs were computed by {len(versions)} versions of the code, whose numbers may differ: "
+              + "; ".join(f"{label}: {runs} runs" for label, runs in versions.items()))
     for key, frame in tables.items():
         if key == "seeds":
             continue
@@ -382,6 +491,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     add_config_arguments(run)
     run.add_argument("--out", metavar="DIR", help="save records.csv and result.json in DIR")
+    run.add_argument("--overwrite", action="store_true",
+                     help="replace a result of other settings already in --out DIR (refused without it)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=_run, parser=run)
 
@@ -395,6 +506,8 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--a", type=float, default=DEFINITION_4_A,
                       help=f"Definition 4's TSR threshold a in [1, 100] [default: {DEFINITION_4_A:g}]")
     cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
+    cmp_.add_argument("--overwrite", action="store_true",
+                      help="replace a comparison of other settings already in --out DIR (refused without it)")
     cmp_.add_argument("--quiet", action="store_true", help="no progress bars")
     cmp_.set_defaults(func=_compare, parser=cmp_)
 
@@ -403,20 +516,20 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the paper's grid of paired comparisons (m x p x nss x seeds)",
         description="Run every (m, p, nss, seed) cell as a paired TP-vs-GP comparison, locally "
         "or on a Dask cluster. With --out each finished cell is stored at once, and a rerun "
-        "skips the cells already there.",
+        "skips the cells already there; 'sarsp-edu sweep --out DIR' alone resumes the sweep stored "
+        "in DIR with its own settings and cells.",
     )
     def listed(values):
         return " ".join(f"{v:g}" for v in values)
 
     sweep.add_argument("--m", "--magnitudes", dest="magnitudes", type=float, nargs="+", metavar="M",
-                       default=list(PAPER_MAGNITUDES), help=f"outlier magnitudes [default: {listed(PAPER_MAGNITUDES)}]")
+                       help=f"outlier magnitudes [default: {listed(PAPER_MAGNITUDES)}, or a stored sweep's]")
     sweep.add_argument("--p", "--proportions", dest="proportions", type=float, nargs="+", metavar="P",
-                       default=list(PAPER_PROPORTIONS),
-                       help=f"outlier proportions [default: {listed(PAPER_PROPORTIONS)}]")
+                       help=f"outlier proportions [default: {listed(PAPER_PROPORTIONS)}, or a stored sweep's]")
     sweep.add_argument("--nss", "--n-switch-states", dest="nss", type=int, nargs="+", metavar="NSS",
-                       default=list(PAPER_SWITCH_STATES),
-                       help=f"numbers of switch states [default: {listed(PAPER_SWITCH_STATES)}]")
-    sweep.add_argument("--seeds", type=int, nargs="+", default=[0], help="sweep seeds [default: 0]")
+                       help=f"numbers of switch states [default: {listed(PAPER_SWITCH_STATES)}, or a stored "
+                       "sweep's]")
+    sweep.add_argument("--seeds", type=int, nargs="+", help="sweep seeds [default: 0, or a stored sweep's]")
     sweep.add_argument("--jobs", type=int, default=1, help="local worker processes; -1: one per core [default: 1]")
     sweep.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler address (needs sarsp_edu[dask])")
     sweep.add_argument("--a", type=float, default=DEFINITION_4_A,

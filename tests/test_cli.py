@@ -45,7 +45,7 @@ def test_every_config_field_has_a_flag():
         (["run", "--nu", "2"], "nu must be a finite number > 2"),
         (["run", "--p", "1.5"], r"outlier_proportion must lie in \[0, 1\]"),
         (["run", "--nss", "20"], "n_switch_states must be an integer from 0 to n_unsafe=15"),
-        (["run", "--episodes", "0"], "episodes must be an integer >= 1"),
+        (["run", "--episodes", "0"], "episodes must be an integer from 1 to 100000"),
         (["run", "--model", "svm"], "invalid choice"),
         (["compare", "--a", "0", *TINY], r"a must lie in \[1, 100\]"),
     ],
@@ -176,10 +176,18 @@ def test_out_holding_other_results_is_refused(tmp_path, capsys):
     assert "is a folder" in _usage_error(["tables", str(tmp_path), "--markdown", str(other)], capsys)
 
 
-def test_run_may_replace_its_own_result(tmp_path, capsys):
+def test_run_replaces_its_own_result_and_another_only_with_overwrite(tmp_path, capsys):
     out = tmp_path / "r"
     assert main(["run", *TINY, "--out", str(out)]) == 0
-    assert main(["run", *TINY, "--seed", "1", "--out", str(out)]) == 0
+    assert main(["run", *TINY, "--out", str(out)]) == 0  # the same settings: the same result again
+    with pytest.raises(SystemExit) as refused:
+        main(["run", *TINY, "--seed", "1", "--out", str(out)])
+    assert refused.value.code == 2
+    err = capsys.readouterr().err
+    assert (f"--out {out} holds a run of other settings (seed: stored 0, now 1); to keep both, give another "
+            "folder; to replace it, add --overwrite") in err
+    assert json.loads((out / "result.json").read_text())["config"]["seed"] == 0
+    assert main(["run", *TINY, "--seed", "1", "--out", str(out), "--overwrite"]) == 0
     assert json.loads((out / "result.json").read_text())["config"]["seed"] == 1
 
 

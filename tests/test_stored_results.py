@@ -1,0 +1,259 @@
+"""Stored results that disagree with themselves are refused, no work is lost, extreme values are
+refused before any work, and every message gives the true reason (issue 24)."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import shutil
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sarsp_edu import ExperimentConfig, run_experiment, run_sweep
+from sarsp_edu.cli import main
+from sarsp_edu.provenance import code_provenance
+from sarsp_edu.results import ExperimentResult, StoredResultError
+from sarsp_edu.sweep import LOCK_NAME, StoredResultWarning, SweepResults, summary_tables
+
+TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
+                        cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
+GRID = dict(magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2))
+SETTINGS = ["--grid-size", "5", "--n-unsafe", "3", "--episodes", "3", "--offline-episodes", "5",
+            "--cost-fit-points", "50", "--reward-fit-points", "50", "--k-prior", "20", "--optimizer-steps", "3",
+            "--quiet"]
+FLAGS = [*SETTINGS, "--m", "40", "--p", "0.2", "--nss", "1", "2"]  # the sweep GRID
+CELL = "m40_p0.2_nss1_seed0"
+
+
+@pytest.fixture(scope="module")
+def stored(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("stored") / "sweep"
+    run_sweep(TINY, **GRID, results_dir=folder)
+    return folder
+
+
+@pytest.fixture
+def sweep(stored, tmp_path):
+    """A fresh copy of the stored sweep, to damage."""
+    folder = tmp_path / "sweep"
+    shutil.copytree(stored, folder)
+    return folder
+
+
+def edit_json(path, change):
+    payload = json.loads(path.read_text())
+    change(payload)
+    path.write_text(json.dumps(payload))
+
+
+def usage_error(argv, capsys) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    return err.strip().splitlines()[-1]
+
+
+# -- 2. a stored result that disagrees with its sweep is refused, not used ---------------------------
+def test_a_cell_run_with_other_settings_is_named_by_tables_and_recomputed_by_a_resume(sweep, capsys):
+    result_json = sweep / "cells" / CELL / "tp" / "result.json"
+    edit_json(result_json, lambda p: p["config"].update(nu=5.0))
+    with pytest.raises(StoredResultError, match=rf"{CELL}/tp/result.json is not this sweep's cell m=40 p=0.2 nss=1 "
+                                                r"seed=0: it ran nu=5.0 where the sweep gives 3.0"):
+        SweepResults.load(sweep)
+    assert "it ran nu=5.0 where the sweep gives 3.0" in usage_error(["tables", str(sweep)], capsys)
+    with pytest.warns(StoredResultWarning, match="it ran nu=5.0 where the sweep gives 3.0; computing the cell again"):
+        resumed = run_sweep(TINY, **GRID, results_dir=sweep)
+    assert json.loads(result_json.read_text())["config"]["nu"] == 3.0
+    fresh = run_sweep(TINY, **GRID)
+    assert resumed.frame().equals(fresh.frame())
+
+
+def test_a_sweep_json_that_no_cell_ran_is_refused_with_the_true_reason(sweep, capsys):
+    edit_json(sweep / "sweep.json", lambda p: p["base_config"].update(episodes=20))
+    reason = "sweep.json does not describe the 2 cells stored beside it (episodes=20 where they ran episodes=3)"
+    with pytest.raises(StoredResultError, match=re.escape(reason)):
+        SweepResults.load(sweep)
+    assert reason in usage_error(["tables", str(sweep)], capsys)
+    assert reason in usage_error(["sweep", "--out", str(sweep)], capsys)
+    assert reason in usage_error(["sweep", *FLAGS, "--episodes", "20", "--out", str(sweep)], capsys)
+
+
+def test_a_gutted_sweep_json_is_refused_not_filled_with_defaults(sweep, capsys):
+    edit_json(sweep / "sweep.json", lambda p: p.update(base_config={"nu": 3.0}))
+    err = usage_error(["tables", str(sweep)], capsys)
+    assert "sweep.json holds an invalid base_config: the config lacks the fields [" in err
+    assert "folder 250" not in err
+
+
+def test_a_records_row_that_disagrees_with_its_summary_is_refused(sweep):
+    records = sweep / "cells" / CELL / "gp" / "records.csv"
+    table = pd.read_csv(records)
+    table.loc[table.index[-1], "total_cost"] += 7
+    table.to_csv(records, index=False)
+    with pytest.raises(StoredResultError, match=r"gp/result.json gives total_cost=\S+ where the last row of "
+                                                r"records.csv beside it gives \S+: one of the two was edited"):
+        SweepResults.load(sweep)
+
+
+def test_a_cell_under_another_cells_name_belongs_to_another_cell(sweep):
+    edit_json(sweep / "cells" / CELL / "cell.json", lambda p: p.update(key=[40.0, 0.2, 2, 0]))
+    with pytest.raises(StoredResultError, match=f"{CELL} belongs to another cell: its cell.json says m=40 p=0.2 "
+                                                "nss=2 seed=0, its place m=40 p=0.2 nss=1 seed=0"):
+        SweepResults.load(sweep)
+    with pytest.warns(StoredResultWarning, match="belongs to another cell"):
+        run_sweep(TINY, **GRID, results_dir=sweep)
+
+
+def test_a_second_sweep_in_the_same_folder_is_told_another_sweep_holds_it(sweep, capsys):
+    import fcntl
+
+    with open(sweep / LOCK_NAME, "w") as held:
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        held.write("4242\n")
+        held.flush()
+        with pytest.raises(ValueError, match=f"another sweep is running in {sweep} \\(process 4242\\); wait"):
+            run_sweep(TINY, **GRID, results_dir=sweep)
+        assert "another sweep is running in" in usage_error(["sweep", "--out", str(sweep)], capsys)
+    run_sweep(TINY, **GRID, results_dir=sweep)  # released: resumes
+
+
+def test_tables_of_an_absent_seed_names_the_seeds_present(sweep, capsys):
+    assert usage_error(["tables", str(sweep), "--seeds", "5"], capsys).endswith(
+        "holds no cell of seed 5; its seeds are 0")
+
+
+def test_every_result_records_its_code_and_tables_say_when_cells_differ(sweep, capsys):
+    code = json.loads((sweep / "cells" / CELL / "tp" / "result.json").read_text())["code"]
+    assert code == code_provenance()
+    assert len(code["source_sha256"]) == 64 and code["numpy"] == np.__version__
+    assert main(["tables", str(sweep)]) == 0
+    assert "versions of the code" not in capsys.readouterr().out
+    edit_json(sweep / "cells" / CELL / "gp" / "result.json", lambda p: p["code"].update(source_sha256="0" * 64))
+    assert main(["tables", str(sweep)]) == 0
+    assert "note: the runs were computed by 2 versions of the code" in capsys.readouterr().out
+
+
+# -- 3. no work lost, nothing overwritten without asking ----------------------------------------------
+def refuse_work(monkeypatch):
+    """Any computing now fails the test: a refusal must come before the work."""
+    import sarsp_edu.experiment
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the work started before the refusal")
+
+    for name in ("run_experiment", "compare"):
+        monkeypatch.setattr(sarsp_edu.experiment, name, no_work)
+
+
+def test_a_compare_of_other_settings_is_not_overwritten(tmp_path, capsys):
+    out = tmp_path / "c"
+    assert main(["compare", *SETTINGS, "--out", str(out)]) == 0
+    err = usage_error(["compare", *SETTINGS, "--nu", "4", "--out", str(out)], capsys)
+    assert "holds a compare of other settings (nu: stored 3.0, now 4.0); to keep both, give another folder; " \
+           "to replace it, add --overwrite" in err
+    assert main(["compare", *SETTINGS, "--nu", "4", "--out", str(out), "--overwrite"]) == 0
+    assert json.loads((out / "gp" / "result.json").read_text())["config"]["nu"] == 4.0
+
+
+@pytest.mark.parametrize("out, reason", [("/proc/sarsp-edu-x", "cannot be written"),
+                                         ("FILE/inside", "cannot be made: FILE is a file")])
+def test_a_bad_out_is_found_before_any_work_and_nothing_is_left(tmp_path, capsys, monkeypatch, out, reason):
+    (tmp_path / "FILE").write_text("x")
+    monkeypatch.chdir(tmp_path)
+    refuse_work(monkeypatch)
+    for command in ("run", "compare"):
+        assert reason in usage_error([command, "--out", out], capsys)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["FILE"]
+
+
+def test_a_writable_out_is_probed_without_leaving_anything(tmp_path, capsys, monkeypatch):
+    refuse_work(monkeypatch)
+    with pytest.raises(AssertionError, match="the work started"):
+        main(["run", "--out", str(tmp_path / "new" / "deep"), "--quiet"])
+    assert not (tmp_path / "new").exists()
+
+
+def test_a_config_of_numpy_numbers_runs_and_saves(tmp_path):
+    config = TINY.replace(episodes=np.int64(2), nu=np.float64(3.5), outlier_magnitude=np.int32(60),
+                          cost_outliers=np.bool_(True))
+    assert type(config.episodes) is int and type(config.outlier_magnitude) is int
+    result = run_experiment(config)
+    result.save(tmp_path / "r")
+    assert ExperimentResult.load(tmp_path / "r").config == config
+
+
+def test_sweep_out_alone_resumes_the_stored_sweep_with_its_settings(sweep, capsys):
+    shutil.rmtree(sweep / "cells" / CELL)
+    assert main(["sweep", "--out", str(sweep), "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert f"resuming the sweep in {sweep}: 2 cells, preset custom (its stored settings)" in captured.err
+    assert "2 cells, each a paired TP-vs-GP run of 3 episodes" in captured.out
+    assert (sweep / "cells" / CELL / "cell.json").exists()
+
+
+def test_the_tables_hint_quotes_a_path_with_spaces(tmp_path, capsys):
+    out = tmp_path / "my sweep"
+    assert main(["sweep", *FLAGS, "--nss", "1", "--out", str(out)]) == 0
+    assert f"print every table with: sarsp-edu tables '{out}'" in capsys.readouterr().out
+
+
+# -- 4. extreme values: a clear error before the work -------------------------------------------------
+@pytest.mark.parametrize("flag, value, message", [
+    ("--episodes", "99999999999999999999", "episodes must be an integer from 1 to 100000"),
+    ("--episodes", "1000000000", "episodes must be an integer from 1 to 100000"),
+    ("--m", "1e200", "outlier_magnitude must be a positive number of at most 10000"),
+    ("--n-samples", "100000000000000000000", "n_samples must be an integer from 2 to 10000"),
+    ("--nu", "1e308", "nu must be a number above 2 and at most 1e+06 (beyond it the TP's variance factor"),
+    ("--optimizer-steps", "100000000000000000000", "optimizer_steps must be an integer from 1 to 10000"),
+    ("--grid-size", "1000", "grid_size must be an integer from 2 to 50"),
+    ("--k-prior", "1000000", "k_prior must be an integer from 1 to 5000"),
+])
+def test_extreme_values_are_refused_before_any_work(flag, value, message, capsys, monkeypatch):
+    refuse_work(monkeypatch)
+    for command in ("run", "compare"):
+        assert message in usage_error([command, flag, value], capsys)
+
+
+def test_a_scheduler_without_dask_is_one_line_naming_the_extra(tmp_path, capsys, monkeypatch):
+    import importlib.util
+    import sys
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name.startswith("dask") else real(name, *a))
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    refuse_work(monkeypatch)
+    assert usage_error(["sweep", "--scheduler", "tcp://127.0.0.1:1", "--out", str(tmp_path / "s")], capsys) == (
+        "sarsp-edu sweep: error: --scheduler needs Dask, which is not installed: pip install 'sarsp_edu[dask]'")
+    with pytest.raises(ImportError, match=r"pip install 'sarsp_edu\[dask\]'"):
+        run_sweep(TINY, **GRID, scheduler="tcp://127.0.0.1:1")
+
+
+def test_a_setting_the_other_settings_ignore_is_reported(tmp_path, capsys):
+    assert main(["run", *SETTINGS, "--n-samples", "50", "--model", "gp", "--nu", "5", "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: --n-samples is ignored: predictions are exact (predictive='closed_form')" in err
+    assert "warning: --nu is ignored: it is the TP's degrees of freedom, and model='gp'" in err
+
+
+# -- 5. small truths -----------------------------------------------------------------------------------
+def test_undefined_cost_rates_are_left_out_of_the_levels_and_the_wilcoxon_test(stored):
+    results = SweepResults.load(stored)
+    first, second = results.comparisons.values()
+    for run, (total_cost, cost_rate) in zip((first.tp, first.gp, second.tp, second.gp),
+                                            [(2.0, 0.1), (4.0, 0.0), (1.0, 0.2), (3.0, 0.3)]):
+        run.records.loc[run.records.index[-1], ["total_cost", "cost_rate"]] = [total_cost, cost_rate]
+    # the first configuration's GP cost rate is undefined: violations, no clean success
+    tables = summary_tables(results)
+    levels, wilcoxon = tables["levels"], tables["wilcoxon"]
+    assert levels.loc["cost_rate", "GP n"] == 1 and levels.loc["cost_rate", "TP n"] == 2
+    assert levels.loc["mean_cost", "GP n"] == 2
+    assert wilcoxon.loc["cost_rate", "n"] == 1 and wilcoxon.loc["cost_rate", "left out (p_c undefined)"] == 1
+    assert levels.loc["cost_rate", "GP"] == 0.3 and levels.loc["cost_rate", "TP"] == pytest.approx(0.15)
+    assert math.isnan(levels.loc["cost_rate", "GP 95% CI low"])  # one value: no interval
+
