@@ -77,13 +77,23 @@ def check_fraction(name: str, value) -> float:
     return check_range(name, value, 0.0, 1.0)
 
 
+#: the largest nu whose log marginal likelihood float64 still computes to many digits (at 10^15 and beyond
+#: the (nu - 2) terms swallow the data's: the value is wrong in its first digit)
+LARGEST_NU = 1e12
+
+
 def check_nu(nu) -> float:
-    """The Student-t degrees of freedom: finite and > 2."""
+    """The Student-t degrees of freedom: finite, > 2 and at most ``LARGEST_NU``."""
     number = _as_float(nu)
     if not (math.isfinite(number) and number > 2):
         raise ValueError(
             f"nu must be a finite number > 2 (the covariance is infinite for nu <= 2), "
             f"got nu={nu!r}; for nu -> infinity use GaussianProcess"
+        )
+    if number > LARGEST_NU:
+        raise ValueError(
+            f"nu must be at most {LARGEST_NU:g} (beyond it float64 loses the likelihood's digits, and the TP "
+            f"is a GP to every digit shown), got nu={nu!r}; for nu -> infinity use GaussianProcess"
         )
     return number
 

@@ -625,3 +625,9 @@ def test_a_cloned_model_fits_to_the_same_numbers():
     first = StudentTProcess(nu=4.0, rng=0).fit(X, y)
     second = clone(StudentTProcess(nu=4.0, rng=0)).fit(X, y)
     assert np.array_equal(first.theta_, second.theta_)
+
+
+def test_a_nu_beyond_float64s_reach_is_refused_naming_nu_not_the_targets():
+    X = np.linspace(0, 1, 10)[:, None]
+    with pytest.raises(ValueError, match=r"nu must be at most 1e\+12 \(beyond it float64 loses"):
+        StudentTProcess(nu=1e308).fit(X, np.sin(X[:, 0]))
