@@ -329,11 +329,15 @@ def _dask_installed() -> bool:
 
 def _tables(args, parser) -> int:
     from ._io import StoredResultError, atomic_write_text
-    from .sweep import SweepResults, describe_cells
+    from .sweep import SweepResults, describe_cells, stored_sweep
     from .tables import frame_to_markdown, summary_tables, tables_markdown
 
     if args.markdown:
         _check_file(parser, "--markdown", args.markdown)
+    try:
+        stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
     try:
         results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial, seeds=args.seeds)
         tables = summary_tables(results)

@@ -235,10 +235,10 @@ class ExperimentConfig:
             if _plain(value) is not value:
                 object.__setattr__(self, f.name, _plain(value))
         check_choice("model", self.model, ("tp", "gp"))
-        check_nu(self.nu)
-        if self.nu > LIMITS["nu"][0]:
+        if isinstance(self.nu, numbers.Real) and self.nu > LIMITS["nu"][0]:  # before check_nu's looser bound
             raise ValueError(f"nu must be a number above 2 and at most {LIMITS['nu'][0]:g} ({LIMITS['nu'][1]}), "
                              f"got nu={self.nu!r}")
+        check_nu(self.nu)
         check_positive("outlier_magnitude", self.outlier_magnitude, *LIMITS["outlier_magnitude"])
         check_fraction("outlier_proportion", self.outlier_proportion)
         for name in ("episodes", "offline_episodes"):

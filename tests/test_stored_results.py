@@ -78,7 +78,8 @@ def test_a_sweep_json_that_no_cell_ran_is_refused_with_the_true_reason(sweep, ca
     reason = "sweep.json does not describe the 2 cells stored beside it (episodes=20 where they ran episodes=3)"
     with pytest.raises(StoredResultError, match=re.escape(reason)):
         SweepResults.load(sweep)
-    assert reason in usage_error(["tables", str(sweep)], capsys)
+    assert usage_error(["tables", str(sweep)], capsys).endswith(reason + ": it was edited or belongs to another "
+                                                               "sweep; restore it, or move the cells to their own folder")
     assert reason in usage_error(["sweep", "--out", str(sweep)], capsys)
     assert reason in usage_error(["sweep", *FLAGS, "--episodes", "20", "--out", str(sweep)], capsys)
 
