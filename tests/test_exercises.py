@@ -1,4 +1,6 @@
-"""The tutorials' exercise checks: right answers pass, wrong and missing ones do not."""
+"""The exercise checks: for every coding exercise a right function (written here by hand, apart from the
+package) passes, and two usual wrong ones get their diagnosis, never the answer; short answers are taken
+in any numeric type."""
 
 from __future__ import annotations
 
@@ -6,89 +8,274 @@ import math
 
 import numpy as np
 import pytest
+from scipy import linalg as sla
+from scipy import special, stats
 
-from sarsp_edu.exercises import EXERCISES, check, is_right
+from sarsp_edu.exercises import CODING, EXERCISES, check, grade, is_right, same
 from sarsp_edu.sarsp import Decision
 
-#: a right and a wrong answer to each exercise, worked out here by hand
-ANSWERS = {
-    "1.1": (1 / 32, 1 / 16),
-    "1.2": ({"lambda < 1": math.inf, "lambda = 1": 1, "lambda > 1": 0},
-            {"lambda < 1": 0, "lambda = 1": 1, "lambda > 1": math.inf}),
-    "1.3": ((40**2 / 2 + 0.5 * math.log(2 * math.pi)) / (0.5 + 0.5 * math.log(2 * math.pi)), 1600),
-    "2.2": ("below", "above"),
-    "2.3": ("narrower", "wider"),
-    "3.1": (50, 25),
-    "3.2": ([1, 0, 0], [0, 1, 1]),
-    "5.1": (69.8, 51.7),
+
+# -- right answers, written from the equations ------------------------------------------------------
+def student_t_logpdf(x, nu):
+    x = np.asarray(x, dtype=float)
+    const = special.gammaln((nu + 1) / 2) - special.gammaln(nu / 2) - 0.5 * np.log(nu * np.pi)
+    return const - (nu + 1) / 2 * np.log1p(x**2 / nu)
+
+
+def tail_ratio(x, lam, nu):
+    return np.exp(student_t_logpdf(lam * np.asarray(x), nu) - student_t_logpdf(x, nu))
+
+
+def outlier_costs(residual, nu):
+    r = np.asarray(residual, dtype=float)
+    return r**2 / 2 + 0.5 * np.log(2 * np.pi), -student_t_logpdf(r, nu)
+
+
+def rbf(X, Y, amplitude, length_scale):
+    d2 = ((X[:, None, :] - Y[None, :, :]) ** 2).sum(-1)
+    return amplitude**2 * np.exp(-d2 / (2 * length_scale**2))
+
+
+def gp_posterior(K, K_star, k_star_star, y, noise_variance):
+    L = np.linalg.cholesky(K + noise_variance * np.eye(len(y)))
+    alpha = sla.cho_solve((L, True), y)
+    V = sla.solve_triangular(L, K_star.T, lower=True)
+    return K_star @ alpha, k_star_star - (V**2).sum(0)
+
+
+def tp_variance_factor(K, y, noise_variance, nu):
+    beta = y @ np.linalg.solve(K + noise_variance * np.eye(len(y)), y)
+    return (nu + beta - 2) / (nu + len(y) - 2)
+
+
+def tp_log_marginal_likelihood(K, y, noise_variance, nu):
+    n = len(y)
+    L = np.linalg.cholesky(K + noise_variance * np.eye(n))
+    beta = y @ sla.cho_solve((L, True), y)
+    return float(special.gammaln((nu + n) / 2) - special.gammaln(nu / 2) - n / 2 * np.log((nu - 2) * np.pi)
+                 - np.log(np.diag(L)).sum() - (nu + n) / 2 * np.log1p(beta / (nu - 2)))
+
+
+def cap_duplicates(X, y, cap):
+    seen, keep = {}, []
+    for i, x in enumerate(X):
+        key = tuple(x)
+        seen[key] = seen.get(key, 0) + 1
+        if seen[key] <= cap:
+            keep.append(i)
+    return X[keep], y[keep]
+
+
+def distance_to_unsafe(position, unsafe):
+    return min(math.dist(position, cell) for cell in unsafe)
+
+
+def move(position, action, size):
+    dx, dy = {0: (1, 0), 1: (0, 1), 2: (-1, 0), 3: (0, -1)}[action]
+    return (min(max(position[0] + dx, 0), size - 1), min(max(position[1] + dy, 0), size - 1))
+
+
+def safe_actions(mu_cost, var_cost, known_unsafe, d, variance_threshold):
+    return [bool(not k and v <= variance_threshold and m >= d) for m, v, k in zip(mu_cost, var_cost, known_unsafe)]
+
+
+def choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold):
+    safe = safe_actions(mu_cost, var_cost, known_unsafe, d, variance_threshold)
+    rewards = [(-math.inf if k else r) for r, k in zip(mu_reward, known_unsafe)]
+    candidates = [a for a in range(4) if safe[a]] or list(range(4))
+    best = candidates[0]
+    for a in candidates:
+        if rewards[a] > rewards[best]:
+            best = a
+    return best, not any(safe)
+
+
+def corrects(mu_cost, var_cost, action, d, was_backup):
+    return mu_cost[action] >= d or (var_cost[action] == min(var_cost) and not was_backup)
+
+
+def symmetric_percent_difference(a, b):
+    return 0.0 if a == b else abs(a - b) / ((a + b) / 2) * 100
+
+
+def tsr_and_cost_rate(episode_cost, episode_steps, task_completed):
+    clean = sum(s for c, s, done in zip(episode_cost, episode_steps, task_completed) if done and c == 0)
+    total = sum(episode_cost)
+    return 100 * np.mean(task_completed), (total / clean if total and clean else 0.0)
+
+
+def prefers(summary_1, summary_2, a):
+    return summary_1["cost_rate"] < summary_2["cost_rate"] and (
+        summary_1["mean_reward"] >= summary_2["mean_reward"]
+        or summary_1["task_success_rate"] >= summary_2["task_success_rate"]
+        or summary_1["task_success_rate"] >= a)
+
+
+RIGHT = {"1.1": student_t_logpdf, "1.2": tail_ratio, "1.3": outlier_costs, "2.1": rbf, "2.2": gp_posterior,
+         "2.3": tp_variance_factor, "2.4": tp_log_marginal_likelihood, "3.1": cap_duplicates,
+         "3.2": distance_to_unsafe, "3.3": move, "4.1": safe_actions, "4.2": choose, "4.3": corrects,
+         "5.1": symmetric_percent_difference, "6.1": tsr_and_cost_rate, "6.2": prefers}
+
+
+# -- two usual wrong answers of each, with the diagnosis they must get -------------------------------
+WRONG = {
+    "1.1": [(lambda x, nu: -(nu + 1) / 2 * np.log1p(np.asarray(x) ** 2 / nu), "normalising constant is missing"),
+            (lambda x, nu: np.exp(student_t_logpdf(x, nu)), "These are densities")],
+    "1.2": [(lambda x, lam, nu: np.exp(student_t_logpdf(lam * np.asarray(x) ** 2, nu) - student_t_logpdf(x, nu)),
+             "eq. 8 as printed"),
+            (lambda x, lam, nu: 1 / tail_ratio(x, lam, nu), "upside down")],
+    "1.3": [(lambda residual, nu: (np.asarray(residual) ** 2 / 2, (nu + 1) / 2 * np.log1p(np.asarray(residual) ** 2 / nu)),
+             "The constants are missing"),
+            (lambda residual, nu: outlier_costs(residual, nu)[::-1], "swapped")],
+    "2.1": [(lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, length_scale) / amplitude,
+             "amplitude enters squared"),
+            (lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, np.sqrt(length_scale)),
+             "the length scale is squared too")],
+    "2.2": [(lambda K, K_star, k_star_star, y, noise_variance: gp_posterior(K, K_star, k_star_star, y, 0.0),
+             "noise term is missing"),
+            (lambda K, K_star, k_star_star, y, noise_variance: (
+                gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
+                np.sqrt(gp_posterior(K, K_star, k_star_star, y, noise_variance)[1])), "standard deviation")],
+    "2.3": [(lambda K, y, noise_variance, nu: tp_variance_factor(K, y, 0.0, nu), "K + s^2 I"),
+            (lambda K, y, noise_variance, nu: nu / (nu - 2), "prior's factor")],
+    "2.4": [(lambda K, y, noise_variance, nu: float(stats.multivariate_normal(
+                np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)), "GP's"),
+            (lambda K, y, noise_variance, nu: tp_log_marginal_likelihood(K * nu / (nu - 2), y,
+                                                                         noise_variance * nu / (nu - 2), nu),
+             "Shah et al.'s TP takes the shape")],
+    "3.1": [(lambda X, y, cap: (lambda rows: (rows[:, :-1], rows[:, -1]))(
+                cap_duplicates(np.column_stack([X, y]), y, cap)[0]), "Count copies of the input x alone"),
+            (lambda X, y, cap: tuple(part[::-1] for part in cap_duplicates(X[::-1], y[::-1], cap)),
+             "Keep the first copies")],
+    "3.2": [(lambda position, unsafe: min(abs(position[0] - u[0]) + abs(position[1] - u[1]) for u in unsafe),
+             "Manhattan"),
+            (lambda position, unsafe: min(math.dist(position, u) for u in unsafe) ** 2, "squared distance")],
+    "3.3": [(lambda position, action, size: move(position, {0: 0, 1: 3, 2: 2, 3: 1}[action], size),
+             "y grows downwards"),
+            (lambda position, action, size: (position[0] + (1, 0, -1, 0)[action], position[1] + (0, 1, 0, -1)[action]),
+             "clip to 0 .. size - 1")],
+    "4.1": [(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
+             safe_actions(mu_cost, var_cost, [False] * 4, d, variance_threshold), "never safe"),
+            (lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
+             safe_actions(mu_cost, np.sqrt(var_cost), known_unsafe, d, variance_threshold), "not the standard deviation")],
+    "4.2": [(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold:
+             (int(np.argmax(np.where(known_unsafe, -np.inf, mu_reward))), False), "only among the safe actions"),
+            (lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
+                choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[0]
+                if any(safe_actions(mu_cost, var_cost, known_unsafe, d, variance_threshold))
+                else int(np.argmax(np.where(known_unsafe, -np.inf, -np.asarray(var_cost)))),
+                not any(safe_actions(mu_cost, var_cost, known_unsafe, d, variance_threshold))),
+             "not the most certain one")],
+    "4.3": [(lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d), "second reason"),
+            (lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d or var_cost[action] == min(var_cost)),
+             "taken as the backup")],
+    "5.1": [(lambda a, b: (a - b) / b * 100, "Table 2's convention"),
+            (lambda a, b: abs(a - b) / max(a, b) * 100, "not the larger")],
+    "6.1": [(lambda c, s, done: (np.mean(done), tsr_and_cost_rate(c, s, done)[1]), "in %"),
+            (lambda c, s, done: (tsr_and_cost_rate(c, s, done)[0], sum(c) / sum(s) if sum(c) else 0.0),
+             "not of all episodes")],
+    "6.2": [(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and s1["mean_reward"] >= s2["mean_reward"]
+             and s1["task_success_rate"] >= s2["task_success_rate"], "or, not and"),
+            (lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]),
+             "third branch is missing")],
 }
 
 
-def gp_like_decision():
-    """Cost variances about 5.5, as a GP's with a large fitted noise: safe at 10 only where mu >= 1."""
-    return Decision((4, 4), np.array([1.0, 2.0, 0.4, 1.4]), np.array([5.5, 5.6, 5.4, 11.0]),
-                    np.array([-3.0, -2.0, -1.0, -2.5]), np.array([1.0] * 4), np.array([False] * 4),
-                    np.array([False] * 4), 2, True)
+def test_there_are_at_least_twelve_coding_exercises_two_or_more_in_tutorials_1_to_4_and_6():
+    assert len(CODING) >= 12 and set(RIGHT) == set(CODING) == set(WRONG)
+    for tutorial in "12346":
+        assert sum(name.startswith(tutorial + ".") for name in CODING) >= 2
 
 
-@pytest.mark.parametrize("exercise", sorted(ANSWERS))
-def test_right_wrong_and_missing_answers(exercise, capsys):
-    right, wrong = ANSWERS[exercise]
-    assert is_right(exercise, right) is True
-    check(exercise, right)
-    assert "right." in capsys.readouterr().out
-    assert is_right(exercise, wrong) is False
-    check(exercise, wrong)
-    assert "not yet." in capsys.readouterr().out
-    assert is_right(exercise, ...) is False
-    check(exercise, ...)
-    assert "not answered yet" in capsys.readouterr().out
+@pytest.mark.parametrize("name", sorted(CODING))
+def test_a_right_function_passes_on_fresh_inputs(name, capsys):
+    for seed in (None, 1, 2):  # the notebook's inputs and two other draws
+        right, message = grade(name, CODING[name], RIGHT[name], rng=seed)
+        assert right, message
+    check(name, RIGHT[name])
+    assert capsys.readouterr().out.startswith(f"Exercise {name}: right.")
 
 
-def test_the_nu_that_doubles_the_variance():
-    from sarsp_edu.demos import regression_data
-    from sarsp_edu.kernels import RBF
-    from sarsp_edu.processes import StudentTProcess
-
-    X, y, _ = regression_data(n=40, magnitude=10.0, proportion=0.1, seed=0)
-    beta = StudentTProcess(RBF(1.5, 0.5), nu=3.0, noise_variance=0.5, optimizer=None).fit(X, y).beta_
-    assert is_right("2.1", beta - 2 * 40 + 2) is True
-    assert is_right("2.1", beta - 40 + 2) is False
-    assert is_right("2.1", 1.5) is False  # not a valid nu
-
-
-def test_the_gps_safe_set_needs_its_decision():
-    decision = gp_like_decision()
-    assert is_right("4.1", [0, 1], decision=decision) is True  # variance <= 10 and distance >= 1
-    assert is_right("4.1", [0, 1, 3], decision=decision) is False
-    assert is_right("4.1", [], decision=decision) is False
-    with pytest.raises(ValueError, match="decision="):
-        check("4.1", [0, 1])
+@pytest.mark.parametrize("name", sorted(CODING))
+def test_usual_mistakes_get_their_diagnosis_not_the_answer(name, capsys):
+    for wrong, diagnosis in WRONG[name]:
+        right, message = grade(name, CODING[name], wrong)
+        assert not right and diagnosis in message, message
+        check(name, wrong)
+        out = capsys.readouterr().out
+        assert out.startswith(f"Exercise {name}: not yet.") and diagnosis in out
+        assert "def " not in out and "return" not in out  # no code given away
 
 
-def test_every_exercise_is_tested_and_unknown_ones_are_refused():
-    assert set(EXERCISES) == {*ANSWERS, "2.1", "4.1", "6.1"}
-    with pytest.raises(ValueError, match="exercise must be one of"):
+def test_a_placeholder_an_exception_and_a_wrong_shape_are_said_plainly(capsys):
+    def placeholder(X, Y, amplitude, length_scale):
+        raise NotImplementedError("write your answer here")
+
+    check("2.1", placeholder)
+    assert capsys.readouterr().out == ("Exercise 2.1: not yet. Not written yet; replace the line raise "
+                                       "NotImplementedError(...) with your code.\n")
+    check("2.1", lambda X, Y, amplitude, length_scale: np.linalg.cholesky(-np.eye(2)))
+    assert "Your function raised LinAlgError: Matrix is not positive definite" in capsys.readouterr().out
+    check("2.1", lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, length_scale).T)
+    assert "has shape" in capsys.readouterr().out
+    check("2.2", lambda K, K_star, k_star_star, y, noise_variance: gp_posterior(K, K_star, k_star_star, y,
+                                                                                noise_variance)[0])
+    assert "should return 2 things" in capsys.readouterr().out
+    check("2.1", 3.0)
+    assert "asks for a function" in capsys.readouterr().out
+
+
+def test_a_right_answer_that_refactorises_per_query_is_called_slow():
+    def per_query(K, K_star, k_star_star, y, noise_variance):
+        means, variances = [], []
+        for i in range(len(K_star)):
+            A = K + noise_variance * np.eye(len(y))
+            means.append(K_star[i] @ np.linalg.solve(A, y))
+            variances.append(k_star_star[i] - K_star[i] @ np.linalg.inv(A) @ K_star[i])
+        return np.array(means), np.array(variances)
+
+    right, message = grade("2.2", CODING["2.2"], per_query)
+    assert right and "It is right but slow" in message and "Factorise once" in message
+
+
+@pytest.mark.parametrize("answer", [50, 50.0, np.int64(50), np.float32(50), np.array(50)])
+def test_short_answers_are_taken_in_any_numeric_type(answer):
+    assert is_right("3.4", answer) is True
+    assert is_right("3.4", 25) is False and is_right("3.4", True) is False and is_right("3.4", "50") is False
+
+
+def test_short_answers_right_wrong_and_missing(capsys):
+    assert is_right("1.4", {"lambda < 1": math.inf, "lambda = 1": 1, "lambda > 1": 0})
+    assert not is_right("1.4", {"lambda < 1": 0, "lambda = 1": 1, "lambda > 1": math.inf})
+    assert is_right("2.5", "below") and not is_right("2.5", "above")
+    assert is_right("2.6", "narrower") and not is_right("2.6", "wider")
+    check("3.4", ...)
+    assert capsys.readouterr().out == "Exercise 3.4: not answered yet; replace ... with your answer.\n"
+    check("3.4", 25)
+    out = capsys.readouterr().out
+    assert out.startswith("Exercise 3.4: not yet.") and "50" not in out
+
+
+def test_exercise_4_4_reads_the_notebooks_decision():
+    decision = Decision((4, 4), np.array([1.0, 2.0, 0.4, 1.4]), np.array([5.5, 5.6, 5.4, 11.0]),
+                        np.array([-3.0, -2.0, -1.0, -2.5]), np.array([1.0] * 4), np.array([False] * 4),
+                        np.array([False] * 4), 2, True)
+    assert is_right("4.4", [0, 1], decision=decision) and not is_right("4.4", [0, 1, 3], decision=decision)
+    with pytest.raises(ValueError, match="decision=gp_decision"):
+        is_right("4.4", [0])
+
+
+def test_an_unknown_exercise_names_the_known_ones():
+    with pytest.raises(ValueError, match=r"exercise must be one of \['1.1', '1.2'"):
         check("9.9", 1)
+    assert list(EXERCISES)[:4] == ["1.1", "1.2", "1.3", "1.4"]
 
 
-def test_text_and_wrong_types_are_wrong_not_errors():
-    assert is_right("1.1", "1/32") is False
-    assert is_right("3.1", 50.0) is False  # a count is an integer
-    assert is_right("3.2", "right right down") is False
-    assert is_right("2.2", 0.5) is False
-
-
-
-def test_the_trapped_share_is_read_from_the_ablation():
-    from pathlib import Path
-
-    from sarsp_edu.ablation import AblationResults
-
-    results = AblationResults.load(Path(__file__).resolve().parents[1] / "results" / "ablation")
-    # the stored per-step, 500-row GP runs: 309 of their 375 failures ended on at most 2 cells
-    assert is_right("6.1", 82.4, results=results) is True
-    assert is_right("6.1", 309 / 375, results=results) is False  # a fraction, not a percentage
-    assert is_right("6.1", 70, results=results) is False
-    with pytest.raises(ValueError, match="results="):
-        check("6.1", 50)
+@pytest.mark.parametrize("got, expected, equal", [
+    (1.0 + 1e-9, 1.0, True), (1.01, 1.0, False), (np.array([1e6, 1.0]), np.array([1e6, 1.0 + 1e-3]), True),
+    (np.array([np.inf, 1.0]), np.array([np.inf, 1.0]), True), (np.array([-np.inf]), np.array([np.inf]), False),
+    ([True, False], np.array([True, False]), True), (np.int64(3), 3, True), (3.0, 3, True), (2.5, 3, False),
+])
+def test_same_uses_the_quantitys_own_scale(got, expected, equal):
+    assert same(got, expected) is equal

@@ -1,0 +1,83 @@
+"""The tutorials' exercises, checked by the package.
+
+Most exercises ask the student to **write a function** (the RBF kernel, the
+GP posterior from a Cholesky factor, the TP's variance factor, Algorithm 1's
+safe set ...): ``check("2.1", rbf)`` calls it on fresh random inputs of
+several sizes and the edge cases, compares it with the package's own
+computation to a tolerance set from the quantity's scale, and answers in one
+or two sentences; a wrong answer gets a diagnosis of the usual mistake it
+matches (a missing noise term, a standard deviation for a variance, a
+misprinted equation ...), never the answer.  A few short "predict, then run"
+questions take a value (:mod:`.lookups`).
+
+Examples
+--------
+>>> import numpy as np
+>>> from sarsp_edu.exercises import check
+>>> def rbf(X, Y, amplitude, length_scale):
+...     raise NotImplementedError("write your answer here")
+>>> check("2.1", rbf)
+Exercise 2.1: not yet. Not written yet; replace the line raise NotImplementedError(...) with your code.
+>>> def rbf(X, Y, amplitude, length_scale):  # a classic slip: the length scale not squared
+...     d2 = ((X[:, None, :] - Y[None, :, :]) ** 2).sum(-1)
+...     return amplitude**2 * np.exp(-d2 / (2 * length_scale))
+>>> check("2.1", rbf)
+Exercise 2.1: not yet. Divide the squared distance by 2 l^2: the length scale is squared too.
+>>> check("3.4", np.int64(50))
+Exercise 3.4: right. 50, one colour of the chessboard; the package promises fewer (19), the most it can always place and shift apart.
+"""
+
+from __future__ import annotations
+
+from .agent import AGENT_EXERCISES
+from .grading import CodingExercise, Mistake, grade, same
+from .lookups import LOOKUPS, Exercise
+from .models import MODEL_EXERCISES
+
+__all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
+
+#: the exercises in which the student writes a function, by "tutorial.number"
+CODING: dict[str, CodingExercise] = {**MODEL_EXERCISES, **AGENT_EXERCISES}
+#: every exercise, by "tutorial.number": the coding ones and the short answers
+EXERCISES: dict = dict(sorted({**CODING, **LOOKUPS}.items(), key=lambda item: tuple(map(int, item[0].split(".")))))
+
+
+def _verdict(exercise: str, answer, **context) -> tuple[bool, str]:
+    if exercise not in EXERCISES:
+        raise ValueError(f"exercise must be one of {list(EXERCISES)}, got exercise={exercise!r}")
+    if answer is Ellipsis:
+        return False, "not answered yet; replace ... with your answer."
+    if exercise in CODING:
+        return grade(exercise, CODING[exercise], answer)
+    item = LOOKUPS[exercise]
+    if item.is_right(answer, **context):
+        return True, item.explanation() if callable(item.explanation) else item.explanation
+    return False, item.hint
+
+
+def is_right(exercise: str, answer, **context) -> bool:
+    """Whether ``answer`` to ``exercise`` is right (silent; :func:`check` says so in words).
+
+    Parameters
+    ----------
+    exercise : str
+        ``"tutorial.number"``, e.g. ``"2.1"``.
+    answer : object
+        The student's function (coding exercises) or value; ``...`` is never right.
+    **context
+        Objects of the notebook some short-answer checks need (named in the exercise).
+    """
+    return _verdict(exercise, answer, **context)[0]
+
+
+def check(exercise: str, answer, **context) -> None:
+    """Say whether ``answer`` to ``exercise`` is right: with why if it is, a diagnosis if not.
+
+    Takes the arguments of :func:`is_right`; prints one line and returns
+    nothing, so that a notebook cell shows only the verdict.
+    """
+    right, message = _verdict(exercise, answer, **context)
+    if answer is Ellipsis:
+        print(f"Exercise {exercise}: {message}")
+        return
+    print(f"Exercise {exercise}: {'right' if right else 'not yet'}. {message}".rstrip())

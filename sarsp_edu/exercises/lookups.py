@@ -1,0 +1,173 @@
+"""The tutorials' short-answer exercises: predict, then run.
+
+Where predicting a value or a direction before computing it is the point,
+the student answers with a value; each check computes its own answer from
+the package (sympy limits, fitted models, the gridworld, Algorithm 1's rule),
+so the checks stay right when the package changes.  A numeric answer is
+accepted in any numeric type and to two significant digits.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from collections.abc import Callable
+
+__all__ = ["Exercise", "LOOKUPS"]
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """One checked exercise.
+
+    Attributes
+    ----------
+    question : str
+        What is asked, in one line (the notebook asks it in full).
+    is_right : callable
+        ``is_right(answer, **context) -> bool``, computed from the package
+        (``context``: objects of the notebook the check needs, if any).
+    hint : str
+        Shown with a wrong answer.
+    explanation : str or callable
+        Shown with a right one; a callable computes it (its numbers come
+        from the package, never typed in).
+    """
+
+    question: str
+    is_right: Callable[..., bool]
+    hint: str
+    explanation: str | Callable[[], str]
+
+
+def _close(value, expected: float, rel: float = 0.01, abs_: float = 1e-12) -> bool:
+    """``value`` (int, float, numpy scalar, 0-d array) equals ``expected`` to ``rel`` (two significant digits)."""
+    if isinstance(value, (str, bytes, bool)):
+        return False
+    try:
+        return math.isclose(float(value), float(expected), rel_tol=rel, abs_tol=abs_)
+    except (TypeError, ValueError):
+        return False
+
+
+def _word(answer, *choices: str) -> str | None:
+    """The choice ``answer`` names (case and spaces ignored), or None."""
+    if not isinstance(answer, str):
+        return None
+    text = answer.strip().lower()
+    return text if text in choices else None
+
+
+# -- tutorial 1 ---------------------------------------------------------------
+
+def _gaussian_limits(answer, **_) -> bool:
+    """``answer`` maps "lambda < 1", "lambda = 1", "lambda > 1" to the limit (a number, inf allowed)."""
+    import sympy as sp
+
+    from .. import tails
+
+    if not isinstance(answer, dict):
+        return False
+    for key, lam in (("lambda < 1", sp.Rational(1, 3)), ("lambda = 1", 1), ("lambda > 1", 3)):
+        limit = tails.gaussian_tail_limit(lam)
+        try:
+            got = float(answer.get(key))
+        except (TypeError, ValueError):
+            return False
+        if not (got == math.inf if limit == sp.oo else _close(got, float(limit))):
+            return False
+    return True
+
+
+# -- tutorial 2 ---------------------------------------------------------------
+def _tutorial2_tp(nu: float):
+    """The TP of tutorial 2, section 2: fixed hyperparameters on the section's data."""
+    from ..demos import regression_data
+    from ..kernels import RBF
+    from ..processes import StudentTProcess
+
+    X, y, _ = regression_data(n=40, magnitude=10.0, proportion=0.1, seed=0)
+    return StudentTProcess(RBF(1.5, 0.5), nu=nu, noise_variance=0.5, optimizer=None).fit(X, y)
+
+
+def _factor_without_outliers(answer, **_) -> bool:
+    from ..demos import compute_posteriors
+
+    side = _word(answer, "above", "below")
+    factor = compute_posteriors(nu=3.0, magnitude=10.0, proportion=0.0, seed=0)["tp_scale"]
+    return side == ("above" if factor > 1 else "below")
+
+
+def _band_as_nu_grows(answer, **_) -> bool:
+    """The fixed-hyperparameter TP of section 2: does its band get wider or narrower from nu = 3 to 30?"""
+    side = _word(answer, "wider", "narrower")
+    wider = _tutorial2_tp(30.0).variance_scale_ > _tutorial2_tp(3.0).variance_scale_
+    return side == ("wider" if wider else "narrower")
+
+
+# -- tutorial 3 ---------------------------------------------------------------
+def _chessboard(answer, **_) -> bool:
+    return _close(answer, _max_unsafe()[0], rel=0) and float(answer) == int(float(answer))
+
+
+def _max_unsafe() -> tuple[int, int]:
+    """The spacing rule's bound on a 10 x 10 grid, and the capacity the package guarantees."""
+    from ..gridworld import SafeGridWorld
+
+    return SafeGridWorld.max_unsafe(10), SafeGridWorld.capacity(10)
+
+
+# -- tutorial 4 ---------------------------------------------------------------
+def _gp_safe_at_ten(answer, decision=None, **_) -> bool:
+    """Which actions the GP's decision calls safe with sigma*^2 = 10 (``decision``: the notebook's)."""
+    from ..config import D
+    from ..sarsp import choose_action
+
+    if decision is None:
+        raise ValueError("exercise 4.4 checks against the GP's decision: check('4.4', answer, decision=gp_decision)")
+    _, safe, _ = choose_action(decision.mu_cost, decision.var_cost, decision.mu_reward, decision.known_unsafe,
+                               D, 10.0)
+    try:
+        named = sorted({int(a) for a in answer})
+    except (TypeError, ValueError):
+        return False
+    return named == [int(a) for a in safe.nonzero()[0]]
+
+
+#: the short-answer exercises, by "tutorial.number" (the coding exercises are in models.py and agent.py)
+LOOKUPS: dict[str, Exercise] = {
+    "1.4": Exercise(
+        "predict, then run: the Gaussian ratio's limit for lambda < 1, lambda = 1 and lambda > 1",
+        _gaussian_limits,
+        "Write the ratio as exp((1 - lambda**2) x**2 / 2) and look at the sign of 1 - lambda**2; "
+        "answer a dict with the keys 'lambda < 1', 'lambda = 1', 'lambda > 1' (math.inf is allowed).",
+        "inf, 1 and 0: no single power of lambda fits, so the Gaussian is not regularly varying.",
+    ),
+    "2.5": Exercise(
+        "predict, then run: without outliers, is the fitted TP's variance factor 'above' or 'below' 1?",
+        _factor_without_outliers,
+        "The factor exceeds 1 exactly when beta > n. Without outliers, does the fitted model explain y "
+        "better or worse than it expects to?",
+        "Below: the fitted model over-explains clean data (beta < n), and the TP narrows its band.",
+    ),
+    "2.6": Exercise(
+        "predict, then run: section 2's TP at nu = 30 against nu = 3: is its band 'wider' or 'narrower'?",
+        _band_as_nu_grows,
+        "The factor (nu + beta - 2) / (nu + n - 2) tends to 1 as nu grows; is it above 1 here?",
+        "Narrower: with beta > n the factor is above 1 and falls towards 1 (the GP) as nu grows.",
+    ),
+    "3.4": Exercise(
+        "predict, then run: the most unsafe states a 10 x 10 grid can hold with no two 4-adjacent",
+        _chessboard,
+        "Think of a chessboard: no two squares of one colour share an edge.",
+        lambda: (f"{_max_unsafe()[0]}, one colour of the chessboard; the package promises fewer "
+                 f"({_max_unsafe()[1]}), the most it can always place and shift apart."),
+    ),
+    "4.4": Exercise(
+        "predict, then run: which actions the GP's decision calls safe with sigma*^2 = 10 (a list of action numbers)",
+        _gp_safe_at_ten,
+        "An action is safe when its cost variance is at most sigma*^2 and its predicted distance at least "
+        "d = 1: which of the two tests does raising sigma*^2 leave to decide?",
+        "Its variances now pass, and the predicted distances decide, as they do for the TP at sigma*^2 = 0.8.",
+    ),
+}
