@@ -32,7 +32,10 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``dashboard``: the redraw framework (``Dashboard``, ``Panel``, sliders).
 - ``widgets``: the dashboards of tutorials 1-3 and 6 (and ``agent_dashboard``).
 - ``live``: tutorial 4's live TP-versus-GP dashboard.
-- ``exercises``: the tutorials' exercises, each checked against the package.
+- ``exercises``: the tutorials' exercises: functions students write, graded
+  on fresh inputs against the package, and short predictions.
+- ``course``: source notebooks (nbgrader's format) to student notebooks and hand-outs.
+- ``provenance``: which code computed a stored result.
 - ``cli``: the ``sarsp-edu`` command.
 - ``_io``, ``_validation``, ``_threads``, ``_version``: atomic files and
   stored-result errors, argument checks, BLAS threads, the version.
@@ -61,6 +64,7 @@ _LAZY = {
     "ExperimentConfig": "config",
     "ExperimentResult": "results",
     "StoredResultError": "results",
+    "stored_results": "results",
     "compare": "experiment",
     "prefers": "metrics",
     "run_experiment": "experiment",

@@ -447,6 +447,31 @@ def _ablation(args, parser) -> int:
     return 0
 
 
+def _course(args, parser) -> int:
+    from .course import write_handout, write_student_notebooks
+
+    if args.action == "student":
+        try:
+            written = write_student_notebooks(args.tutorials, execute=not args.no_execute)
+        except (FileNotFoundError, ValueError) as exc:
+            parser.error(str(exc))
+        for path in written:
+            print(f"wrote {path}")
+        return 0
+    if (args.out is None) == (args.zip is None):
+        parser.error("handout needs --out DIR or --zip FILE")
+    if args.out is not None:
+        _check_out(parser, args.out, "handout")
+    else:
+        _check_file(parser, "--zip", args.zip)
+    try:
+        made = write_handout(args.root, out=args.out, zip_path=args.zip)
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    print(f"the students' copy of the course (no sources, no solutions) is in {made}")
+    return 0
+
+
 def _info(args, parser) -> int:
     from .config import PRESET_DOCS, PRESETS
 
@@ -577,6 +602,24 @@ def build_parser() -> argparse.ArgumentParser:
     ablation.add_argument("--out", metavar="DIR", help="results folder (runs stored as they finish)")
     ablation.add_argument("--quiet", action="store_true", help="no progress bars")
     ablation.set_defaults(func=_ablation, parser=ablation, record_command=True)
+
+    course = sub.add_parser(
+        "course",
+        help="make the student notebooks from the sources, or a students' copy of the course",
+        description="'student': write the student notebooks tutorials/NN_*.ipynb from the source notebooks in "
+        "tutorials/source/ (nbgrader's format: solution regions become '# YOUR CODE HERE', hidden tests go) and "
+        "execute them. 'handout': copy the student notebooks, the glossary and the stored results they read, "
+        "never the sources, into a new folder or a zip file to hand out.",
+    )
+    course.add_argument("action", choices=["student", "handout"])
+    course.add_argument("--tutorials", default="tutorials", metavar="DIR",
+                        help="the tutorials folder, holding source/ [default: tutorials]")
+    course.add_argument("--no-execute", action="store_true", help="student: write without executing")
+    course.add_argument("--root", default=".", metavar="DIR",
+                        help="handout: the repository, holding tutorials/ and results/ [default: .]")
+    course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder")
+    course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
+    course.set_defaults(func=_course, parser=course)
 
     info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies, and the presets")
     info.set_defaults(func=_info, parser=info)

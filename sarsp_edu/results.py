@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+import os
+
 from ._io import StoredResultError, atomic_write_text, read_json
 from ._version import __version__
 from .config import DEFINITION_4_A, ExperimentConfig
@@ -29,7 +31,7 @@ from .metrics import (
     prefers,
 )
 
-__all__ = ["ExperimentResult", "Comparison", "StoredResultError"]
+__all__ = ["ExperimentResult", "Comparison", "StoredResultError", "stored_results"]
 
 
 @dataclass
@@ -220,3 +222,35 @@ class Comparison:
     def load(cls, directory, a: float = DEFINITION_4_A) -> "Comparison":
         directory = Path(directory)
         return cls(ExperimentResult.load(directory / "tp"), ExperimentResult.load(directory / "gp"), a)
+
+
+#: an environment variable naming the folder that holds the repository's stored results
+RESULTS_VARIABLE = "SARSP_EDU_RESULTS"
+
+
+def stored_results(name: str) -> Path:
+    """The folder ``results/NAME`` stored with the sarsp_edu repository, found from where a notebook runs.
+
+    Looks in ``$SARSP_EDU_RESULTS`` first, then in ``results/`` of the
+    current folder and of every folder above it (a tutorial runs in
+    ``tutorials/``, its source in ``tutorials/source/``, a hand-out in its
+    own ``tutorials/``).
+
+    Raises
+    ------
+    FileNotFoundError
+        Saying which results are missing, where they were looked for, and
+        how to get them.
+    """
+    here = Path.cwd().resolve()
+    places = [Path(os.environ[RESULTS_VARIABLE])] if os.environ.get(RESULTS_VARIABLE) else []
+    places += [folder / "results" for folder in (here, *here.parents)]
+    for place in places:
+        if (place / name).is_dir():
+            return place / name
+    raise FileNotFoundError(
+        f"the stored results {name!r} were not found (looked for results/{name} in {here} and every folder "
+        f"above it). The tutorials read results stored in the sarsp_edu repository: open the notebook inside "
+        f"a clone of it or a course hand-out ('sarsp-edu course handout'), or set {RESULTS_VARIABLE} to the "
+        "results folder of a clone"
+    )

@@ -279,3 +279,12 @@ def test_an_unknown_exercise_names_the_known_ones():
 ])
 def test_same_uses_the_quantitys_own_scale(got, expected, equal):
     assert same(got, expected) is equal
+
+
+def test_a_prediction_may_be_a_function_and_its_placeholder_is_not_answered(capsys):
+    def my_prediction():
+        raise NotImplementedError()
+
+    check("2.5", my_prediction)
+    assert "Not written yet" in capsys.readouterr().out
+    assert is_right("2.5", lambda: "below")

@@ -1,0 +1,161 @@
+"""One source per tutorial, in nbgrader's format; the student notebooks are what the command makes of it."""
+
+from __future__ import annotations
+
+import ast
+import json
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from sarsp_edu.course import (
+    CODE_STUB,
+    TEXT_STUB,
+    check_source,
+    clear_solutions,
+    sources,
+    student_notebook,
+    student_path,
+    write_handout,
+)
+from sarsp_edu.exercises import EXERCISES
+
+ROOT = Path(__file__).resolve().parents[1]
+SOURCES = sources(ROOT / "tutorials")
+
+
+def comparable(notebook) -> list:
+    """What a student notebook holds apart from its outputs: each cell's type, text and nbgrader metadata."""
+    return [(cell.cell_type, cell.source, cell.metadata.get("nbgrader")) for cell in notebook.cells]
+
+
+@pytest.mark.parametrize("source", SOURCES, ids=lambda p: p.name)
+def test_each_student_notebook_is_what_the_command_makes_of_its_source(source):
+    made = student_notebook(nbformat.read(source, as_version=4))
+    stored = nbformat.read(student_path(source), as_version=4)
+    assert comparable(stored) == comparable(made), (
+        f"{student_path(source).name} differs from its source: edit tutorials/source/{source.name}, then run "
+        "'sarsp-edu course student'")
+
+
+@pytest.mark.parametrize("source", SOURCES, ids=lambda p: p.name)
+def test_sources_are_in_nbgraders_format_and_hold_no_answer_in_the_student_copy(source):
+    notebook = nbformat.read(source, as_version=4)
+    assert check_source(notebook) == []
+    student = nbformat.read(student_path(source), as_version=4)
+    text = "\n".join(cell.source for cell in student.cells)
+    assert "BEGIN SOLUTION" not in text and "HIDDEN TESTS" not in text
+    graded = [cell for cell in notebook.cells if cell.metadata.get("nbgrader", {}).get("grade")]
+    assert graded, "a source without a graded cell"
+
+
+def test_the_sources_ask_every_exercise_once_and_only_those():
+    asked = []
+    for source in SOURCES:
+        for cell in nbformat.read(source, as_version=4).cells:
+            meta = cell.metadata.get("nbgrader", {})
+            if meta.get("grade") and not meta.get("solution"):
+                asked.append(cell.source.split('"')[1])  # check("2.1", ...)
+    assert sorted(asked, key=lambda n: tuple(map(int, n.split(".")))) == list(EXERCISES)
+
+
+@pytest.mark.parametrize("source", SOURCES, ids=lambda p: p.name)
+def test_no_notebook_defines_a_function_or_class_outside_its_exercises(source):
+    for index, cell in enumerate(nbformat.read(source, as_version=4).cells):
+        if cell.cell_type != "code" or cell.metadata.get("nbgrader", {}).get("solution"):
+            continue
+        defined = [node.name for node in ast.walk(ast.parse(cell.source))
+                   if isinstance(node, (ast.FunctionDef, ast.ClassDef, ast.AsyncFunctionDef))]
+        assert not defined, f"{source.name} cell {index} defines {defined}: algorithms live in the package"
+
+
+def test_nbgrader_itself_makes_the_same_student_notebooks(tmp_path):
+    pytest.importorskip("nbgrader")
+    course = tmp_path / "course"
+    (course / "source" / "tutorials").mkdir(parents=True)
+    for source in SOURCES:
+        shutil.copy(source, course / "source" / "tutorials" / source.name)
+    (course / "nbgrader_config.py").write_text('c = get_config()\nc.CourseDirectory.course_id = "sarsp_edu"\n')
+    result = subprocess.run([sys.executable, "-m", "nbgrader", "generate_assignment", "tutorials", "--force"],
+                            cwd=course, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    for source in SOURCES:
+        theirs = nbformat.read(course / "release" / "tutorials" / source.name, as_version=4)
+        ours = student_notebook(nbformat.read(source, as_version=4))
+        assert [(c.cell_type, c.source) for c in theirs.cells] == [(c.cell_type, c.source) for c in ours.cells]
+
+
+def test_regions_become_nbgraders_stubs_indented_as_their_markers():
+    code = "import numpy as np\n\ndef f(x):\n    ### BEGIN SOLUTION\n    return 2 * x\n    ### END SOLUTION"
+    assert clear_solutions(code) == "import numpy as np\n\ndef f(x):\n" + "\n".join(
+        "    " + line for line in CODE_STUB.split("\n"))
+    notebook = nbformat.v4.new_notebook(cells=[
+        nbformat.v4.new_code_cell("f(1)\n### BEGIN HIDDEN TESTS\nassert f(1) == 2\n### END HIDDEN TESTS"),
+        nbformat.v4.new_markdown_cell("Because 2.", metadata={"nbgrader": {"solution": True}}),
+    ])
+    student = student_notebook(notebook)
+    assert [c.source for c in student.cells] == ["f(1)", TEXT_STUB]
+    assert notebook.cells[0].source.endswith("### END HIDDEN TESTS")  # the source is left as it was
+
+
+@pytest.mark.parametrize("text, problem", [
+    ("### BEGIN SOLUTION\nx = 1", "has no '### END SOLUTION'"),
+    ("x = 1\n### END SOLUTION", "without a '### BEGIN SOLUTION'"),
+])
+def test_an_unpaired_marker_is_named(text, problem):
+    notebook = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(text)])
+    assert any(problem in p for p in check_source(notebook))
+
+
+def test_a_solution_without_nbgrader_metadata_or_with_a_reused_id_is_refused():
+    meta = {"grade": True, "grade_id": "a", "locked": True, "schema_version": 3, "solution": False, "task": False,
+            "points": 1}
+    notebook = nbformat.v4.new_notebook(cells=[
+        nbformat.v4.new_code_cell("### BEGIN SOLUTION\nx = 1\n### END SOLUTION"),
+        nbformat.v4.new_code_cell("x", metadata={"nbgrader": meta}),
+        nbformat.v4.new_code_cell("x", metadata={"nbgrader": {**meta, "points": None, "locked": False}}),
+    ])
+    problems = check_source(notebook)
+    assert any("no nbgrader metadata with solution: true" in p for p in problems)
+    assert any("grade_id 'a' is used twice" in p for p in problems)
+    assert any("needs points" in p for p in problems) and any("must be locked" in p for p in problems)
+
+
+def test_the_handout_holds_the_student_course_and_no_answer(tmp_path):
+    for made in (write_handout(ROOT, out=tmp_path / "course"), write_handout(ROOT, zip_path=tmp_path / "c.zip")):
+        if made.suffix == ".zip":
+            with zipfile.ZipFile(made) as archive:
+                names = archive.namelist()
+                notebooks = {n: archive.read(n).decode() for n in names if n.endswith(".ipynb")}
+        else:
+            names = [str(p.relative_to(made)) for p in made.rglob("*") if p.is_file()]
+            notebooks = {n: (made / n).read_text() for n in names if n.endswith(".ipynb")}
+        prefix = "sarsp-edu-course/" if made.suffix == ".zip" else ""
+        assert sorted(n for n in notebooks) == sorted(f"{prefix}tutorials/{p.name}" for p in SOURCES)
+        assert f"{prefix}tutorials/GLOSSARY.md" in names
+        assert f"{prefix}results/sweep-default/sweep.json" in names and f"{prefix}results/ablation/ablation.json" in names
+        assert not any("source" in Path(n).parts for n in names)
+        assert not any("BEGIN SOLUTION" in text or "HIDDEN TESTS" in text for text in notebooks.values())
+    with pytest.raises(ValueError, match="out must be a new or empty folder"):
+        write_handout(ROOT, out=tmp_path / "course")
+
+
+def test_the_course_command(tmp_path, capsys):
+    from sarsp_edu.cli import main
+
+    assert main(["course", "handout", "--root", str(ROOT), "--zip", str(tmp_path / "c.zip")]) == 0
+    assert "no sources, no solutions" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["course", "handout", "--root", str(ROOT)])
+    assert "handout needs --out DIR or --zip FILE" in capsys.readouterr().err
+    tutorials = tmp_path / "tutorials"
+    shutil.copytree(ROOT / "tutorials" / "source", tutorials / "source")
+    assert main(["course", "student", "--tutorials", str(tutorials), "--no-execute"]) == 0
+    written = sorted(p.name for p in tutorials.glob("*.ipynb"))
+    assert written == [p.name for p in SOURCES]
+    assert json.loads((tutorials / SOURCES[0].name).read_text())["cells"][0]["cell_type"] == "markdown"
