@@ -221,7 +221,7 @@ def _slowness(exercise: CodingExercise, function, rng) -> str:
         theirs = seconds(function)
     except Exception:
         return ""
-    if theirs > 1.0 and theirs > 30 * ours:
+    if theirs > 0.5 and theirs > 30 * ours:
         return (f"It is right but slow: {theirs:.0f} s on {_describe(case)}, {theirs / ours:.0f} times the package's "
                 "time. Factorise once and solve for every query together, not one query at a time.")
     return ""

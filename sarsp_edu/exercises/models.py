@@ -100,7 +100,7 @@ def _gp_posterior(K, K_star, k_star_star, y, noise_variance):
 
 
 def _gp_timing(rng):
-    return _gp_problem(rng, 700, 300, d=2)
+    return _gp_problem(rng, 500, 200, d=2)
 
 
 def _beta(K, y, noise_variance):
