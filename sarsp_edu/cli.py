@@ -448,11 +448,21 @@ def _ablation(args, parser) -> int:
 
 
 def _course(args, parser) -> int:
-    from .course import write_handout, write_student_notebooks
+    from pathlib import Path
 
-    if args.action == "student":
+    from .course import execute_sources, write_handout, write_pages, write_student_notebooks
+
+    if args.action in ("sources", "student", "pages"):
         try:
-            written = write_student_notebooks(args.tutorials, execute=not args.no_execute)
+            if args.action == "sources":
+                written = execute_sources(args.tutorials)
+            elif args.action == "student":
+                written = write_student_notebooks(args.tutorials, run=not args.no_execute)
+            else:
+                if args.out is None:
+                    parser.error("pages needs --out DIR")
+                _check_writable(parser, "--out", args.out, Path(args.out))
+                written = [write_pages(args.tutorials, args.out, mathjax=args.mathjax)]
         except (FileNotFoundError, ValueError) as exc:
             parser.error(str(exc))
         for path in written:
@@ -605,19 +615,25 @@ def build_parser() -> argparse.ArgumentParser:
 
     course = sub.add_parser(
         "course",
-        help="make the student notebooks from the sources, or a students' copy of the course",
-        description="'student': write the student notebooks tutorials/NN_*.ipynb from the source notebooks in "
-        "tutorials/source/ (nbgrader's format: solution regions become '# YOUR CODE HERE', hidden tests go) and "
-        "execute them. 'handout': copy the student notebooks, the glossary and the stored results they read, "
-        "never the sources, into a new folder or a zip file to hand out.",
+        help="run the source notebooks, make the student notebooks, static pages or a students' copy",
+        description="'sources': execute the source notebooks in tutorials/source/ in place (answers in). "
+        "'student': write the student notebooks tutorials/NN_*.ipynb from the sources (nbgrader's format: solution "
+        "regions become '# YOUR CODE HERE', hidden tests go) and execute them. 'pages': static HTML pages of the "
+        "student notebooks, dashboards' pictures included, to project with no Python running. 'handout': copy the "
+        "student notebooks, the glossary and the stored results they read, never the sources, into a new folder "
+        "or a zip file to hand out. Notebooks are stored without widget state, so that a reader without a "
+        "kernel sees each dashboard's picture.",
     )
-    course.add_argument("action", choices=["student", "handout"])
+    course.add_argument("action", choices=["sources", "student", "pages", "handout"])
     course.add_argument("--tutorials", default="tutorials", metavar="DIR",
                         help="the tutorials folder, holding source/ [default: tutorials]")
     course.add_argument("--no-execute", action="store_true", help="student: write without executing")
     course.add_argument("--root", default=".", metavar="DIR",
                         help="handout: the repository, holding tutorials/ and results/ [default: .]")
-    course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder")
+    course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder; pages: the pages' folder")
+    course.add_argument("--mathjax", metavar="DIR",
+                        help="pages: a MathJax 2 folder (holding MathJax.js) to copy beside the pages "
+                        "[default: Debian's libjs-mathjax where installed, else a CDN]")
     course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
     course.set_defaults(func=_course, parser=course)
 

@@ -32,7 +32,10 @@ __all__ = [
     "clear_solutions",
     "student_notebook",
     "check_source",
+    "execute",
+    "execute_sources",
     "write_student_notebooks",
+    "write_pages",
     "write_handout",
 ]
 
@@ -167,8 +170,41 @@ def student_path(source: Path) -> Path:
     return source.parent.parent / source.name
 
 
-def write_student_notebooks(tutorials="tutorials", execute: bool = True, timeout: int = 900) -> list[Path]:
-    """Write (and execute, so that their stored outputs are what a student first sees) the student notebooks.
+def execute(notebook, folder, timeout: int = 900):
+    """Run ``notebook`` in ``folder`` and keep what every reader can see.
+
+    The live widgets' state is not stored: a notebook viewed without a
+    kernel (GitHub, nbviewer, an HTML export offline) then shows each
+    dashboard's picture, the PNG its output carries beside the widget, where
+    a stored state would make an export load the widgets from the network.
+    Run times are not stored either: they change at every run.
+    """
+    from nbclient import NotebookClient
+
+    NotebookClient(notebook, timeout=timeout, kernel_name="python3", store_widget_state=False,
+                   resources={"metadata": {"path": str(folder)}}).execute()
+    notebook.metadata.pop("widgets", None)
+    for cell in notebook.cells:
+        cell.metadata.pop("execution", None)
+    return notebook
+
+
+def execute_sources(tutorials="tutorials", timeout: int = 900) -> list[Path]:
+    """Execute the source notebooks in place (their stored outputs are nbval's reference)."""
+    import nbformat
+
+    from ._io import atomic_write_text
+
+    written = []
+    for path in sources(Path(tutorials)):
+        notebook = execute(nbformat.read(path, as_version=4), path.parent, timeout)
+        atomic_write_text(path, nbformat.writes(notebook) + "\n")
+        written.append(path)
+    return written
+
+
+def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900) -> list[Path]:
+    """Write (and run, so that their stored outputs are what a student first sees) the student notebooks.
 
     Each is written atomically beside its ``source/`` folder; a source that
     breaks nbgrader's format is refused before anything is written.
@@ -187,17 +223,71 @@ def write_student_notebooks(tutorials="tutorials", execute: bool = True, timeout
         notebooks.append((path, student_notebook(source)))
     written = []
     for path, notebook in notebooks:
-        if execute:
-            from nbclient import NotebookClient
-
-            NotebookClient(notebook, timeout=timeout, kernel_name="python3",
-                           resources={"metadata": {"path": str(tutorials)}}).execute()
-            for cell in notebook.cells:  # run times change at every run: kept out of the stored notebook
-                cell.metadata.pop("execution", None)
+        if run:
+            execute(notebook, tutorials, timeout)
         target = student_path(path)
         atomic_write_text(target, nbformat.writes(notebook) + "\n")
         written.append(target)
     return written
+
+
+#: where Debian's libjs-mathjax puts MathJax 2 (apt-get install libjs-mathjax): pages then render maths offline
+DEBIAN_MATHJAX = Path("/usr/share/javascript/mathjax")
+
+
+def write_pages(tutorials="tutorials", out="pages", mathjax=None) -> Path:
+    """Static HTML pages of the student notebooks, with every output and dashboard picture, and an index.
+
+    A lecturer can project them with no Python running: the dashboards show
+    the picture their outputs carry (the notebooks store no widget state).
+    The maths is rendered by MathJax: a local copy (``mathjax``, a folder
+    holding ``MathJax.js``; by default Debian's libjs-mathjax where it is
+    installed) is copied beside the pages, so they need no network;
+    without one they load it from a CDN, and the index says so.
+
+    Returns the index page.
+    """
+    import html
+
+    import nbformat
+    from nbconvert import HTMLExporter
+
+    from ._io import atomic_write_text
+
+    tutorials, out = Path(tutorials), Path(out)
+    notebooks = [student_path(path) for path in sources(tutorials)]
+    missing = [str(p) for p in notebooks if not p.exists()]
+    if missing:
+        raise FileNotFoundError(f"no student notebook {missing}: run 'sarsp-edu course student' first")
+    mathjax = Path(mathjax) if mathjax is not None else (DEBIAN_MATHJAX if (DEBIAN_MATHJAX / "MathJax.js").exists()
+                                                           else None)
+    if mathjax is not None and not (mathjax / "MathJax.js").exists():
+        raise FileNotFoundError(f"mathjax must be a folder holding MathJax.js, got mathjax={str(mathjax)!r}")
+    out.mkdir(parents=True, exist_ok=True)
+    exporter = HTMLExporter(template_name="lab")
+    if mathjax is not None:
+        shutil.copytree(mathjax, out / "mathjax", dirs_exist_ok=True)
+        exporter.mathjax_url = "mathjax/MathJax.js?config=TeX-AMS_HTML"
+    entries = []
+    for path in notebooks:
+        notebook = nbformat.read(path, as_version=4)
+        notebook.metadata.pop("widgets", None)  # the dashboards' pictures, not a widget loader from the network
+        body, _ = exporter.from_notebook_node(notebook)
+        page = out / f"{path.stem}.html"
+        atomic_write_text(page, body)
+        title = next((c.source.split("\n")[0].lstrip("# ") for c in notebook.cells if c.cell_type == "markdown"),
+                     path.stem)
+        entries.append(f'<li><a href="{page.name}">{html.escape(title)}</a></li>')
+    maths = ("MathJax is copied beside these pages: they need no network." if mathjax is not None else
+             "The maths is rendered by MathJax from a CDN: offline it shows as LaTeX source "
+             "(install Debian's libjs-mathjax, or pass a MathJax folder, and build the pages again).")
+    index = out / "index.html"
+    atomic_write_text(index, "<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>sarsp_edu tutorials</title>"
+                      "<style>body{font:20px/1.5 sans-serif;max-width:50em;margin:2em auto}</style></head><body>"
+                      "<h1>sarsp_edu: the tutorials, as static pages</h1><ol>" + "".join(entries) + "</ol>"
+                      f"<p>Every output and dashboard picture is stored in the pages; no Python runs. {maths}</p>"
+                      "</body></html>\n")
+    return index
 
 
 def write_handout(root=".", out=None, zip_path=None) -> Path:

@@ -84,6 +84,8 @@ def test_binder_environment_imports_every_tutorial_and_runs_the_first(tmp_path):
     where = run([python, "-c", "import sarsp_edu; print(sarsp_edu.__file__)"], cwd=tmp_path, env=env)
     assert str(venv) in where
 
+    # Voila, which the lecturer's guide recommends for projecting, comes with the lab extra
+    assert "voila" in run([python, "-m", "pip", "list"], cwd=repo, env=env).lower()
     modules = sorted(set().union(*(_imported_modules(notebook) for notebook in TUTORIALS)))
     assert {"sarsp_edu", "numpy", "matplotlib"} <= set(modules)
     run([python, "-c", "import importlib, sys; [importlib.import_module(m) for m in sys.argv[1:]]", *modules],

@@ -220,3 +220,59 @@ def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
         page.screenshot(path=str(shots / "jupyterlab_posterior_dashboard.png"))
     finally:
         server.kill()
+
+
+# --------------------------------------------------------------------------
+# Without a kernel: a static HTML export, opened with the network off (issue 25, section 3)
+# --------------------------------------------------------------------------
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+DASHBOARD_NOTEBOOKS = [p for p in sorted((ROOT / "tutorials").glob("*.ipynb"))
+                       if WIDGET_VIEW in p.read_text()]
+
+#: mean and spread of an image's pixels (0-255), read in the page through a canvas
+PIXELS = """(img) => {
+  const canvas = document.createElement('canvas');
+  canvas.width = img.naturalWidth; canvas.height = img.naturalHeight;
+  const context = canvas.getContext('2d');
+  context.drawImage(img, 0, 0);
+  const data = context.getImageData(0, 0, canvas.width, canvas.height).data;
+  let sum = 0, squares = 0, n = 0;
+  for (let i = 0; i < data.length; i += 4) { const v = (data[i] + data[i + 1] + data[i + 2]) / 3; sum += v; squares += v * v; n++; }
+  const mean = sum / n;
+  return {width: img.naturalWidth, height: img.naturalHeight, mean: mean, spread: Math.sqrt(squares / n - mean * mean)};
+}"""
+
+
+@pytest.mark.parametrize("notebook", DASHBOARD_NOTEBOOKS, ids=lambda p: p.name)
+def test_a_static_export_shows_every_dashboards_picture_offline(notebook, tmp_path, browser, shots):
+    import nbformat
+
+    assert len(DASHBOARD_NOTEBOOKS) >= 4
+    stored = nbformat.read(notebook, as_version=4)
+    assert "widgets" not in stored.metadata, "stored widget state makes an export load the widgets from the network"
+    dashboards = [i for i, cell in enumerate(stored.cells)
+                  if any(WIDGET_VIEW in output.get("data", {}) for output in cell.get("outputs", []))]
+    assert dashboards
+    # exported as a reader would, with nbconvert's defaults
+    subprocess.run([sys.executable, "-m", "nbconvert", "--to", "html", "--output-dir", str(tmp_path), str(notebook)],
+                   check=True, capture_output=True)
+    page_file = tmp_path / f"{notebook.stem}.html"
+    context = browser.new_context(viewport={"width": 1280, "height": 720}, offline=True)
+    try:
+        page = context.new_page()
+        requested = []
+        page.route(re.compile(r"^https?://"), lambda route: (requested.append(route.request.url), route.abort()))
+        page.goto(page_file.as_uri())
+        page.wait_for_load_state("load")
+        cells = page.query_selector_all(".jp-Cell")
+        assert len(cells) == len(stored.cells)
+        for index in dashboards:
+            images = cells[index].query_selector_all(".jp-OutputArea-output img")
+            assert images, f"{notebook.name} cell {index}: the dashboard's place holds no picture"
+            stats = images[0].evaluate(PIXELS)
+            assert stats["width"] > 200 and stats["height"] > 100, stats
+            assert stats["spread"] > 20, f"{notebook.name} cell {index}: a blank picture {stats}"
+            images[0].scroll_into_view_if_needed()
+            page.screenshot(path=str(shots / f"static-{notebook.stem}-cell{index}.png"))
+    finally:
+        context.close()
