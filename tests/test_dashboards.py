@@ -330,7 +330,7 @@ def test_plot_gridworld_draws_what_it_is_handed():
     edges = [tuple(e) for e in solid[0].get_edgecolor()]
     assert edges.count((0.0, 0.0, 0.0, 1.0)) == 3  # the moved states are outlined in black
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert {"start", "goal", "path", "moved here in the shift", "learned unsafe move (S_u)"} <= set(labels)
+    assert {"start", "goal", "path", "moved here", "learned unsafe move (S_u)"} <= set(labels)
     assert ax.get_ylim()[0] > ax.get_ylim()[1]  # row 0 at the top
 
 

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.transforms import Bbox, TransformedBbox
 
-from .style import COLOURS, finish_axes, log_scale
+from .style import COLOURS, SMALL, finish_axes, log_scale
 
 __all__ = [
     "plot_densities",
@@ -29,7 +30,7 @@ def plot_densities(ax, data, *, log: bool = False):
     ax.set_xlabel("x")
     ax.set_ylabel("density f(x)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, frameon=False)
+    ax.legend(fontsize=SMALL, frameon=False)
     return ax
 
 
@@ -57,7 +58,7 @@ def plot_tail_ratio_comparison(ax, data, nu: float):
     ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, ls=":", label="Gaussian")
     log_scale(ax)
     ax.set_ylim(max(data["limits"][nu] / 100, 1e-30), 1.5)
-    ax.legend(fontsize=8, frameon=False)
+    ax.legend(fontsize=SMALL, frameon=False)
     return ax
 
 
@@ -107,11 +108,21 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     hidden = int((data["outliers"] & (data["X"] > x[-1])).sum())
     if hidden:
         ax.text(0.99, 0.02, f"{hidden} outliers beyond x = {x[-1]:g}", transform=ax.transAxes, ha="right",
-                fontsize=8, color=COLOURS["unsafe"])
+                fontsize=SMALL, color=COLOURS["unsafe"])
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, frameon=False, loc="upper left")
+    # headroom: the legend above the plotted range (whose top edge holds the off-scale outliers), not over the data
+    span = float(x[-1] - x[0]) or 1.0
+    clip = TransformedBbox(Bbox.from_extents(x[0] - span, low, x[-1] + span, high), ax.transData)
+    for artist in [*ax.collections, *ax.lines]:
+        if artist.get_clip_on():
+            artist.set_clip_box(clip)
+    ticks = [t for t in ax.get_yticks() if low <= t <= high]  # no tick where nothing is drawn
+    ax.set_ylim(low, high + 0.55 * (high - low))
+    ax.set_yticks(ticks)
+    ax.axhline(high, color="grey", lw=0.6, ls=":")
+    ax.legend(fontsize=SMALL, frameon=False, loc="upper left", ncols=2, handlelength=1.2, columnspacing=0.8)
     ax.set_title(title or {"gp": "Gaussian process", "tp": f"Student-t process, nu = {data['nu']:g}"}[model])
     return ax
 
@@ -133,6 +144,6 @@ def plot_variances(ax, data, *, title: str | None = None):
     ax.grid(alpha=0.3)
     low, high = ax.get_ylim()
     ax.set_ylim(low, high * (high / low) ** 0.7)  # headroom for the legend, above the curves
-    ax.legend(fontsize=7, frameon=False, loc="upper right", ncols=2, handlelength=1.5, columnspacing=1.0)
+    ax.legend(fontsize=SMALL, frameon=False, loc="upper right", ncols=2, handlelength=1.5, columnspacing=1.0)
     ax.set_title(title or "posterior variance: eq. 5 (GP) and eq. 6 (TP)")
     return ax

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import COLOURS
+from .style import COLOURS, SMALL
 
 __all__ = [
     "METRIC_LABELS",
@@ -56,7 +56,7 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
     ax.set_ylabel(METRIC_LABELS.get(metric, metric))
     ax.grid(alpha=0.3)
     if legend:
-        ax.legend(fontsize=8, frameon=False)
+        ax.legend(fontsize=SMALL, frameon=False)
     if title:
         ax.set_title(title)
     return ax
@@ -87,11 +87,11 @@ def plot_live_metrics(axes, records, metrics, *, labels=None, colours=None):
                 ax.plot(frame["episode"], frame[metric], color=colour, lw=2,
                         marker="o" if len(frame) < 15 else None, ms=3, label=labels.get(name, name.upper()))
         ax.set_title(metric.replace("_", " "), fontsize=10)
-        ax.set_xlabel("episode", fontsize=9)
-        ax.tick_params(labelsize=8)
+        ax.set_xlabel("episode", fontsize=SMALL)
+        ax.tick_params(labelsize=SMALL)
         ax.grid(alpha=0.3)
     if axes[0].lines:
-        axes[0].legend(fontsize=8, frameon=False)
+        axes[0].legend(fontsize=SMALL, frameon=False)
     return axes
 
 
@@ -102,7 +102,7 @@ def _settled_ylim(axes, frames, settle: int) -> None:
     pad = 0.08 * (high - low) if high > low else max(abs(high), 1.0) * 0.1
     for ax in axes:
         ax.set_ylim(low - pad, high + pad)
-        ax.text(0.01, 0.01, f"y range from episode {settle + 1}", transform=ax.transAxes, fontsize=7,
+        ax.text(0.01, 0.01, f"y range from episode {settle + 1}", transform=ax.transAxes, fontsize=SMALL,
                 color="#666666", va="bottom")
 
 
@@ -189,7 +189,7 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
         ax.bar(i, mean, width=0.6, color=COLOURS[model.lower()], alpha=0.35)
         jitter = np.linspace(-0.15, 0.15, len(values)) if len(values) > 1 else np.zeros(1)
         ax.scatter(i + jitter, values, s=18, color=COLOURS[model.lower()], zorder=3)
-        ax.text(i, mean, f"{mean:.0f}", ha="center", va="bottom", fontsize=9)
+        ax.text(i, mean, f"{mean:.0f}", ha="center", va="bottom", fontsize=SMALL)
     ax.set_xticks([0, 1])
     ax.set_xticklabels(["TP", "GP"])
     ax.set_xlim(-0.6, 1.6)

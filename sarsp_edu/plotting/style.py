@@ -5,7 +5,10 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import ticker
 
-__all__ = ["COLOURS", "PlainLogFormatter", "finish_axes", "log_scale"]
+__all__ = ["COLOURS", "SMALL", "PlainLogFormatter", "finish_axes", "log_scale"]
+
+#: the smallest text of any figure, in points (legends, tick labels, notes): readable on a projector
+SMALL = 10
 
 #: colours shared by every figure of the package
 COLOURS = {
@@ -61,5 +64,5 @@ def finish_axes(ax, xlabel: str, ylabel: str, title: str, legend_loc="best") -> 
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, frameon=False, loc=legend_loc)
+    ax.legend(fontsize=SMALL, frameon=False, loc=legend_loc)
     ax.set_title(title)

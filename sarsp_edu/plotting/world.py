@@ -7,7 +7,7 @@ from matplotlib import patches
 from matplotlib.collections import LineCollection, PatchCollection
 
 from ..config import ACTION_MOVES
-from .style import COLOURS, log_scale
+from .style import COLOURS, SMALL, log_scale
 
 __all__ = ["plot_gridworld", "plot_outlier_scatter"]
 
@@ -66,7 +66,7 @@ def plot_gridworld(
     ax.set_aspect("equal")
     ax.set_xticks(range(n))
     ax.set_yticks(range(n))
-    ax.tick_params(length=0, labelsize=8)
+    ax.tick_params(length=0, labelsize=SMALL)
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     # One artist per kind of thing (a collection), not one per cell: a
@@ -95,13 +95,13 @@ def plot_gridworld(
             edgecolors=[styles[m]["edgecolor"] for m in is_moved], linewidths=[styles[m]["lw"] for m in is_moved],
         ), autolim=False)
     for flag in sorted(set(is_moved)):
-        handles["moved here in the shift" if flag else "unsafe state"] = patches.Patch(**styles[flag])
+        handles["moved here" if flag else "unsafe state"] = patches.Patch(**styles[flag])
     if show_moved and len(layout.moved):
         ax.add_collection(PatchCollection(
             [patches.Rectangle((ox - 0.42, oy - 0.42), 0.84, 0.84) for ox, oy in layout.moved_from],
             zorder=3, facecolors="none", edgecolors=COLOURS["unsafe"], linewidths=1.4, linestyles="--",
         ), autolim=False)
-        handles["unsafe before the shift"] = patches.Patch(facecolor="none", edgecolor=COLOURS["unsafe"], lw=1.4,
+        handles["was unsafe"] = patches.Patch(facecolor="none", edgecolor=COLOURS["unsafe"], lw=1.4,
                                                            ls="--")
         for i, (ox, oy) in zip(layout.moved, layout.moved_from):
             nx, ny = layout.unsafe_states[int(i)]
@@ -133,7 +133,7 @@ def plot_gridworld(
                                       edgecolor="white", lw=1.2, zorder=8)
     if legend:
         ax.legend(handles.values(), handles.keys(), loc="upper left", bbox_to_anchor=(1.02, 1.0),
-                  fontsize=8, frameon=False, borderaxespad=0)
+                  fontsize=SMALL, frameon=False, borderaxespad=0)
     if title:
         ax.set_title(title)
     return ax
@@ -159,8 +159,8 @@ def plot_outlier_scatter(ax, world, *, title: str | None = None):
     ax.set_xlabel("1 + |(x, y, unsafe x, unsafe y)| of the input")
     ax.set_ylabel("1 + target (distance to danger)")
     ax.grid(alpha=0.3)
-    legend = ax.legend(fontsize=8, frameon=False, loc="upper left", title="marker area: rows at that point",
-                       title_fontsize=8)
+    legend = ax.legend(fontsize=SMALL, frameon=False, loc="upper left", title="marker area: rows at that point",
+                       title_fontsize=SMALL)
     for handle in legend.legend_handles:
         handle.set_sizes([20])
     ax.set_title(title or f"cost-model data: {len(world['outlier_rows'])} of {len(y)} rows are outliers")
