@@ -18,6 +18,8 @@ from sarsp_edu.provenance import code_provenance
 from sarsp_edu.results import ExperimentResult, StoredResultError
 from sarsp_edu.sweep import LOCK_NAME, StoredResultWarning, SweepResults, summary_tables
 
+from .test_cli import _usage_error as usage_error  # a usage error's last line, with no traceback
+
 TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
                         cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
 GRID = dict(magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2))
@@ -47,15 +49,6 @@ def edit_json(path, change):
     payload = json.loads(path.read_text())
     change(payload)
     path.write_text(json.dumps(payload))
-
-
-def usage_error(argv, capsys) -> str:
-    with pytest.raises(SystemExit) as exit_info:
-        main(argv)
-    assert exit_info.value.code == 2
-    err = capsys.readouterr().err
-    assert "Traceback" not in err
-    return err.strip().splitlines()[-1]
 
 
 # -- 2. a stored result that disagrees with its sweep is refused, not used ---------------------------
