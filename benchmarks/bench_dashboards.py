@@ -55,6 +55,15 @@ def main(argv=None):
             print(f"  {factory.__name__:22s} {name:16s} {redrawn:14s} {statistics.median(times) * 1e3:7.1f} ms{note}")
 
     live = agent_dashboard()
+    for name, (a, b) in (("n_switch_states", (2, 9)), ("proportion", (0.2, 0.4)), ("magnitude", (40, 80))):
+        times = []
+        for i in range(args.repeats):
+            live.controls[name].value = b if i % 2 == 0 else a
+            times.append(live.last_preview_seconds)
+        live.controls[name].value = a  # the paper's settings again for the timing below
+        print(f"  {'agent_dashboard':22s} {name:16s} {'world preview':14s} {statistics.median(times) * 1e3:7.1f} ms"
+              "  (target < 1 s: the world, shift and outliers the sliders imply)")
+    live.reset()
     start = time.perf_counter()
     live.prepare()
     prepare = time.perf_counter() - start

@@ -35,10 +35,12 @@ TP_AND_GP = {
 class AgentDashboard(widgets.VBox):
     """Two agents running paired on one world, side by side, live: by default the TP agent and the GP agent.
 
-    Sliders for nu, m, p, nss, the seed and the number of episodes; *Run*
-    animates both agents step by step, *Stop* pauses, *Fast-forward* runs
-    whole episodes without drawing each step, *New run* starts again from
-    the sliders.  Each side shows the world after the shift (moved states
+    Sliders for nu, m, p, nss, the seed and the number of episodes: a move
+    redraws at once the world they imply (the shift, and how many rows are
+    outliers) and the agents start on it at the next *Run*; *Run* animates
+    both agents step by step, *Stop* pauses, *Fast-forward* runs whole
+    episodes without drawing each step (episode by episode, with progress),
+    *New run* starts again from the sliders.  Each side shows the world after the shift (moved states
     outlined), the agent's path in the current episode, the moves it has
     learned are unsafe (``S_u``, red ticks) and Algorithm 1's view of the
     current decision; under them, the paper's running metrics of both agents
@@ -132,7 +134,12 @@ class AgentDashboard(widgets.VBox):
         self._frame_times: list[float] = []
         self._drawn_episodes = -1
         self._metrics_drawn_at = -float("inf")
-        self._draw_world()
+        self._offline = {}  # seed -> the offline world and its clean data (a slider move reuses them)
+        self._generation = 0  # counts setting changes: a preparation begun before one is discarded
+        self.last_preview_seconds = float("nan")
+        for control in self.controls.values():
+            control.observe(self._on_setting, names="value")
+        self.preview()
 
     # -- configuration ------------------------------------------------------
     def config(self):
@@ -142,6 +149,50 @@ class AgentDashboard(widgets.VBox):
             outlier_proportion=float(values["proportion"]), n_switch_states=int(values["n_switch_states"]),
             seed=int(values["seed"]), episodes=int(values["episodes"]),
         )
+
+    def preview(self) -> None:
+        """Draw on both sides the world the sliders imply, before any run: the shift, and the outliers' count.
+
+        A slider move calls it, so the picture follows the sliders at once
+        (the offline world of a seed is computed once and reused); the
+        models are fitted only when **Run** starts the agents.
+        """
+        from .preparation import offline_world, prepare
+
+        start = time.perf_counter()
+        config = self.config()
+        if config.seed not in self._offline:
+            self._offline[config.seed] = offline_world(config)
+        prepared = prepare(config, offline=self._offline[config.seed])
+        picture = markup.gridworld_svg(prepared.env.layout(), title="the world after the shift: press Run")
+        rows = len(prepared.data.cost)
+        outliers = len(prepared.data.outlier_indices)
+        note = (f"<span style='font-size:12px'>nss = {config.n_switch_states}: {len(prepared.env.moved_indices)} "
+                f"unsafe states moved (outlined; dashed: where they were). Outliers: {outliers} of {rows} rows "
+                f"of the cost model's data multiplied by m = {config.outlier_magnitude:g}.</span>")
+        for name in self.sides:
+            self.worlds[name].value = picture
+            self.decisions[name].value = ""
+            self.summaries[name].value = note
+        self.last_preview_seconds = time.perf_counter() - start
+
+    def _on_setting(self, change) -> None:
+        """A slider moved: stop what runs, show the new world, and say the agents start on it at the next Run."""
+        interrupted = self._running or self.experiments is not None
+        self._generation += 1
+        self._running = False
+        self.experiments = None
+        self._last = dict.fromkeys(self.sides)
+        self._drawn_episodes = -1
+        self.metrics_image.value = b""
+        try:
+            self.preview()
+        except ValueError as exc:  # a combination the world cannot hold: said, not raised
+            self.status.value = f"<span style='color:#b00020'>{html.escape(str(exc))}</span>"
+            return
+        self.status.value = ((f"{change['owner'].description} = {change['new']}: " if change else "")
+                             + "both agents start on this world at the next <b>Run</b>"
+                             + (" (the run under way was stopped)." if interrupted else "."))
 
     def prepare(self):
         """Build the paired runs from the sliders (offline data, outliers, fits, shift)."""
@@ -234,6 +285,8 @@ class AgentDashboard(widgets.VBox):
         import asyncio
 
         if self._running:
+            self.status.value = ("Already running: press <b>Stop</b> first, then "
+                                 + ("<b>Fast-forward</b>." if episodes is not None else "<b>Run</b>."))
             return None
         self._running = True
         self._task = asyncio.ensure_future(self._loop(episodes))
@@ -246,25 +299,36 @@ class AgentDashboard(widgets.VBox):
 
     def reset(self) -> None:
         self.stop()
+        self._generation += 1
         self.experiments = None
         self._last = dict.fromkeys(self.sides)
-        self._draw_world()
         self.metrics_image.value = b""
+        self.preview()
         self.status.value = "Press <b>Run</b> to prepare the data, fit the agents' models and start."
 
     async def _loop(self, episodes):
         import asyncio
 
+        loop = asyncio.get_running_loop()
+        generation = self._generation
         try:
             if self.experiments is None:
                 self.status.value = (f"Preparing: {self.base_config.offline_episodes} offline episodes, outliers, "
-                                     "fitting the agents' models ...")
-                await asyncio.get_running_loop().run_in_executor(None, self.prepare)
+                                     "fitting the agents' models (a few seconds) ...")
+                await loop.run_in_executor(None, self.prepare)
+                if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
+                    self.experiments = None
+                    return
             if episodes is not None:
-                self.status.value = f"Fast-forwarding {episodes} episodes ..."
-                await asyncio.get_running_loop().run_in_executor(None, self._forward_quietly, episodes)
-                self._draw_world()
-                self._draw_metrics_if_new_episode()
+                for done in range(episodes):  # one episode at a time: progress shown, Stop obeyed
+                    if not self._running or self.finished:
+                        break
+                    self.status.value = f"Fast-forwarding: episode {done + 1} of {episodes} ..."
+                    await loop.run_in_executor(None, self._forward_quietly, 1)
+                    if generation != self._generation:
+                        return
+                    self._draw_world()
+                    self._draw_metrics_if_new_episode()
             else:
                 self._frame_times = []
                 self.status.value = "Running ..."
@@ -300,12 +364,10 @@ class AgentDashboard(widgets.VBox):
 
     # -- drawing ------------------------------------------------------------
     def _draw_world(self) -> None:
+        if self.experiments is None:  # before a run: the world the sliders imply
+            self.preview()
+            return
         for model in self.sides:
-            if self.experiments is None:
-                self.worlds[model].value = ""
-                self.decisions[model].value = ""
-                self.summaries[model].value = ""
-                continue
             experiment = self.experiments[model]
             record = self._last[model]
             title = (f"episode {len(experiment.episodes) + (0 if record is None or record.done else 1)}"

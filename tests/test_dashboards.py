@@ -559,3 +559,51 @@ def test_the_ablation_dashboard_says_which_runs_are_missing(ablation):
     assert "sarsp-edu ablation --settings 'per step, k=100, default fits'" in message
     with pytest.raises(ValueError, match="prior must be one of"):
         ablation_dashboard(ablation, prior="per episode")
+
+
+# -- the live dashboard's sliders act at once (issue 30, item 1) -------------------------------------------
+from sarsp_edu import ExperimentConfig  # noqa: E402
+from sarsp_edu.widgets import agent_dashboard  # noqa: E402
+
+
+def test_a_slider_move_redraws_the_world_it_implies_and_says_when_the_agents_use_it():
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL))
+    before = {name: widget.value for name, widget in live.worlds.items()}
+    assert "1 unsafe states moved" in live.summaries["tp"].value
+    live.controls["n_switch_states"].value = 4
+    assert all(live.worlds[name].value != before[name] for name in live.sides)
+    assert live.worlds["tp"].value == live.worlds["gp"].value  # one world for both agents
+    assert "4 unsafe states moved" in live.summaries["gp"].value
+    assert "both agents start on this world at the next <b>Run</b>." in live.status.value
+    live.controls["proportion"].value = 0.4
+    assert "Outliers: " in live.summaries["tp"].value and "multiplied by m = 40" in live.summaries["tp"].value
+    assert live.last_preview_seconds < 60  # measured, not judged: benchmarks/bench_dashboards.py times it
+
+
+def test_a_slider_move_during_a_run_stops_it_and_the_next_run_uses_the_new_world():
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL))
+    live.run_steps(3)
+    assert live.experiments is not None
+    live.controls["seed"].value = 5
+    assert live.experiments is None and "(the run under way was stopped)" in live.status.value
+    live.run_steps(1)
+    assert next(iter(live.experiments.values())).config.seed == 5
+
+
+def test_fast_forward_shows_its_progress_and_a_second_press_while_running_is_answered():
+    import asyncio
+
+    live = agent_dashboard(episodes=3, n_switch_states=1, config=ExperimentConfig(**SMALL))
+    seen = []
+    live.status.observe(lambda change: seen.append(change["new"]), names="value")
+
+    async def press_twice():
+        task = live.start(episodes=2)
+        live.start(episodes=2)
+        assert "Already running: press <b>Stop</b> first, then <b>Fast-forward</b>." in live.status.value
+        await task
+
+    asyncio.run(press_twice())
+    assert any("Fast-forwarding: episode 1 of 2" in text for text in seen)
+    assert any("Fast-forwarding: episode 2 of 2" in text for text in seen)
+    assert all(len(e.episodes) == 2 for e in live.experiments.values())
