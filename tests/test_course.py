@@ -159,3 +159,26 @@ def test_the_course_command(tmp_path, capsys):
     written = sorted(p.name for p in tutorials.glob("*.ipynb"))
     assert written == [p.name for p in SOURCES]
     assert json.loads((tutorials / SOURCES[0].name).read_text())["cells"][0]["cell_type"] == "markdown"
+
+
+def _table_width(html: str) -> int:
+    """Columns of a pandas HTML table, its index included: the widest header row's cells."""
+    import re
+
+    head = html[html.find("<thead"):html.find("</thead>")]
+    return max(len(re.findall(r"<th[ >]", row)) for row in head.split("</tr>"))
+
+
+@pytest.mark.parametrize("source", SOURCES, ids=lambda p: p.name)
+def test_every_figure_is_followed_by_what_to_see_and_no_table_is_wider_than_seven_columns(source):
+    cells = nbformat.read(source, as_version=4).cells
+    for index, cell in enumerate(cells):
+        outputs = cell.get("outputs", []) if cell.cell_type == "code" else []
+        if any("image/png" in output.get("data", {}) for output in outputs):
+            after = cells[index + 1] if index + 1 < len(cells) else None
+            assert after is not None and after.cell_type == "markdown" and not after.source.lstrip().startswith("#"), (
+                f"{source.name} cell {index}: a figure must be followed by a sentence saying what to see in it")
+        for output in outputs:
+            html = output.get("data", {}).get("text/html", "")
+            if "<table" in html:
+                assert _table_width(html) <= 7, f"{source.name} cell {index}: a table {_table_width(html)} columns wide"
