@@ -30,7 +30,8 @@ from matplotlib.transforms import ScaledTranslation
 from ._threads import one_blas_thread
 from ._validation import check_choice, check_int, check_positive, check_range
 
-__all__ = ["Dashboard", "Panel", "fixed_layout_axes", "render_figure", "slider", "stitch_png", "wipe_axes"]
+__all__ = ["Dashboard", "Panel", "control_row", "fixed_layout_axes", "render_figure", "slider", "stitch_png",
+           "wipe_axes"]
 
 
 @dataclass(frozen=True)
@@ -147,7 +148,7 @@ class Dashboard(widgets.VBox):
         self.last_redrawn: list[int] = []
         self._stale = True
         self._used = [False] * len(self.panels)
-        rows = layout_rows or [widgets.HBox(list(controls.values()))]
+        rows = layout_rows or [control_row(controls.values())]
         pictures = widgets.HBox(self.images, layout=widgets.Layout(width="100%",
                                                                    max_width=f"{total * 72 * max_scale:.0f}px"))
         super().__init__(children=[*rows, self.message, pictures, self.info])
@@ -297,6 +298,20 @@ def slider(kind, name, description, value, lo, hi, step, expensive=True, **kwarg
     else:
         check_range(name, value, lo, hi, "the slider's range")
     cls = widgets.FloatSlider if kind == "float" else widgets.IntSlider
+    # room for the label, a track of at least TRACK_PX and the readout: a long label never squeezes the track
+    width = f"{LABEL_PX_PAD + LABEL_PX_PER_CHAR * len(description) + TRACK_PX + READOUT_PX}px"
     return cls(value=value, min=lo, max=hi, step=step, description=description,
                continuous_update=not expensive, style={"description_width": "initial"},
-               layout=widgets.Layout(width="260px"), **kwargs)
+               layout=widgets.Layout(width=width, min_width=width, flex="0 0 auto"), **kwargs)
+
+
+#: a slider's track is at least this wide (px), its label and readout beside it
+TRACK_PX = 160
+LABEL_PX_PER_CHAR = 8
+LABEL_PX_PAD = 30
+READOUT_PX = 70
+
+
+def control_row(children) -> widgets.HBox:
+    """Controls side by side that wrap onto the next line on a narrow screen instead of shrinking or spilling."""
+    return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap", width="100%"))

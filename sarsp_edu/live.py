@@ -19,7 +19,7 @@ from matplotlib.figure import Figure
 
 from . import markup, plotting
 from ._threads import one_blas_thread
-from .dashboard import fixed_layout_axes, render_figure, slider, stitch_png, wipe_axes
+from .dashboard import control_row, fixed_layout_axes, render_figure, slider, stitch_png, wipe_axes
 
 __all__ = ["TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
@@ -119,9 +119,9 @@ class AgentDashboard(widgets.VBox):
                                        self.decisions[name], self.summaries[name]],
                                       layout=widgets.Layout(width="50%")))
         super().__init__(children=[
-            widgets.HBox([self.controls[k] for k in ("nu", "magnitude", "proportion")]),
-            widgets.HBox([self.controls[k] for k in ("n_switch_states", "seed", "episodes")]),
-            widgets.HBox([*self.buttons.values(), self.speed]),
+            control_row([self.controls[k] for k in ("nu", "magnitude", "proportion")]),
+            control_row([self.controls[k] for k in ("n_switch_states", "seed", "episodes")]),
+            control_row([*self.buttons.values(), self.speed]),
             self.status,
             widgets.HBox(sides),
             self.metrics_image,

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import demos, plotting, tails
 from ._validation import check_choice
-from .dashboard import Dashboard, Panel, slider
+from .dashboard import Dashboard, Panel, control_row, slider
 from .live import AgentDashboard, agent_dashboard
 
 __all__ = [
@@ -102,8 +102,8 @@ def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: fl
         "scale_inputs": widgets.Checkbox(value=False, description="scale the outliers' inputs too (paper 5.3)",
                                          indent=False),
     }
-    rows = [widgets.HBox([controls[k] for k in ("nu", "magnitude", "proportion", "seed")]),
-            widgets.HBox([controls["fit"], controls["scale_inputs"]])]
+    rows = [control_row([controls[k] for k in ("nu", "magnitude", "proportion", "seed")]),
+            control_row([controls["fit"], controls["scale_inputs"]])]
 
     def compute(nu, magnitude, proportion, seed, fit, scale_inputs):
         data = demos.compute_posteriors(nu, magnitude, proportion, seed, fit=fit, scale_inputs=scale_inputs)

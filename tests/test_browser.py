@@ -276,3 +276,35 @@ def test_a_static_export_shows_every_dashboards_picture_offline(notebook, tmp_pa
             page.screenshot(path=str(shots / f"static-{notebook.stem}-cell{index}.png"))
     finally:
         context.close()
+
+
+# --------------------------------------------------------------------------
+# Sliders a lecturer can grab: wide tracks, nothing off screen (issue 30, item 4)
+# --------------------------------------------------------------------------
+TRACKS = """() => [...document.querySelectorAll('.widget-slider')].map(s => [
+  s.querySelector('.widget-label').innerText, s.querySelector('.noUi-target').getBoundingClientRect().width])"""
+RIGHTMOST = """() => Math.max(...[...document.querySelectorAll(
+  '.widget-slider, .widget-readout, .widget-label, .widget-checkbox, .widget-button')].map(e => e.getBoundingClientRect().right))"""
+
+
+@pytest.mark.parametrize("name", ["01_tail_decay.ipynb", "02_gp_vs_tp_outliers.ipynb", "03_gridworld_and_shift.ipynb"])
+def test_every_slider_track_is_wide_and_nothing_runs_off_a_small_screen(name, tmp_path, browser, shots):
+    notebook = tmp_path / name
+    shutil.copy(ROOT / "tutorials" / name, notebook)
+    port = free_port()
+    server = voila(notebook, port)
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 720})
+        page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
+        page.wait_for_selector(".widget-slider .noUi-target", timeout=180_000)
+        for width, height in ((1280, 720), (800, 600)):
+            page.set_viewport_size({"width": width, "height": height})
+            page.wait_for_timeout(1000)
+            tracks = page.evaluate(TRACKS)
+            assert tracks and all(track >= 150 for _, track in tracks), f"{name} at {width}x{height}: {tracks}"
+            assert page.evaluate(RIGHTMOST) <= width, f"{name} at {width}x{height}: a control runs off the screen"
+            page.locator(".widget-slider").first.scroll_into_view_if_needed()
+            page.screenshot(path=str(shots / f"sliders-{notebook.stem}-{width}.png"))
+        page.close()
+    finally:
+        server.kill()
