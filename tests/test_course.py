@@ -182,3 +182,19 @@ def test_every_figure_is_followed_by_what_to_see_and_no_table_is_wider_than_seve
             html = output.get("data", {}).get("text/html", "")
             if "<table" in html:
                 assert _table_width(html) <= 7, f"{source.name} cell {index}: a table {_table_width(html)} columns wide"
+
+
+def test_a_tutorial_copied_without_its_results_says_what_is_missing_and_how_to_get_it(tmp_path, monkeypatch):
+    from sarsp_edu import stored_results
+
+    monkeypatch.delenv("SARSP_EDU_RESULTS", raising=False)
+    (tmp_path / "tutorials").mkdir()
+    monkeypatch.chdir(tmp_path / "tutorials")  # the tutorials folder copied alone
+    with pytest.raises(FileNotFoundError, match=r"the stored results 'sweep-default' were not found .*open the "
+                                                r"notebook inside a clone of it or a course hand-out .*SARSP_EDU_RESULTS"):
+        stored_results("sweep-default")
+    monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))
+    assert stored_results("sweep-default") == ROOT / "results" / "sweep-default"
+    monkeypatch.delenv("SARSP_EDU_RESULTS")
+    monkeypatch.chdir(ROOT / "tutorials" / "source")  # a source notebook finds them two folders up
+    assert stored_results("ablation").resolve() == (ROOT / "results" / "ablation").resolve()
