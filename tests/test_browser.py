@@ -6,6 +6,7 @@ Screenshots land in ``$SARSP_SCREENSHOTS`` (default: the test's tmp folder).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -111,14 +112,23 @@ def slider_handle(page, label: str):
     return slider.locator(".noUi-handle").first
 
 
-def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
-    notebook = tmp_path / "01_tail_decay.ipynb"
-    shutil.copy(ROOT / "tutorials" / "01_tail_decay.ipynb", notebook)
+@contextlib.contextmanager
+def tutorial_in_voila(name: str, tmp_path, browser, width: int, height: int):
+    """A copy of a tutorial served by Voila and opened in a page of the given size; the server stops after."""
+    notebook = tmp_path / name
+    shutil.copy(ROOT / "tutorials" / name, notebook)
     port = free_port()
     server = voila(notebook, port)
     try:
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page = browser.new_page(viewport={"width": width, "height": height})
         page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
+        yield page
+    finally:
+        server.kill()
+
+
+def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
+    with tutorial_in_voila("01_tail_decay.ipynb", tmp_path, browser, 1400, 1000) as page:
         page.wait_for_selector("img.widget-image", timeout=180_000)
         info = page.locator(".widget-htmlmath").last
         before_src = image_settled(page, "img.widget-image")
@@ -135,8 +145,6 @@ def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
         assert info.inner_text() != before_info  # and the sympy limit re-evaluated
         page.locator("img.widget-image").first.scroll_into_view_if_needed()
         page.screenshot(path=str(shots / "voila_tail_decay.png"), full_page=False)
-    finally:
-        server.kill()
 
 
 LIVE = """
@@ -289,13 +297,7 @@ RIGHTMOST = """() => Math.max(...[...document.querySelectorAll(
 
 @pytest.mark.parametrize("name", ["01_tail_decay.ipynb", "02_gp_vs_tp_outliers.ipynb", "03_gridworld_and_shift.ipynb"])
 def test_every_slider_track_is_wide_and_nothing_runs_off_a_small_screen(name, tmp_path, browser, shots):
-    notebook = tmp_path / name
-    shutil.copy(ROOT / "tutorials" / name, notebook)
-    port = free_port()
-    server = voila(notebook, port)
-    try:
-        page = browser.new_page(viewport={"width": 1280, "height": 720})
-        page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
+    with tutorial_in_voila(name, tmp_path, browser, 1280, 720) as page:
         page.wait_for_selector(".widget-slider .noUi-target", timeout=180_000)
         for width, height in ((1280, 720), (800, 600)):
             page.set_viewport_size({"width": width, "height": height})
@@ -304,7 +306,4 @@ def test_every_slider_track_is_wide_and_nothing_runs_off_a_small_screen(name, tm
             assert tracks and all(track >= 150 for _, track in tracks), f"{name} at {width}x{height}: {tracks}"
             assert page.evaluate(RIGHTMOST) <= width, f"{name} at {width}x{height}: a control runs off the screen"
             page.locator(".widget-slider").first.scroll_into_view_if_needed()
-            page.screenshot(path=str(shots / f"sliders-{notebook.stem}-{width}.png"))
-        page.close()
-    finally:
-        server.kill()
+            page.screenshot(path=str(shots / f"sliders-{Path(name).stem}-{width}.png"))
