@@ -51,7 +51,9 @@ def _register_environment() -> None:
     import gymnasium
 
     if "sarsp_edu/SafeGridWorld-v0" not in gymnasium.registry:
-        gymnasium.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.gridworld:SafeGridWorld")
+        # T_max = n * n on the paper's 10 x 10 grid: TimeLimit truncates where the environment itself does
+        gymnasium.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.gridworld:SafeGridWorld",
+                           max_episode_steps=100)
 
 
 _register_environment()

@@ -96,13 +96,18 @@ class GridLayout:
 class SafeGridWorld(gym.Env):
     """Navigate an ``n x n`` grid to a goal while avoiding unsafe states.
 
+    ## Description
     The environment of the paper's experiments (sections 5.4-5.5), following
-    the reference implementation rule by rule.
+    the reference implementation rule by rule: an agent walks a grid from a
+    start to a goal; some cells are unsafe, and a covariate shift
+    (:meth:`shift`) can move them between the offline data and the online
+    episodes.
 
     ## Action Space
     ``Discrete(4)``: ``RIGHT = 0`` (+1, 0), ``DOWN = 1`` (0, +1), ``LEFT = 2``
     (-1, 0), ``UP = 3`` (0, -1).  A move off the grid is clipped: the agent
-    stays where it is.
+    stays where it is.  Any integer-like action that ``action_space.contains``
+    accepts is taken (``2``, ``np.int64(2)``, ``np.array(2)``).
 
     ## Observation Space
     ``Box`` of shape (8,): agent x, y; goal x, y; L1 distance to the goal;
@@ -127,7 +132,10 @@ class SafeGridWorld(gym.Env):
 
     ## Episode End
     Terminated at the goal; truncated after ``max_steps`` steps (default
-    ``size * size``, the paper's ``T_max = n * n``).
+    ``size * size``, the paper's ``T_max = n * n``).  The registration
+    ``sarsp_edu/SafeGridWorld-v0`` sets ``max_episode_steps`` to the paper's
+    ``T_max = 100``, so ``gymnasium.make`` wraps it in ``TimeLimit``, which
+    truncates the same step the environment itself does on the paper's grid.
 
     ## Information
     ``step`` returns ``info`` with ``"distance_to_unsafe"`` (the cost signal),
@@ -155,8 +163,14 @@ class SafeGridWorld(gym.Env):
         draws starts and goals.  ``reset(seed=...)`` reseeds it later (the
         unsafe states stay where they are).  Without a seed here, the first
         ``reset(seed=...)`` draws the whole world, so ``SafeGridWorld()`` then
-        ``reset(seed=3)`` is the world of ``SafeGridWorld(seed=3)`` then
-        ``reset()``.
+        ``reset(seed=3)`` holds the world of ``SafeGridWorld(seed=3)``.  As
+        Gymnasium's seeding contract asks, ``reset(seed=s)`` always gives the
+        same start and goal on the same environment, the first time too.
+
+    ## Version History
+    - v0: the paper's world; ``gymnasium.make`` applies ``TimeLimit`` at
+      ``T_max = 100`` (sarsp_edu 0.2.2), and a seeded reset's start and goal
+      no longer depend on whether it is the first (0.2.2).
 
     Examples
     --------
@@ -359,6 +373,9 @@ class SafeGridWorld(gym.Env):
         super().reset(seed=seed)
         if not self._layout_fixed and seed is not None:
             self._draw_world()
+            # the world took its draws from the seed; the start and goal come from a fresh stream of it, as on
+            # every later reset(seed=seed): the same seed, the same episode, the first time too
+            super().reset(seed=seed)
         self._layout_fixed = True  # later resets keep the unsafe states (the paper's design)
         options = dict(options or {})
         unknown = set(options) - {"start", "goal"}
@@ -396,6 +413,8 @@ class SafeGridWorld(gym.Env):
 
     def step(self, action):
         """Move one cell; returns ``(observation, reward, terminated, truncated, info)``."""
+        if isinstance(action, np.ndarray) and action.shape == () and np.issubdtype(action.dtype, np.integer):
+            action = action.item()  # a 0-d integer array, which action_space.contains accepts
         if isinstance(action, (bool, np.bool_)) or not isinstance(action, (numbers.Integral, np.integer)) or not 0 <= action < 4:
             raise ValueError(
                 f"action must be an integer in 0..3 (RIGHT, DOWN, LEFT, UP), got action={action!r}"

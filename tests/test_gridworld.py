@@ -327,9 +327,53 @@ def test_reset_seed_on_a_fresh_environment_reproduces_the_whole_world():
     assert np.array_equal(obs_1, obs_2)
     # the same world as seeding the constructor, and later resets keep the layout
     seeded = SafeGridWorld(seed=3)
-    assert np.array_equal(seeded.reset()[0], obs_1)
+    assert np.array_equal(seeded.reset(seed=3)[0], obs_1)  # the same seed, the same episode (issue 29)
     assert np.array_equal(seeded.unsafe_states, first.unwrapped.unsafe_states)
     layout = first.unwrapped.unsafe_states
     first.reset(seed=4)
     assert np.array_equal(first.unwrapped.unsafe_states, layout)
     assert first.unwrapped.np_random_seed == 4 and seeded.np_random_seed == 3
+
+
+# -- Gymnasium's conventions (issue 29, section 2) -------------------------------------------------------
+def test_a_seeded_reset_gives_the_same_start_and_goal_every_time_the_first_time_too():
+    import gymnasium
+
+    env = gymnasium.make("sarsp_edu/SafeGridWorld-v0")
+    first = env.reset(seed=0)[1]
+    again = env.reset(seed=0)[1]
+    assert (first["start"], first["goal"]) == (again["start"], again["goal"])
+    other = env.reset(seed=1)[1]
+    assert env.reset(seed=1)[1]["goal"] == other["goal"]
+    # the world is the one the seed gives at construction, and stays for the later episodes
+    np.testing.assert_array_equal(env.unwrapped.unsafe_states, SafeGridWorld(seed=0).unsafe_states)
+
+
+def test_every_integer_like_action_the_space_accepts_is_taken():
+    env = SafeGridWorld(seed=0)
+    for action in (2, np.int64(2), np.array(2), np.array(2, dtype=np.int8)):
+        env.reset(seed=3)
+        assert env.action_space.contains(action)
+        position = env.step(action)[0][:2]
+        env.reset(seed=3)
+        np.testing.assert_array_equal(position, env.step(2)[0][:2])
+    env.reset(seed=3)
+    for refused in (np.array(True), np.array(2.0), np.array([2]), 4):
+        with pytest.raises(ValueError, match="action must be an integer in 0..3"):
+            env.step(refused)
+
+
+def test_the_registration_truncates_with_timelimit_where_the_environment_does():
+    import gymnasium
+
+    env = gymnasium.make("sarsp_edu/SafeGridWorld-v0")
+    assert env.spec.max_episode_steps == 100 == SafeGridWorld().max_steps
+    env.reset(seed=0)
+    goal = env.unwrapped.goal
+    steps, truncated, terminated = 0, False, False
+    while not (truncated or terminated):
+        # walk away from the goal along one wall, so that the episode can only end by the step limit
+        action = 2 if goal[0] > 0 else 0
+        _, _, terminated, truncated, _ = env.step(action)
+        steps += 1
+    assert truncated and not terminated and steps == 100
