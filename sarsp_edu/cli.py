@@ -273,7 +273,8 @@ def _sweep(args, parser) -> int:
     _check_out(parser, args.out, "sweep")
     if args.scheduler and not _dask_installed():
         parser.error("--scheduler needs Dask, which is not installed: pip install 'sarsp_edu[dask]'")
-    if stored is not None and all(values is None for values in grid.values()):
+    resume_cells = stored is not None and all(values is None for values in grid.values())
+    if resume_cells:
         keys = sorted(stored[1])  # the cells the stored sweep was asked for
         print(f"resuming the sweep in {args.out}: {len(keys)} cells, preset {config.preset}"
               + (" (its stored settings)" if resume_settings else ""), file=sys.stderr)
@@ -288,7 +289,7 @@ def _sweep(args, parser) -> int:
     if args.out:
         args.stored = [(args.out, set(keys))]
     try:
-        if stored is not None and all(values is None for values in grid.values()):
+        if resume_cells:
             for seed in sorted({key[3] for key in keys}):  # a stored sweep's cells, seed by seed
                 run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
                           results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
