@@ -275,9 +275,9 @@ def stored_sweep(results_dir) -> tuple:
 def _check_base_against_cells(meta: Path, base: ExperimentConfig) -> None:
     """Refuse a ``sweep.json`` whose shared settings no stored cell ran.
 
-    A setting in which *every* stored cell differs from ``sweep.json`` is
-    ``sweep.json``'s fault (edited, or copied from another sweep); a cell that
-    differs alone is that cell's (see :func:`load_cell`).
+    A setting in which *every* stored cell (two or more) differs from
+    ``sweep.json`` is ``sweep.json``'s fault (edited, or copied from another
+    sweep); a cell that differs alone is that cell's (see :func:`load_cell`).
     """
     ours = _shared_fields(base)
     seen: dict = {}
@@ -295,7 +295,8 @@ def _check_base_against_cells(meta: Path, base: ExperimentConfig) -> None:
                 seen.setdefault(name, set()).add(repr(config.get(name)))
             else:
                 seen.setdefault(name, set()).add(None)
-    wrong = {name: values for name, values in seen.items() if n and None not in values}
+    # with a single cell the two cannot be told apart: load_cell names that cell instead
+    wrong = {name: values for name, values in seen.items() if n >= 2 and None not in values}
     if wrong:
         details = "; ".join(f"{name}={ours[name]!r} where they ran {name}={' or '.join(sorted(values))}"
                             for name, values in sorted(wrong.items()))
