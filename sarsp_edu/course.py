@@ -80,18 +80,16 @@ def clear_solutions(source: str, stub: str = CODE_STUB) -> str:
         # YOUR CODE HERE
         raise NotImplementedError()
     """
+    return _replace_regions(source, BEGIN_SOLUTION, END_SOLUTION, stub)
+
+
+def _replace_regions(source: str, begin: str, end: str, stub: str | None) -> str:
+    """Each ``begin`` ... ``end`` region replaced by ``stub`` indented as ``begin`` (removed when None)."""
     lines = source.split("\n")
-    for start, stop in reversed(_regions(lines, BEGIN_SOLUTION, END_SOLUTION)):
+    for start, stop in reversed(_regions(lines, begin, end)):
         indent = re.match(r"\s*", lines[start]).group(0)
-        lines[start:stop + 1] = [indent + line for line in stub.split("\n")]
+        lines[start:stop + 1] = [] if stub is None else [indent + line for line in stub.split("\n")]
     return "\n".join(lines)
-
-
-def _clear_hidden_tests(source: str) -> str:
-    lines = source.split("\n")
-    for start, stop in reversed(_regions(lines, BEGIN_HIDDEN, END_HIDDEN)):
-        del lines[start:stop + 1]
-    return "\n".join(lines).rstrip("\n")
 
 
 def _grading(cell) -> dict:
@@ -110,7 +108,7 @@ def student_notebook(source):
     for cell in notebook.cells:
         text = cell.source
         if cell.cell_type == "code":
-            text = _clear_hidden_tests(clear_solutions(text, CODE_STUB))
+            text = _replace_regions(clear_solutions(text, CODE_STUB), BEGIN_HIDDEN, END_HIDDEN, None).rstrip("\n")
             cell.outputs, cell.execution_count = [], None
         elif _grading(cell).get("solution"):
             lines = text.split("\n")
@@ -203,6 +201,15 @@ def execute_sources(tutorials="tutorials", timeout: int = 900) -> list[Path]:
     return written
 
 
+def _student_notebooks(tutorials: Path) -> list[Path]:
+    """The student notebooks of a tutorials folder, one per source; an error if one was never made."""
+    notebooks = [student_path(path) for path in sources(tutorials)]
+    missing = [str(p) for p in notebooks if not p.exists()]
+    if missing:
+        raise FileNotFoundError(f"no student notebook {missing}: run 'sarsp-edu course student' first")
+    return notebooks
+
+
 def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900) -> list[Path]:
     """Write (and run, so that their stored outputs are what a student first sees) the student notebooks.
 
@@ -255,10 +262,7 @@ def write_pages(tutorials="tutorials", out="pages", mathjax=None) -> Path:
     from ._io import atomic_write_text
 
     tutorials, out = Path(tutorials), Path(out)
-    notebooks = [student_path(path) for path in sources(tutorials)]
-    missing = [str(p) for p in notebooks if not p.exists()]
-    if missing:
-        raise FileNotFoundError(f"no student notebook {missing}: run 'sarsp-edu course student' first")
+    notebooks = _student_notebooks(tutorials)
     mathjax = Path(mathjax) if mathjax is not None else (DEBIAN_MATHJAX if (DEBIAN_MATHJAX / "MathJax.js").exists()
                                                            else None)
     if mathjax is not None and not (mathjax / "MathJax.js").exists():
@@ -309,10 +313,7 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
     root = Path(root)
     if (out is None) == (zip_path is None):
         raise ValueError("give exactly one of out (a folder) or zip_path (a zip file)")
-    notebooks = [student_path(path) for path in sources(root / "tutorials")]
-    missing = [str(p) for p in notebooks if not p.exists()]
-    if missing:
-        raise FileNotFoundError(f"no student notebook {missing}: run 'sarsp-edu course student' first")
+    notebooks = _student_notebooks(root / "tutorials")
     files = [(p, Path("tutorials") / p.name) for p in notebooks]
     files += [(root / name, Path(name)) for name in HANDOUT_FILES if (root / name).exists()]
     for folder in HANDOUT_RESULTS:
