@@ -179,12 +179,7 @@ class AgentDashboard(widgets.VBox):
     def _on_setting(self, change) -> None:
         """A slider moved: stop what runs, show the new world, and say the agents start on it at the next Run."""
         interrupted = self._running or self.experiments is not None
-        self._generation += 1
-        self._running = False
-        self.experiments = None
-        self._last = dict.fromkeys(self.sides)
-        self._drawn_episodes = -1
-        self.metrics_image.value = b""
+        self._discard_run()
         try:
             self.preview()
         except ValueError as exc:  # a combination the world cannot hold: said, not raised
@@ -193,6 +188,15 @@ class AgentDashboard(widgets.VBox):
         self.status.value = ((f"{change['owner'].description} = {change['new']}: " if change else "")
                              + "both agents start on this world at the next <b>Run</b>"
                              + (" (the run under way was stopped)." if interrupted else "."))
+
+    def _discard_run(self) -> None:
+        """Stop and forget the runs; a preparation still under way is discarded when it ends."""
+        self._generation += 1
+        self._running = False
+        self.experiments = None
+        self._last = dict.fromkeys(self.sides)
+        self._drawn_episodes = -1
+        self.metrics_image.value = b""
 
     def prepare(self):
         """Build the paired runs from the sliders (offline data, outliers, fits, shift)."""
@@ -298,11 +302,7 @@ class AgentDashboard(widgets.VBox):
             self.status.value = "Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders."
 
     def reset(self) -> None:
-        self.stop()
-        self._generation += 1
-        self.experiments = None
-        self._last = dict.fromkeys(self.sides)
-        self.metrics_image.value = b""
+        self._discard_run()
         self.preview()
         self.status.value = "Press <b>Run</b> to prepare the data, fit the agents' models and start."
 
