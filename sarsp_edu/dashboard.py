@@ -11,6 +11,16 @@ The speed-ups live here and nowhere else: :func:`wipe_axes` (empty an Axes
 without rebuilding its ticks), :func:`fixed_layout_axes` (labels at fixed
 places, nothing measured) and :func:`render_figure`.  The tutorials'
 dashboards are in :mod:`sarsp_edu.widgets` and :mod:`sarsp_edu.live`.
+
+**Projector size.**  :func:`projector` switches every dashboard of the
+kernel, those on show and those to come, to text the back of a lecture room
+can read: widget labels, readouts, buttons and tables at
+``PROJECTOR_TEXT_PX`` (18 px), and pictures whose text is
+``PROJECTOR_SCALE`` times larger against the same space (the figure is drawn
+smaller in inches, its text keeps its points, and the browser shows it at
+the same width).  It is on by default in Voila (which sets
+``VOILA_KERNEL_ID`` in the kernel) and wherever ``SARSP_EDU_PROJECTOR=1``;
+each dashboard's ``set_projector`` switches it alone.
 """
 
 from __future__ import annotations
@@ -18,7 +28,9 @@ from __future__ import annotations
 import base64
 import html
 import io
+import os
 import time
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -30,8 +42,113 @@ from matplotlib.transforms import ScaledTranslation
 from ._threads import one_blas_thread
 from ._validation import check_choice, check_int, check_positive, check_range
 
-__all__ = ["Dashboard", "Panel", "control_row", "fixed_layout_axes", "render_figure", "slider", "stitch_png",
+__all__ = ["PROJECTOR_PX_PER_PT", "PROJECTOR_SCALE", "PROJECTOR_TEXT_PX", "Dashboard", "Panel", "ProjectorMixin", "control_row",
+           "fixed_layout_axes", "projector", "projector_default", "render_figure", "slider", "stitch_png",
            "wipe_axes"]
+
+#: how much larger the agent dashboard's metric curves' text is against the same space in projector size
+PROJECTOR_SCALE = 1.6
+#: a dashboard picture's display size in projector size, CSS px per point of the figure: its 10 pt text at 14.5 px
+PROJECTOR_PX_PER_PT = 1.45
+#: widget labels, readouts, buttons and tables in projector size, in CSS px
+PROJECTOR_TEXT_PX = 18
+
+_CLASS = "sarsp-projector"
+_SCOPE = f".{_CLASS}"
+_PROJECTOR_CSS = (
+    "<style>"
+    f"{_SCOPE} .widget-label, {_SCOPE} .widget-readout, {_SCOPE} .widget-button, {_SCOPE} .widget-toggle-button,"
+    f" {_SCOPE} .widget-checkbox label, {_SCOPE} .widget-html-content, {_SCOPE} .widget-htmlmath-content,"
+    f" {_SCOPE} .widget-html-content span, {_SCOPE} .widget-html-content div, {_SCOPE} table"
+    f" {{font-size: {PROJECTOR_TEXT_PX}px !important;}}"
+    f" {_SCOPE} .widget-hslider, {_SCOPE} .widget-hslider .widget-label, {_SCOPE} .widget-readout,"
+    f" {_SCOPE} .widget-button, {_SCOPE} .widget-toggle-button, {_SCOPE} .widget-checkbox"
+    f" {{height: 36px !important; line-height: 36px !important;}}"
+    f" {_SCOPE} .widget-html-content, {_SCOPE} .widget-htmlmath-content {{line-height: 1.35 !important;}}"
+    "</style>"
+)
+
+_SWITCH = {"on": None}  # None: automatic (on in Voila or with SARSP_EDU_PROJECTOR=1)
+_DASHBOARDS: "weakref.WeakSet" = weakref.WeakSet()
+
+
+def projector_default() -> bool:
+    """Whether a new dashboard starts in projector size: as :func:`projector` last set it, else automatic.
+
+    Automatic means on in Voila (its kernels have ``VOILA_KERNEL_ID``) or
+    where the environment variable ``SARSP_EDU_PROJECTOR`` is ``1``, off
+    otherwise.
+    """
+    if _SWITCH["on"] is not None:
+        return _SWITCH["on"]
+    switch = os.environ.get("SARSP_EDU_PROJECTOR", "")
+    if switch in ("0", "1"):
+        return switch == "1"
+    return "VOILA_KERNEL_ID" in os.environ
+
+
+def projector(on: bool = True) -> None:
+    """Switch every dashboard of this kernel, on show and to come, to projector size (or back with ``False``).
+
+    Projector size: widget labels, readouts, buttons and tables at 18 px, and
+    pictures with their text ``PROJECTOR_SCALE`` times larger, for the back
+    row of a lecture room at 1280x720.  One call at the top of a notebook
+    switches all of its dashboards.
+    """
+    if not isinstance(on, (bool,)) and on not in (0, 1):
+        raise TypeError(f"on must be True or False, got on={on!r}")
+    _SWITCH["on"] = bool(on)
+    for dashboard in list(_DASHBOARDS):
+        dashboard.set_projector(bool(on))
+
+
+class ProjectorMixin:
+    """What every dashboard shares for projector size: the CSS, the slider widths, the switch.
+
+    A subclass calls ``_init_projector(on)`` once its children exist and
+    implements ``_resize_pictures()``, which redraws its pictures at the size
+    ``self.projector`` asks for.
+    """
+
+    projector: bool = False
+
+    def _init_projector(self, on) -> None:
+        self.projector = projector_default() if on is None else bool(on)
+        # last, so that the children's places stay as the dashboard laid them out
+        self.children = (*self.children, widgets.HTML(_PROJECTOR_CSS, layout=widgets.Layout(display="none")))
+        _DASHBOARDS.add(self)
+        self._apply_projector_classes()
+
+    def _apply_projector_classes(self) -> None:
+        (self.add_class if self.projector else self.remove_class)(_CLASS)
+        for control in _walk(self):
+            if isinstance(control, (widgets.FloatSlider, widgets.IntSlider)):
+                width = slider_width(control.description, self.projector)
+                control.layout.width = control.layout.min_width = width
+
+    def set_projector(self, on: bool = True) -> None:
+        """This dashboard alone in projector size (text for the back row) or back to notebook size."""
+        on = bool(on)
+        if on == self.projector:
+            return
+        self.projector = on
+        self._apply_projector_classes()
+        self._resize_pictures()
+
+    def _resize_pictures(self) -> None:  # pragma: no cover - every dashboard overrides it
+        raise NotImplementedError
+
+    @property
+    def picture_scale(self) -> float:
+        """How many times smaller a figure drawn to fill a fixed width is made in inches, its text the same
+        in points: 1, or ``PROJECTOR_SCALE`` in projector size."""
+        return PROJECTOR_SCALE if self.projector else 1.0
+
+
+def _walk(widget):
+    yield widget
+    for child in getattr(widget, "children", ()):
+        yield from _walk(child)
 
 
 @dataclass(frozen=True)
@@ -70,7 +187,7 @@ class Panel:
         return changed is None or self.inputs is None or bool(set(changed) & set(self.inputs))
 
 
-class Dashboard(widgets.VBox):
+class Dashboard(ProjectorMixin, widgets.VBox):
     """Controls, a message line, a row of pictures and a text panel.
 
     A slider move calls ``compute(**values)`` once, then redraws only the
@@ -93,6 +210,8 @@ class Dashboard(widgets.VBox):
         size (72 px per inch) to fill a wide page or a projector.
     layout_rows : list of widgets, optional
         How to arrange the controls (default: one row).
+    projector : bool, optional
+        Start in projector size; default :func:`projector_default`.
 
     Attributes
     ----------
@@ -116,7 +235,7 @@ class Dashboard(widgets.VBox):
     """
 
     def __init__(self, controls: dict, compute, panels, *, height: float, max_scale: float = 1.5,
-                 layout_rows=None):
+                 layout_rows=None, projector: bool | None = None):
         self.controls = controls
         self.panels = list(panels)
         if not self.panels:
@@ -129,6 +248,7 @@ class Dashboard(widgets.VBox):
         self._compute = compute
         self._names = {id(control): name for name, control in controls.items()}
         self.figures, self.axes, self.images = [], [], []
+        self.max_scale = max_scale
         total = sum(panel.width for panel in self.panels)
         for panel in self.panels:
             figure = Figure(figsize=(panel.width, height))
@@ -139,8 +259,7 @@ class Dashboard(widgets.VBox):
                                    bottom=inches["bottom"] / height, top=1 - inches["top"] / height)
             self.figures.append(figure)
             self.axes.extend(fixed_layout_axes(figure, panel.label_offsets))
-            self.images.append(widgets.Image(format="svg+xml", layout=widgets.Layout(
-                width=f"{100 * panel.width / total:.3f}%", max_width=f"{panel.width * 72 * max_scale:.0f}px")))
+            self.images.append(widgets.Image(format="svg+xml"))
         self.info = widgets.HTMLMath()
         self.message = widgets.HTML()
         self.result = None
@@ -149,12 +268,35 @@ class Dashboard(widgets.VBox):
         self._stale = True
         self._used = [False] * len(self.panels)
         rows = layout_rows or [control_row(controls.values())]
-        pictures = widgets.HBox(self.images, layout=widgets.Layout(width="100%",
-                                                                   max_width=f"{total * 72 * max_scale:.0f}px"))
-        super().__init__(children=[*rows, self.message, pictures, self.info])
+        self.pictures = widgets.HBox(self.images, layout=widgets.Layout(width="100%"))
+        super().__init__(children=[*rows, self.message, self.pictures, self.info])
+        self._init_projector(projector)
+        self._lay_out_pictures()
         for control in controls.values():
             control.observe(self._on_change, names="value")
         self.refresh()
+
+    def _lay_out_pictures(self) -> None:
+        """Notebook size: the pictures share one row.  Projector size: each is shown at PROJECTOR_PX_PER_PT
+        CSS px per point (its 10 pt text at 14.5 px), and the row wraps where they do not fit side by side.
+
+        The figures themselves are the same in both: only the space they are
+        given changes, so every legend and label stays where it was placed.
+        """
+        total = sum(panel.width for panel in self.panels)
+        for panel, image in zip(self.panels, self.images):
+            if self.projector:
+                image.layout = widgets.Layout(width=f"{panel.width * 72 * PROJECTOR_PX_PER_PT:.0f}px",
+                                              max_width="100%", height="auto")
+            else:
+                image.layout = widgets.Layout(width=f"{100 * panel.width / total:.3f}%",
+                                              max_width=f"{panel.width * 72 * self.max_scale:.0f}px")
+        self.pictures.layout = widgets.Layout(
+            width="100%", flex_flow="row wrap" if self.projector else "row",
+            max_width="none" if self.projector else f"{total * 72 * self.max_scale:.0f}px")
+
+    def _resize_pictures(self) -> None:
+        self._lay_out_pictures()
 
     def snapshot(self, dpi: int = 72) -> bytes:
         """The pictures on show, side by side, as one PNG (what a static copy of the notebook shows)."""
@@ -298,8 +440,7 @@ def slider(kind, name, description, value, lo, hi, step, expensive=True, **kwarg
     else:
         check_range(name, value, lo, hi, "the slider's range")
     cls = widgets.FloatSlider if kind == "float" else widgets.IntSlider
-    # room for the label, a track of at least TRACK_PX and the readout: a long label never squeezes the track
-    width = f"{LABEL_PX_PAD + LABEL_PX_PER_CHAR * len(description) + TRACK_PX + READOUT_PX}px"
+    width = slider_width(description)
     return cls(value=value, min=lo, max=hi, step=step, description=description,
                continuous_update=not expensive, style={"description_width": "initial"},
                layout=widgets.Layout(width=width, min_width=width, flex="0 0 auto"), **kwargs)
@@ -310,6 +451,16 @@ TRACK_PX = 160
 LABEL_PX_PER_CHAR = 8
 LABEL_PX_PAD = 30
 READOUT_PX = 70
+
+
+def slider_width(description: str, projector: bool = False) -> str:
+    """Room for the label, a track of at least ``TRACK_PX`` and the readout: a long label never squeezes the track.
+
+    In projector size the label and the readout are drawn at 18 px instead
+    of 13, so they get that much more room.
+    """
+    grow = PROJECTOR_TEXT_PX / 13 if projector else 1.0
+    return f"{round(LABEL_PX_PAD + grow * (LABEL_PX_PER_CHAR * len(description) + READOUT_PX)) + TRACK_PX}px"
 
 
 def control_row(children) -> widgets.HBox:

@@ -50,6 +50,7 @@ __all__ = [
     "prepare",
     "offline_world",
     "experiments_on_one_world",
+    "each_experiment_on_one_world",
     "paired_experiments",
     "ExperimentResult",
     "Comparison",
@@ -330,6 +331,15 @@ def experiments_on_one_world(config: ExperimentConfig, sides: dict) -> dict:
     dict
         Name -> :class:`Experiment`.
     """
+    return dict(each_experiment_on_one_world(config, sides))
+
+
+def each_experiment_on_one_world(config: ExperimentConfig, sides: dict):
+    """:func:`experiments_on_one_world` one experiment at a time: yields ``(name, Experiment)`` as each is fitted.
+
+    The live dashboard starts a side as soon as its models are fitted, while
+    the other side's are still being fitted.
+    """
     from .preparation import PREPARATION_FIELDS
 
     if not isinstance(sides, dict) or not sides:
@@ -342,7 +352,8 @@ def experiments_on_one_world(config: ExperimentConfig, sides: dict) -> dict:
         )
     configs = {name: config.replace(**changes) for name, changes in sides.items()}  # validated before any work
     prepared = prepare(config)
-    return {name: Experiment(side, prepared=prepared) for name, side in configs.items()}
+    for name, side in configs.items():
+        yield name, Experiment(side, prepared=prepared)
 
 
 def paired_experiments(config: ExperimentConfig) -> dict:

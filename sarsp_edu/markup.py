@@ -15,19 +15,21 @@ __all__ = ["decision_table_html", "gridworld_svg"]
 _ACTION_ARROWS = ("→", "↓", "←", "↑")
 
 
-def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, title: str = "") -> str:
+def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, title: str = "",
+                  font_size: int = 13) -> str:
     """The world as an SVG string: unsafe states, moved states, S_u, path, agent, goal.
 
     The same picture as :func:`sarsp_edu.plotting.plot_gridworld`, cheap enough to redraw at
-    every agent step.
+    every agent step.  ``font_size`` is the title's, in px (18 on a projector).
     """
     n = layout.size
     size = n * cell
-    top = 22 if title else 0
+    top = round(font_size * 1.7) if title else 0
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{size + 2}" height="{size + 2 + top}" '
              f'viewBox="-1 {-1 - top} {size + 2} {size + 2 + top}" font-family="sans-serif">']
     if title:
-        parts.append(f'<text x="{size / 2}" y="-7" text-anchor="middle" font-size="13">{title}</text>')
+        parts.append(f'<text x="{size / 2}" y="{-round(font_size * 0.55)}" text-anchor="middle" '
+                     f'font-size="{font_size}">{title}</text>')
     parts.append(f'<rect x="0" y="0" width="{size}" height="{size}" fill="#fafafa" stroke="#999"/>')
     for k in range(1, n):
         parts.append(f'<line x1="{k * cell}" y1="0" x2="{k * cell}" y2="{size}" stroke="{COLOURS["grid"]}"/>')
@@ -66,8 +68,8 @@ def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, t
     return "".join(parts)
 
 
-def decision_table_html(decision, d: float, variance_threshold: float) -> str:
-    """Algorithm 1's view of one decision: per-action predictions, S_u, safe set, the choice."""
+def decision_table_html(decision, d: float, variance_threshold: float, font_size: int = 12) -> str:
+    """Algorithm 1's view of one decision: per-action predictions, S_u, safe set, the choice (text in px)."""
     if decision is None:
         return "<i>no decision yet</i>"
     rows = []
@@ -83,9 +85,9 @@ def decision_table_html(decision, d: float, variance_threshold: float) -> str:
         )
     rule = "backup: no action safe, highest reward" if decision.backup else "safe action with the highest reward"
     return (
-        '<table style="font-size:12px;border-collapse:collapse" cellpadding="2">'
+        f'<table style="font-size:{font_size}px;border-collapse:collapse" cellpadding="2">'
         "<tr><th>a</th><th>cost μ</th><th>cost σ²</th><th>reward μ</th><th>status</th></tr>"
         + "".join(rows)
-        + f'</table><div style="font-size:12px">safe ⇔ σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
+        + f'</table><div style="font-size:{font_size}px">safe ⇔ σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
         f"chosen: {_ACTION_ARROWS[decision.action]} ({rule})</div>"
     )

@@ -257,6 +257,8 @@ class SARSPAgent:
             self.unsafe_pairs.add((tuple(int(v) for v in position), int(action)))
         self.corrective_updates = 0
         self.retrains = 0
+        #: True while a corrective update refits the cost model (a live view shows the wait)
+        self.retraining = False
 
     # -- training -------------------------------------------------------------
     def _fit(self, model, buffer, fit_points):
@@ -439,7 +441,11 @@ class SARSPAgent:
             changed = outcome.buffer_update != "unchanged"
             if self.retrain == "always" or (self.retrain == "if_changed" and changed):
                 start = time.perf_counter()
-                self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
+                self.retraining = True  # read by the live dashboard, which shows the wait
+                try:
+                    self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
+                finally:
+                    self.retraining = False
                 outcome.retrain_seconds = time.perf_counter() - start
                 outcome.retrained = True
                 self.retrains += 1

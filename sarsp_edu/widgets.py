@@ -16,7 +16,7 @@ import numpy as np
 
 from . import demos, plotting, tails
 from ._validation import check_choice
-from .dashboard import Dashboard, Panel, control_row, slider
+from .dashboard import Dashboard, Panel, control_row, projector, slider
 from .live import AgentDashboard, agent_dashboard
 
 __all__ = [
@@ -27,6 +27,7 @@ __all__ = [
     "agent_dashboard",
     "gridworld_dashboard",
     "posterior_dashboard",
+    "projector",
     "tail_decay_dashboard",
 ]
 

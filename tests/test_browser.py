@@ -307,3 +307,172 @@ def test_every_slider_track_is_wide_and_nothing_runs_off_a_small_screen(name, tm
             assert page.evaluate(RIGHTMOST) <= width, f"{name} at {width}x{height}: a control runs off the screen"
             page.locator(".widget-slider").first.scroll_into_view_if_needed()
             page.screenshot(path=str(shots / f"sliders-{Path(name).stem}-{width}.png"))
+
+
+# --------------------------------------------------------------------------
+# Dashboards made for a projector (issue 30): text sizes, fit, and what a slider move costs
+# --------------------------------------------------------------------------
+#: every dashboard in projector size (Voila's default), in a notebook of its own
+PROJECTED = {
+    "tail_decay": "from sarsp_edu.widgets import tail_decay_dashboard\ntail_decay_dashboard()",
+    "posterior": "from sarsp_edu.widgets import posterior_dashboard\nposterior_dashboard()",
+    "gridworld": "from sarsp_edu.widgets import gridworld_dashboard\ngridworld_dashboard()",
+    "agent": "from sarsp_edu.widgets import agent_dashboard\nagent_dashboard(episodes=30)",
+}
+
+#: sizes in the page: the widgets' text (CSS px) and each SVG picture's smallest text as drawn (its font size
+#: in the SVG's units times the picture's drawn width over its viewBox width)
+SIZES = """async () => {
+  const text = [...document.querySelectorAll('.widget-label, .widget-readout, .widget-button, .widget-html-content td,'
+    + ' .widget-html-content th, .widget-checkbox label')].filter(e => e.textContent.trim() && e.offsetParent)
+    .map(e => parseFloat(getComputedStyle(e).fontSize));
+  const plots = [];
+  for (const img of document.querySelectorAll('img.widget-image')) {
+    if (!img.src || !img.clientWidth) continue;
+    const svg = await (await fetch(img.src)).text();
+    const box = svg.match(/viewBox="[\\d.-]+ [\\d.-]+ ([\\d.]+)/);
+    if (!box) continue;
+    const sizes = [...svg.matchAll(/font(?:-size)?:\\s*(?:[a-z]+\\s+)*([\\d.]+)px/g)].map(m => parseFloat(m[1]));
+    if (sizes.length) plots.push(Math.min(...sizes) * img.clientWidth / parseFloat(box[1]));
+  }
+  const grids = [...document.querySelectorAll('.widget-html-content svg')].map(svg => {
+    const title = svg.querySelector('text');
+    return title ? parseFloat(title.getAttribute('font-size')) * svg.getBoundingClientRect().width
+                   / svg.viewBox.baseVal.width : null; }).filter(v => v);
+  return {text: Math.min(...text), plots: plots, grid_titles: grids};
+}"""
+
+#: the time from a value change to the changed picture, measured in the page
+CHANGED = """([selector, property]) => { window.__changed = new Promise(resolve => {
+  // queried again at each frame: a widget's new HTML replaces the elements of the old
+  const value = () => (document.querySelector(selector) || {})[property];
+  const before = value(), start = performance.now();
+  const poll = () => {
+    const waited = performance.now() - start;
+    if (value() !== before) resolve(waited);
+    else if (waited > 60000) resolve(null);
+    else requestAnimationFrame(poll);
+  };
+  requestAnimationFrame(poll);
+}); }"""
+#: the value CHANGED measured (ms), or None if nothing changed within a minute
+CHANGED_RESULT = "() => window.__changed"
+
+
+def page_of(code: str, tmp_path, browser, width: int, height: int):
+    import nbformat
+
+    notebook = tmp_path / "dashboard.ipynb"
+    nb = nbformat.v4.new_notebook()
+    nb.cells.append(nbformat.v4.new_code_cell(code))
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(nb, notebook)
+    port = free_port()
+    server = voila(notebook, port)
+    page = browser.new_page(viewport={"width": width, "height": height})
+    page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
+    return page, server
+
+
+def move_slider(page, label: str, selector: str, attribute: str, presses: int = 1) -> float:
+    """Press the right arrow on a slider ``presses`` times; milliseconds until ``selector``'s ``attribute`` changed."""
+    handle = slider_handle(page, label)
+    handle.focus()
+    page.evaluate(CHANGED, [selector, attribute])
+    for _ in range(presses):
+        page.keyboard.press("ArrowRight")
+    waited = page.evaluate(CHANGED_RESULT)
+    assert waited is not None, f"moving {label} changed nothing within a minute"
+    return float(waited)
+
+
+@pytest.mark.parametrize("name", list(PROJECTED))
+def test_a_projected_dashboard_is_readable_from_the_back_and_fits(name, tmp_path, browser, shots):
+    page, server = page_of(PROJECTED[name], tmp_path, browser, 1280, 720)
+    try:
+        page.wait_for_selector(".widget-slider .noUi-target", timeout=180_000)
+        picture = "img.widget-image" if name != "agent" else ".widget-html-content svg"
+        page.wait_for_selector(picture, timeout=180_000)
+        page.wait_for_timeout(1500)
+        assert page.locator(".sarsp-projector").count() == 1, "Voila should start a dashboard in projector size"
+        sizes = page.evaluate(SIZES)
+        tracks = page.evaluate(TRACKS)
+        measured = {"text_px": sizes["text"], "plot_text_px": sizes["plots"], "grid_title_px": sizes["grid_titles"],
+                    "tracks_px": [round(t) for _, t in tracks]}
+        assert sizes["text"] >= 18, f"{name}: widget text of {sizes['text']} px"
+        assert all(px >= 14 for px in sizes["plots"]), f"{name}: plot text of {sizes['plots']} px"
+        assert all(px >= 18 for px in sizes["grid_titles"]), f"{name}: grid titles of {sizes['grid_titles']} px"
+        assert all(track >= 150 for _, track in tracks), f"{name}: slider tracks {tracks}"
+        page.screenshot(path=str(shots / f"projector-{name}-1280.png"))
+        if name == "agent":
+            # the grids and the key numbers of both agents on one screen
+            bottom = page.evaluate("() => Math.max(...[...document.querySelectorAll('.widget-html-content svg, "
+                                   ".widget-html-content table')].slice(0, 4).map(e => e.getBoundingClientRect().bottom))")
+            measured["grids_and_numbers_bottom_px"] = bottom
+            assert bottom <= 720, f"the grids and key numbers end at {bottom} px, below a 720 px screen"
+            measured["slider_to_world_ms"] = move_slider(page, "nss", ".widget-html-content", "innerHTML", 3)
+        else:
+            # a slider and a picture that depends on it
+            label, nth = {"tail_decay": ("ν", 3), "posterior": ("ν", 3), "gridworld": ("nss", 2)}[name]
+            page.wait_for_timeout(1000)
+            measured["slider_to_picture_ms"] = move_slider(page, label, f"img.widget-image:nth-of-type({nth})", "src")
+        page.set_viewport_size({"width": 800, "height": 600})
+        page.wait_for_timeout(1000)
+        overflow = page.evaluate("() => document.documentElement.scrollWidth")
+        measured["scroll_width_at_800"] = overflow
+        page.screenshot(path=str(shots / f"projector-{name}-800.png"))
+        assert overflow <= 800, f"{name}: the page is {overflow} px wide at 800x600"
+        assert page.evaluate(RIGHTMOST) <= 800
+        # Times are measurements for the closing note and the benchmarks, not pass/fail criteria.
+        (shots / f"projector-{name}.json").write_text(json.dumps(measured, indent=1))
+    finally:
+        server.kill()
+
+
+#: the times (ms), in the page, at which each of the two worlds changed over ``seconds``, and whether a side
+#: said it was retraining its cost model
+WATCH = """(seconds) => new Promise(resolve => {
+  const worlds = [...document.querySelectorAll('.widget-html-content')].filter(e => e.querySelector('svg')).slice(0, 2);
+  const times = worlds.map(() => []), last = worlds.map(w => w.innerHTML), start = performance.now();
+  let retrainingShown = false;
+  const poll = () => {
+    const now = performance.now();
+    worlds.forEach((w, i) => { if (w.innerHTML !== last[i]) { last[i] = w.innerHTML; times[i].push(now - start); } });
+    retrainingShown = retrainingShown || document.body.innerText.includes('retraining the cost model');
+    if (now - start < seconds * 1000) { requestAnimationFrame(poll); return; }
+    resolve({times: times, retraining_shown: retrainingShown});
+  };
+  requestAnimationFrame(poll);
+})"""
+
+
+def longest_freeze(times: list, other: list) -> dict:
+    """A side's longest time without a new step (s), and how many steps the other side showed meanwhile."""
+    gaps = [(b - a, a, b) for a, b in zip(times, times[1:])] or [(0.0, 0.0, 0.0)]
+    gap, begin, end = max(gaps)
+    return {"longest_freeze_s": gap / 1000, "other_side_steps_meanwhile": sum(begin < t < end for t in other)}
+
+
+def test_the_live_agents_start_at_once_and_neither_side_freezes_silently(tmp_path, browser, shots):
+    """Run pressed as soon as the dashboard shows: the time to the first step, then 30 s of running watched."""
+    page, server = page_of(PROJECTED["agent"], tmp_path, browser, 1280, 720)
+    try:
+        page.wait_for_selector(".widget-button", timeout=180_000)
+        page.evaluate(CHANGED, [".widget-html-content svg text", "textContent"])
+        button(page, "Run").click()
+        first_step_ms = page.evaluate(CHANGED_RESULT)
+        assert first_step_ms is not None, "no agent moved within a minute of Run"
+        watched = page.evaluate(WATCH, 30)
+        tp, gp = watched["times"]
+        sides = {name: {"steps": len(mine), "steps_per_second": len(mine) / 30, **longest_freeze(mine, other)}
+                 for name, mine, other in (("tp", tp, gp), ("gp", gp, tp))}
+        measured = {"click_to_first_step_ms": first_step_ms, "sides": sides,
+                    "retraining_shown": watched["retraining_shown"]}
+        page.screenshot(path=str(shots / "projector-agent-running.png"))
+        (shots / "projector-agent-run.json").write_text(json.dumps(measured, indent=1))
+        assert all(side["steps"] > 10 for side in sides.values()), sides  # both sides moved
+        for name, side in sides.items():  # a long wait on one side is said, and the other side went on
+            if side["longest_freeze_s"] > 1.0:
+                assert watched["retraining_shown"] and side["other_side_steps_meanwhile"] > 0, (name, sides)
+    finally:
+        server.kill()

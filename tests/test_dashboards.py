@@ -11,6 +11,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np
+import pandas as pd
 import pytest
 from matplotlib.figure import Figure
 
@@ -379,7 +380,7 @@ def test_live_dashboard_runs_to_the_end_and_matches_a_plain_run(live):
     live.run_steps(2)
     live.fast_forward(10)
     assert live.finished
-    assert live.metrics_image.value[:4] == b"\x89PNG"
+    assert bytes(live.metrics_image.value).lstrip().startswith(b"<?xml") and b"<svg" in bytes(live.metrics_image.value)
     plain = run_experiment(live.config().replace(model="tp"))
     import pandas as pd
 
@@ -393,7 +394,7 @@ def test_a_live_dashboard_of_two_settings_of_one_model():
     sides = {"per step": ("one prior per step", {"model": "gp", "prior_draw": "per_step"}),
              "per action": ("a prior per action", {"model": "gp", "prior_draw": "per_action"})}
     live = agent_dashboard(episodes=2, n_switch_states=2, config=ExperimentConfig(**SMALL), sides=sides)
-    assert "one prior per step" in live.children[4].children[0].children[0].value
+    assert "one prior per step" in live.headers["per step"].value
     live.fast_forward(2)
     step, action = live.experiments["per step"], live.experiments["per action"]
     assert (step.config.model, step.config.prior_draw) == ("gp", "per_step")
@@ -608,3 +609,84 @@ def test_fast_forward_shows_its_progress_and_a_second_press_while_running_is_ans
     assert any("Fast-forwarding: episode 1 of 2" in text for text in seen)
     assert any("Fast-forwarding: episode 2 of 2" in text for text in seen)
     assert all(len(e.episodes) == 2 for e in live.experiments.values())
+
+
+# -- no silent freezes, a quick start, projector size (issue 30, items 2 and 3) ------------------------------
+def test_the_runs_are_prepared_ahead_and_run_as_the_plain_paired_runs():
+    from sarsp_edu.experiment import paired_experiments
+
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL))
+    preparation = live._preparer.claim(live.config())  # begun in the background at construction
+    assert preparation is not None
+    ahead = {name: preparation.wait_for(name) for name in live.sides}
+    plain = paired_experiments(live.config())
+    for name in live.sides:
+        ahead[name].run_episode()
+        plain[name].run_episode()
+        pd.testing.assert_frame_equal(ahead[name].records(), plain[name].records())
+
+
+def test_a_slow_side_says_why_it_waits_and_the_other_side_goes_on(monkeypatch):
+    import asyncio
+    import time as clock
+
+    live = agent_dashboard(episodes=3, n_switch_states=1, config=ExperimentConfig(**SMALL))
+    live.speed.value = 60
+    live.prepare()
+    slow = live.experiments["gp"]
+    plain_step = slow.step
+    seen = []
+
+    def retraining_step():  # a corrective update's refit, made long
+        slow.agent.retraining = True
+        clock.sleep(1.2)
+        slow.agent.retraining = False
+        return plain_step()
+
+    monkeypatch.setattr(slow, "step", retraining_step)
+    live.headers["gp"].observe(lambda change: seen.append(change["new"]), names="value")
+
+    async def scenario():
+        task = live.start()
+        await asyncio.sleep(1.0)
+        steps_of_tp_while_gp_waits = len(live._frame_times["tp"])
+        live.stop()
+        await task
+        return steps_of_tp_while_gp_waits
+
+    tp_steps = asyncio.run(scenario())
+    assert tp_steps >= 5, "the TP side should step while the GP side retrains"
+    assert any("retraining the cost model after a corrective update" in text for text in seen), seen
+
+
+def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
+    from sarsp_edu import dashboard
+    from sarsp_edu.widgets import projector, tail_decay_dashboard
+
+    monkeypatch.setattr(dashboard, "_SWITCH", {"on": None})
+    monkeypatch.delenv("VOILA_KERNEL_ID", raising=False)
+    monkeypatch.setenv("SARSP_EDU_PROJECTOR", "0")
+    tails = tail_decay_dashboard()
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), prepare_ahead=False)
+    assert not tails.projector and "sarsp-projector" not in tails._dom_classes
+    normal_width = tails.controls["nu"].layout.width
+    assert 'font-size="13"' in live.worlds["tp"].value
+    projector(True)
+    for board in (tails, live):
+        assert board.projector and "sarsp-projector" in board._dom_classes
+    assert int(tails.controls["nu"].layout.width[:-2]) > int(normal_width[:-2])
+    assert tails.images[0].layout.width.endswith("px") and tails.pictures.layout.flex_flow == "row wrap"
+    assert 'font-size="18"' in live.worlds["tp"].value  # the grid's title, redrawn
+    later = tail_decay_dashboard()
+    assert later.projector  # and those made after the switch
+    projector(False)
+    assert not tails.projector and tails.controls["nu"].layout.width == normal_width
+    assert tails.images[0].layout.width.endswith("%")
+    monkeypatch.setattr(dashboard, "_SWITCH", {"on": None})
+    monkeypatch.setenv("SARSP_EDU_PROJECTOR", "1")
+    assert dashboard.projector_default()
+    monkeypatch.delenv("SARSP_EDU_PROJECTOR")
+    monkeypatch.setenv("VOILA_KERNEL_ID", "any")
+    assert dashboard.projector_default()  # Voila's kernels
+    with pytest.raises(TypeError, match="on must be True or False"):
+        projector("yes")
