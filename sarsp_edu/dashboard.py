@@ -15,12 +15,15 @@ dashboards are in :mod:`sarsp_edu.widgets` and :mod:`sarsp_edu.live`.
 **Projector size.**  :func:`projector` switches every dashboard of the
 kernel, those on show and those to come, to text the back of a lecture room
 can read: widget labels, readouts, buttons and tables at
-``PROJECTOR_TEXT_PX`` (18 px), and pictures whose text is
-``PROJECTOR_SCALE`` times larger against the same space (the figure is drawn
-smaller in inches, its text keeps its points, and the browser shows it at
-the same width).  It is on by default in Voila (which sets
-``VOILA_KERNEL_ID`` in the kernel) and wherever ``SARSP_EDU_PROJECTOR=1``;
-each dashboard's ``set_projector`` switches it alone.
+``PROJECTOR_TEXT_PX`` (18 px), and pictures shown at ``PROJECTOR_PX_PER_PT``
+CSS px per point, so that their 10 pt text is 14.5 px, wrapping onto a
+second row where they no longer fit side by side (the figures themselves do
+not change, so no legend or label moves).  The live agent dashboard's
+metric curves, one wide figure, are drawn ``PROJECTOR_SCALE`` times smaller
+in inches instead, their text keeping its points.  Projector size is on by
+default in Voila (which sets ``VOILA_KERNEL_ID`` in the kernel) and wherever
+``SARSP_EDU_PROJECTOR=1``; each dashboard's ``set_projector`` switches it
+alone.
 """
 
 from __future__ import annotations
@@ -91,8 +94,8 @@ def projector(on: bool = True) -> None:
     """Switch every dashboard of this kernel, on show and to come, to projector size (or back with ``False``).
 
     Projector size: widget labels, readouts, buttons and tables at 18 px, and
-    pictures with their text ``PROJECTOR_SCALE`` times larger, for the back
-    row of a lecture room at 1280x720.  One call at the top of a notebook
+    plot text at 14.5 px or more, for the back row of a lecture room at
+    1280x720.  One call at the top of a notebook
     switches all of its dashboards.
     """
     if not isinstance(on, (bool,)) and on not in (0, 1):
