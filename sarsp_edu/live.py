@@ -177,11 +177,16 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
     projector : bool, optional
         Projector size (see :func:`sarsp_edu.dashboard.projector`); default
         :func:`~sarsp_edu.dashboard.projector_default`.
+    autoplay : bool, default False
+        Start the agents when the dashboard is first shown, in a thread of
+        their own (``play_in_background``): they then move while the notebook
+        runs its later cells, where a click on *Run* waits for the kernel to
+        finish them.
     """
 
     def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
                  steps_per_second=30.0, config=None, sides=None, prepare_ahead: bool = True,
-                 projector: bool | None = None):
+                 projector: bool | None = None, autoplay: bool = False):
         from .config import ExperimentConfig
         from .preparation import PREPARATION_FIELDS
 
@@ -266,6 +271,9 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         self._preparer = _Preparer(self.sides)
         self._pool = None
         self._preparation = None
+        self._draw_lock = threading.RLock()  # the sides' threads draw; one picture at a time
+        self.autoplay = bool(autoplay)
+        self._autoplayed = False
         self.last_preview_seconds = float("nan")
         self._init_projector(projector)
         self._size_metrics_figure()
@@ -327,9 +335,10 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
     def _on_setting(self, change) -> None:
         """A slider moved: stop what runs, show the new world, prepare its runs, say the agents start on it at Run."""
         interrupted = self._running or self.experiments is not None
-        self._discard_run()
         try:
-            self.preview()
+            with self._draw_lock:  # a side's thread drawing its last step draws before this, or not at all
+                self._discard_run()
+                self.preview()
         except ValueError as exc:  # a combination the world cannot hold: said, not raised
             self.status.value = f"<span style='color:#b00020'>{html.escape(str(exc))}</span>"
             return
@@ -387,7 +396,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         figure = Figure(figsize=(5.6, 4.4))
         figure.subplots_adjust(left=0.09, right=1 - 1.8 / 5.6, bottom=0.11, top=0.9)
         ax = figure.subplots()
-        if self.experiments is None:
+        if not self.experiments:  # no run yet, or its sides still being fitted
             env = prepare(self.config()).env
             title = "the world after the shift (press Run)"
         else:
@@ -397,14 +406,17 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
             title = f"after {done} episode{'' if done == 1 else 's'}"
         plotting.plot_gridworld(ax, env.layout(), title=title)
         images = [render_figure(figure, "png", dpi)]
-        if self.experiments is not None and self._drawn_episodes > 0:
+        if self.experiments and self._drawn_episodes > 0:
             images.append(render_figure(self.metrics_figure, "png", dpi))
         return stitch_png(images)
 
     def _repr_mimebundle_(self, **kwargs):
-        # the widget view for live front ends, a PNG for static ones (GitHub, nbviewer)
+        # the widget view for live front ends, a PNG for static ones (GitHub, nbviewer): the world before the run
         bundle = dict(super()._repr_mimebundle_(**kwargs))
         bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
+        if self.autoplay and not self._autoplayed:
+            self._autoplayed = True
+            self.play_in_background()
         return bundle
 
     @property
@@ -431,8 +443,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
     # -- stepping -----------------------------------------------------------
     def step_pair(self, draw: bool = True) -> None:
         """One step of each agent that has episodes left."""
-        if self.experiments is None:
-            self.prepare()
+        self._every_side()
         for model, experiment in self.experiments.items():
             if not experiment.finished:
                 self._last[model] = experiment.step()
@@ -444,6 +455,14 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
             for times in self._frame_times.values():
                 times.append(now)
 
+    def _every_side(self) -> None:
+        """Both sides' runs, prepared here if no run is on show, waited for if one is still being fitted."""
+        if self.experiments is None:
+            self.prepare()
+        for name in self.sides:
+            if name not in self.experiments:
+                self._await_side(name, self._generation)
+
     def run_steps(self, n: int, draw: bool = True) -> None:
         """``n`` paired steps, synchronously."""
         with one_blas_thread():
@@ -454,8 +473,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
 
     def fast_forward(self, episodes: int = 10) -> None:
         """Run whole episodes of both agents without drawing each step, synchronously."""
-        if self.experiments is None:
-            self.prepare()
+        self._every_side()
         self._forward_quietly(episodes)
         self._draw_world()
         self._draw_metrics_if_new_episode()
@@ -470,9 +488,13 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
             rates.append((len(times) - 1) / (times[-1] - times[0]))
         return min(rates)
 
-    # -- asynchronous running (the buttons) ----------------------------------
+    # -- running without blocking the kernel (the buttons, autoplay) ---------------
     def start(self, episodes: int | None = None):
-        """Start animating (or fast-forward ``episodes`` episodes) without blocking the kernel."""
+        """Start animating (or fast-forward ``episodes`` episodes) without blocking the kernel.
+
+        Returns the asyncio task that runs it (None if a run is already under
+        way, which the status line then says).
+        """
         import asyncio
 
         if self._running:
@@ -483,14 +505,31 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         self._task = asyncio.ensure_future(self._loop(episodes))
         return self._task
 
+    def play_in_background(self) -> threading.Thread | None:
+        """Start animating in a thread of its own: the agents move even while the notebook runs other cells.
+
+        *Run* waits for the kernel, which handles a click only between cells;
+        this does not (``autoplay=True`` calls it when the dashboard is first
+        shown).  Returns the thread, or None if a run is already under way.
+        """
+        if self._running:
+            return None
+        self._running = True
+        generation = self._generation
+        thread = threading.Thread(target=self._play_reporting, args=(generation,), name="sarsp-edu-play",
+                                  daemon=True)
+        thread.start()
+        return thread
+
     def stop(self) -> None:
         self._running = False
         if self.experiments is not None:
             self.status.value = "Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders."
 
     def reset(self) -> None:
-        self._discard_run()
-        self.preview()
+        with self._draw_lock:
+            self._discard_run()
+            self.preview()
         self._prepare_ahead()
         self.status.value = "Press <b>Run</b> to start both agents."
 
@@ -500,125 +539,144 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         loop = asyncio.get_running_loop()
         generation = self._generation
         try:
-            if self.experiments is None:
-                config = self.config()
-                ahead = self._preparer.busy_with(config)
-                self.status.value = ("Preparing: " + ("the fits begun in the background are finishing"
-                                                      if ahead else
-                                                      f"{self.base_config.offline_episodes} offline episodes, "
-                                                      "outliers, fitting the agents' models")
-                                     + "; each agent starts as soon as its models are fitted ...")
-                if not ahead:
-                    self._preparer.request(config)
-                self._preparation = await loop.run_in_executor(None, self._preparer.claim, config)
-                if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
-                    return
-                if self._preparation is None:  # not found (never expected): prepared here instead
-                    await loop.run_in_executor(None, self.prepare)
-                else:
-                    self._begin({})  # each side joins when fitted
-            if episodes is not None:
-                await self._await_sides(generation)  # fast-forward needs every side
-                if generation != self._generation:
-                    return
-                for done in range(episodes):  # one episode at a time: progress shown, Stop obeyed
-                    if not self._running or self.finished:
-                        break
-                    self.status.value = f"Fast-forwarding: episode {done + 1} of {episodes} ..."
-                    await loop.run_in_executor(None, self._forward_quietly, 1)
-                    if generation != self._generation:
-                        return
-                    self._draw_world()
-                    self._draw_metrics_if_new_episode()
-            else:
-                self.status.value = "Running ..."
-                with one_blas_thread():  # entered once for the whole animation, not per frame
-                    await self._animate(generation)
+            if episodes is None:
+                await loop.run_in_executor(None, self._play, generation)
+                return
+            await loop.run_in_executor(None, self._claim_preparation, generation)
             if generation != self._generation:
                 return
-            self._draw_metrics_if_new_episode()
-            if self.finished:
-                self.status.value = "Finished every episode. <b>New run</b> starts again from the sliders."
-            elif self._running:
-                self.status.value = "Paused. <b>Run</b> continues."
+            for name in self.sides:  # fast-forward needs every side
+                await loop.run_in_executor(None, self._await_side, name, generation)
+            if generation != self._generation:
+                return
+            for done in range(episodes):  # one episode at a time: progress shown, Stop obeyed
+                if not self._running or self.finished:
+                    break
+                self.status.value = f"Fast-forwarding: episode {done + 1} of {episodes} ..."
+                await loop.run_in_executor(None, self._forward_quietly, 1)
+                if generation != self._generation:
+                    return
+                with self._draw_lock:
+                    self._draw_world()
+                    self._draw_metrics_if_new_episode()
+            self._say_where_it_stands(generation)
         except Exception as exc:  # the dashboard reports, the kernel lives on
-            self.status.value = f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>"
+            self._say_error(exc)
         finally:
             self._running = False
 
-    async def _animate(self, generation):
-        """Each side steps in its own worker thread, drawn as its steps come: a slow side never holds the other."""
-        import asyncio
-
-        if self._pool is None:
-            self._pool = ThreadPoolExecutor(max_workers=len(self.sides), thread_name_prefix="sarsp-edu-side")
-        self._frame_times = {name: [] for name in self.sides}
-        watcher = asyncio.ensure_future(self._show_waits(generation))
+    def _play_reporting(self, generation) -> None:
         try:
-            await asyncio.gather(*(self._run_side(name, generation) for name in self.sides))
+            self._play(generation)
+        except Exception as exc:  # a background thread has nobody to raise to
+            self._say_error(exc)
         finally:
-            watcher.cancel()
+            self._running = False
 
-    async def _await_sides(self, generation) -> None:
-        """Wait for the sides still being fitted (in the background) and add them to the runs shown."""
-        for name in self.sides:
-            await self._await_side(name, generation)
+    def _say_error(self, exc) -> None:
+        self.status.value = f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>"
 
-    async def _await_side(self, name, generation):
-        import asyncio
+    def _say_where_it_stands(self, generation) -> None:
+        if generation != self._generation:
+            return
+        with self._draw_lock:
+            self._draw_metrics_if_new_episode()
+        if self.finished:
+            self.status.value = "Finished every episode. <b>New run</b> starts again from the sliders."
+        elif self._running:
+            self.status.value = "Paused. <b>Run</b> continues."
 
+    def _claim_preparation(self, generation) -> None:
+        """Take the runs prepared (or being prepared) for the sliders' settings; each side joins when fitted."""
+        if self.experiments is not None:
+            return
+        config = self.config()
+        ahead = self._preparer.busy_with(config)
+        self.status.value = ("Preparing: " + ("the fits begun in the background are finishing" if ahead else
+                                              f"{self.base_config.offline_episodes} offline episodes, outliers, "
+                                              "fitting the agents' models")
+                             + "; each agent starts as soon as its models are fitted ...")
+        if not ahead:
+            self._preparer.request(config)
+        preparation = self._preparer.claim(config)
+        if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
+            return
+        if preparation is None:  # not found (never expected): prepared here instead
+            self.prepare()
+        else:
+            self._preparation = preparation
+            self._begin({})
+
+    def _play(self, generation) -> None:
+        """Animate until stopped or finished, blocking: each side steps in a worker thread of its own.
+
+        Run from a worker thread (by *Run* through the asyncio loop, or by
+        ``play_in_background``); the drawing is serialised by a lock.
+        """
+        self._claim_preparation(generation)
+        if generation != self._generation:
+            return
+        self.status.value = "Running ..."
+        if self._pool is None:  # the sides and the watch on them
+            self._pool = ThreadPoolExecutor(max_workers=len(self.sides) + 1, thread_name_prefix="sarsp-edu-side")
+        self._frame_times = {name: [] for name in self.sides}
+        with one_blas_thread():  # entered once for the whole animation, not per step
+            sides = [self._pool.submit(self._run_side, name, generation) for name in self.sides]
+            watch = self._pool.submit(self._show_waits, generation, sides)
+            for future in [*sides, watch]:
+                future.result()
+        self._say_where_it_stands(generation)
+
+    def _await_side(self, name, generation):
+        """A side's run, waiting for its models to be fitted (in the background) if they are not yet."""
         if name in self.experiments:
             return self.experiments[name]
         self.headers[name].value = (f"<b>{html.escape(self.sides[name][0])}</b> <span style='color:#b35900'>"
                                     "⏳ fitting its models ...</span>")
-        loop = asyncio.get_running_loop()
-        experiment = await loop.run_in_executor(None, self._preparation.wait_for, name)
+        experiment = self._preparation.wait_for(name)
         if experiment is None:  # abandoned part-way: only when newer settings were asked for, so stale
             return None
-        if generation == self._generation:
-            self.experiments[name] = experiment
-            self._draw_side(name)
+        with self._draw_lock:
+            if generation == self._generation:
+                self.experiments[name] = experiment
+                self._draw_side(name)
         return experiment
 
-    async def _run_side(self, name, generation):
-        import asyncio
-
-        loop = asyncio.get_running_loop()
-        experiment = await self._await_side(name, generation)
-        if experiment is None or generation != self._generation:
+    def _run_side(self, name, generation) -> None:
+        experiment = self._await_side(name, generation)
+        if experiment is None:
             return
         while self._running and generation == self._generation and not experiment.finished:
             start = time.perf_counter()
             self._stepping_since[name] = start
             try:
-                record = await loop.run_in_executor(self._pool, experiment.step)
+                record = experiment.step()
             finally:
                 self._stepping_since[name] = None
-            if generation != self._generation:
-                return
-            self._last[name] = record
-            self._draw_side(name)
-            times = self._frame_times[name]
-            now = time.perf_counter()
-            if times:
-                self.longest_wait_seconds[name] = max(self.longest_wait_seconds[name], now - times[-1])
-            times.append(now)
-            steps = min(len(t) for t in self._frame_times.values())
-            if steps > self.frames:
-                self.frames = steps
-                if steps % 10 == 0:
-                    self.status.value = (f"Running: {steps} steps shown, "
-                                         f"{self.displayed_steps_per_second:.1f} steps per second.")
-            self._draw_metrics_if_new_episode(throttle=True)
-            await asyncio.sleep(max(0.0, 1.0 / self.speed.value - (time.perf_counter() - start)))
+            with self._draw_lock:
+                if generation != self._generation:  # a slider moved: the preview is on show now
+                    return
+                self._last[name] = record
+                self._draw_side(name)
+                times = self._frame_times[name]
+                now = time.perf_counter()
+                if times:
+                    self.longest_wait_seconds[name] = max(self.longest_wait_seconds[name], now - times[-1])
+                times.append(now)
+                steps = min(len(t) for t in self._frame_times.values())
+                if steps > self.frames:
+                    self.frames = steps
+                    if steps % 10 == 0:
+                        self.status.value = (f"Running: {steps} steps shown, "
+                                             f"{self.displayed_steps_per_second:.1f} steps per second.")
+                self._draw_metrics_if_new_episode(throttle=True)
+            time.sleep(max(0.0, 1.0 / self.speed.value - (time.perf_counter() - start)))
 
-    async def _show_waits(self, generation):
+    def _show_waits(self, generation, sides) -> None:
         """Every tenth of a second: a side whose step has taken over WAIT_SHOWN_AFTER says why it waits."""
-        import asyncio
-
-        while generation == self._generation:
+        while generation == self._generation and not all(side.done() for side in sides):
             now = time.perf_counter()
-            for name, since in self._stepping_since.items():
+            for name, since in list(self._stepping_since.items()):
                 if since is not None and now - since > WAIT_SHOWN_AFTER and name in self.experiments:
                     agent = self.experiments[name].agent
                     why = ("retraining the cost model after a corrective update" if agent.retraining
@@ -626,7 +684,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
                     self.headers[name].value = (
                         f"<b>{html.escape(self.sides[name][0])}</b> <span style='color:#b35900'>⏳ {why} "
                         f"({now - since:.1f} s); the other side goes on</span>")
-            await asyncio.sleep(0.1)
+            time.sleep(0.1)
 
     def _forward_quietly(self, episodes):  # every side is there: fast-forward waits for them
         with one_blas_thread():

@@ -476,3 +476,43 @@ def test_the_live_agents_start_at_once_and_neither_side_freezes_silently(tmp_pat
                 assert watched["retraining_shown"] and side["other_side_steps_meanwhile"] > 0, (name, sides)
     finally:
         server.kill()
+
+
+def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, browser, shots, monkeypatch):
+    """The lecturer's Run All: the time to the first agent step, while the tutorial's later cells still run."""
+    monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))  # the stored sweep its section 6 reads
+    work = tmp_path / "lab"
+    work.mkdir()
+    shutil.copy(ROOT / "tutorials" / "04_sarsp_live.ipynb", work / "04.ipynb")
+    port = free_port()
+    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
+               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
+               f"--ServerApp.root_dir={work}"]
+    server = serve(command, work, f"http://127.0.0.1:{port}/lab")
+    moving = ("() => [...document.querySelectorAll('.widget-html-content svg text')]"
+              ".some(t => t.textContent.startsWith('episode'))")
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 720})
+        page.goto(f"http://127.0.0.1:{port}/lab/tree/04.ipynb", timeout=120_000)
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+        for attempt in range(2):  # as in the tutorial 2 test: the first Run All can be lost while the kernel starts
+            page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
+            page.locator("li[data-command='runmenu:run-all']").click()
+            started = time.time()
+            try:
+                page.wait_for_selector(".widget-html-content svg", timeout=120_000)
+                break
+            except playwright_api.TimeoutError:
+                if attempt:
+                    raise
+        page.wait_for_function(moving, timeout=180_000)
+        first_motion = time.time() - started
+        busy = page.locator('.jp-Notebook-ExecutionIndicator[data-status="busy"]').count() > 0
+        page.locator(".widget-html-content svg").first.scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / "jupyterlab-tutorial4-moving.png"))
+        (shots / "jupyterlab-tutorial4.json").write_text(json.dumps(
+            {"run_all_to_first_step_s": first_motion, "later_cells_still_running": busy}, indent=1))
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
+        assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
+    finally:
+        server.kill()

@@ -690,3 +690,23 @@ def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
     assert dashboard.projector_default()  # Voila's kernels
     with pytest.raises(TypeError, match="on must be True or False"):
         projector("yes")
+
+
+def test_autoplay_starts_the_agents_when_shown_in_a_thread_of_their_own():
+    import time as clock
+
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), autoplay=True)
+    live.speed.value = 60
+    assert not live._running  # made, not yet shown
+    bundle = live._repr_mimebundle_()
+    assert "image/png" in bundle  # the stored picture is the world before the run
+    assert live._running and live.play_in_background() is None  # started once, on the first showing
+    live._repr_mimebundle_()  # a second showing starts nothing more
+    deadline = clock.time() + 120
+    while live.frames < 3 and not live.finished and clock.time() < deadline:
+        clock.sleep(0.05)  # no asyncio loop runs here: the thread moves the agents by itself
+    live.stop()
+    while live._running and clock.time() < deadline:
+        clock.sleep(0.05)
+    assert live.frames >= 3 or live.finished
+    assert not live._running
