@@ -237,7 +237,7 @@ def _compare(args, parser) -> int:
     config = config_from_args(parser, args)
     _check_out(parser, args.out, "compare", config, args.overwrite)
     try:
-        comparison = compare(config, progress=not args.quiet, a=args.a)
+        comparison = compare(config, progress=not args.quiet, a=args.a, n_jobs=args.jobs)
     except ValueError as exc:
         parser.error(str(exc))
     print(f"TP vs GP, paired: {_describe(config)}")
@@ -540,7 +540,9 @@ def build_parser() -> argparse.ArgumentParser:
         "compare",
         help="run the TP and the GP paired and apply the preference criterion",
         description="Run the TP and the GP on the same world, shift, offline data, outliers and "
-        "episode starts and goals; print both summaries, the % differences and Definition 4.",
+        "episode starts and goals; print both summaries, the % differences and Definition 4. Where this "
+        "process may use two cores or more, the GP runs in a second process while the TP runs in this one "
+        "(one BLAS thread each; the records are the same as one after the other); --jobs 1 runs both here.",
     )
     add_config_arguments(cmp_, skip=("model",))
     cmp_.add_argument("--a", type=float, default=DEFINITION_4_A,
@@ -548,6 +550,9 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
     cmp_.add_argument("--overwrite", action="store_true",
                       help="replace a comparison of other settings already in --out DIR (refused without it)")
+    cmp_.add_argument("--jobs", type=int, choices=(1, 2), default=None,
+                      help="processes: 2 runs the GP beside the TP, 1 one after the other "
+                      "[default: 2 where two cores are free to this process, else 1]")
     cmp_.add_argument("--quiet", action="store_true", help="no progress bars")
     cmp_.set_defaults(func=_compare, parser=cmp_)
 

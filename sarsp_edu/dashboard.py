@@ -68,6 +68,7 @@ _PROJECTOR_CSS = (
     f" {_SCOPE} .widget-button, {_SCOPE} .widget-toggle-button, {_SCOPE} .widget-checkbox"
     f" {{height: 36px !important; line-height: 36px !important;}}"
     f" {_SCOPE} .widget-html-content, {_SCOPE} .widget-htmlmath-content {{line-height: 1.35 !important;}}"
+    f" {_SCOPE} .widget-checkbox {{width: auto !important;}}"  # its label whole, not cut at 300 px
     "</style>"
 )
 

@@ -383,7 +383,8 @@ def run_experiment(config: ExperimentConfig | None = None, progress: bool = Fals
     return _finish(Experiment(ExperimentConfig() if config is None else config), progress)
 
 
-def compare(config: ExperimentConfig | None = None, progress: bool = False, a: float = DEFINITION_4_A) -> Comparison:
+def compare(config: ExperimentConfig | None = None, progress: bool = False, a: float = DEFINITION_4_A,
+            n_jobs: int | None = None) -> Comparison:
     """Run the TP and the GP paired on one config (its ``model`` field is ignored).
 
     Both runs share the world, its shift, the offline data with its outlier
@@ -391,11 +392,40 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     the regression model differs.  (The reference implementation ran them
     one after the other, unpaired.)
 
+    Parameters
+    ----------
+    config : ExperimentConfig, optional
+    progress : bool, default False
+        A progress bar over the TP's episodes (and the GP's, when they run here).
+    a : float, default 100
+        Definition 4's TSR threshold.
+    n_jobs : {None, 1, 2}, default None
+        Processes: 2 runs the GP in a second process while this one runs the
+        TP (one BLAS thread each); 1 runs them one after the other here; None
+        chooses 2 where this process may use two cores or more, else 1.  The
+        records are the same either way, number for number.
+
     Returns
     -------
     Comparison
     """
+    from ._parallel import available_cores, in_second_process, stop_workers
+
     config = ExperimentConfig() if config is None else config
     check_a(a)  # before any work starts
+    if n_jobs is None:
+        n_jobs = 2 if available_cores() >= 2 else 1
+    if n_jobs not in (1, 2) or isinstance(n_jobs, bool):
+        raise ValueError(f"n_jobs must be 1 or 2 (one process per model), or None to choose, got n_jobs={n_jobs!r}")
+    if n_jobs == 2:
+        # Each process prepares the world itself: the preparation depends on the seed, not on the model, so
+        # both sides start from the same world, data and episode seeds as in the sequential run.
+        gp = in_second_process(run_experiment, config.replace(model="gp"))
+        try:
+            tp = run_experiment(config.replace(model="tp"), progress=progress)
+            return Comparison(tp, gp.result(), a)
+        except KeyboardInterrupt:
+            stop_workers()
+            raise
     experiments = paired_experiments(config)
     return Comparison(_finish(experiments["tp"], progress), _finish(experiments["gp"], progress), a)

@@ -371,7 +371,7 @@ def _lock_folder(results_dir: Path):
 def _run_cell(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tuple:
     """Run one paired cell; store it atomically if a folder is given."""
     m, p, nss, seed = key
-    comparison = compare(cell_config(base, m, p, nss, seed))
+    comparison = compare(cell_config(base, m, p, nss, seed), n_jobs=1)  # a sweep: one process per cell
     if results_dir is not None:
         _store_cell(Path(results_dir), key, comparison)
     return key, comparison
@@ -606,9 +606,9 @@ def _execute(base, todo, folder, n_jobs, scheduler):
         except KeyboardInterrupt:
             # stop the workers now, so that no process outlives the command or
             # leaves its semaphores behind (the finished cells are stored)
-            from joblib.externals.loky import get_reusable_executor
+            from ._parallel import stop_workers
 
-            get_reusable_executor().shutdown(wait=True, kill_workers=True)
+            stop_workers()
             if folder is not None:
                 _clear_staging(Path(folder))
             raise

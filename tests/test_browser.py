@@ -342,6 +342,10 @@ SIZES = """async () => {
   return {text: Math.min(...text), plots: plots, grid_titles: grids};
 }"""
 
+#: labels, checkboxes and buttons whose text does not fit their box (cut short, or ended with an ellipsis)
+CUT_LABELS = """() => [...document.querySelectorAll('.widget-label, .widget-checkbox label, .widget-button')]
+  .filter(e => e.offsetParent && e.textContent.trim() && e.scrollWidth > e.clientWidth + 1).map(e => e.textContent)"""
+
 #: the time from a value change to the changed picture, measured in the page
 CHANGED = """([selector, property]) => { window.__changed = new Promise(resolve => {
   // queried again at each frame: a widget's new HTML replaces the elements of the old
@@ -403,6 +407,8 @@ def test_a_projected_dashboard_is_readable_from_the_back_and_fits(name, tmp_path
         assert all(px >= 14 for px in sizes["plots"]), f"{name}: plot text of {sizes['plots']} px"
         assert all(px >= 18 for px in sizes["grid_titles"]), f"{name}: grid titles of {sizes['grid_titles']} px"
         assert all(track >= 150 for _, track in tracks), f"{name}: slider tracks {tracks}"
+        cut = page.evaluate(CUT_LABELS)
+        assert not cut, f"{name}: labels cut short at 1280x720: {cut}"
         page.screenshot(path=str(shots / f"projector-{name}-1280.png"))
         if name == "agent":
             # the grids and the key numbers of both agents on one screen

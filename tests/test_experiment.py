@@ -396,3 +396,24 @@ def test_stuck_share_by_hand_and_for_results_stored_before_it_existed():
 
     assert trapped_episodes(records).tolist() == [False, True, True, False]  # a success on 7 cells is no trap
     assert not trapped_episodes(records.drop(columns="final_cells")).any()
+
+
+# -- both cores for one comparison (issue 28, section 1) ----------------------------------------------------
+def test_a_comparison_in_two_processes_records_what_the_sequential_one_records_byte_for_byte(tmp_path):
+    config = TINY.replace(episodes=3, n_switch_states=2)
+    one, two = compare(config, n_jobs=1), compare(config, n_jobs=2)
+    one.save(tmp_path / "one")
+    two.save(tmp_path / "two")
+    for side in ("tp", "gp"):
+        assert (tmp_path / "one" / side / "records.csv").read_bytes() == \
+            (tmp_path / "two" / side / "records.csv").read_bytes()
+        assert getattr(one, side).config == getattr(two, side).config
+    assert one.verdict == two.verdict
+
+
+def test_a_comparison_says_which_process_counts_it_takes():
+    with pytest.raises(ValueError, match=r"n_jobs must be 1 or 2 \(one process per model\), or None to choose, "
+                                         r"got n_jobs=3"):
+        compare(TINY, n_jobs=3)
+    with pytest.raises(ValueError, match="got n_jobs=True"):
+        compare(TINY, n_jobs=True)

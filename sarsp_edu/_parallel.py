@@ -1,0 +1,58 @@
+"""A second process for the second half of a paired run (``compare``'s GP side).
+
+The two models of a comparison share nothing while they run, so on a machine
+with two free cores the GP's run goes to a worker process (loky, as joblib
+uses: a fresh interpreter, safe where threads are running) while this
+process runs the TP's.  Each runs with one BLAS thread.  The worker is kept
+for the next comparison; the warnings it raises are raised again here, in
+order, after the TP's own.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+
+__all__ = ["available_cores", "in_second_process", "stop_workers"]
+
+
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system says, else the CPU count)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def _call_recording_warnings(function, args, kwargs):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        value = function(*args, **kwargs)
+    return value, [(w.message, w.category) for w in caught]
+
+
+class _Pending:
+    def __init__(self, future):
+        self._future = future
+
+    def result(self):
+        """The call's value, once its warnings were raised again here."""
+        value, caught = self._future.result()
+        for message, category in caught:
+            warnings.warn(message, category, stacklevel=2)
+        return value
+
+
+def in_second_process(function, *args, **kwargs) -> _Pending:
+    """Start ``function(*args, **kwargs)`` in a worker process; ``.result()`` waits for its value."""
+    from joblib.externals.loky import get_reusable_executor
+
+    executor = get_reusable_executor(max_workers=1)
+    return _Pending(executor.submit(_call_recording_warnings, function, args, kwargs))
+
+
+def stop_workers() -> None:
+    """Stop the worker processes now (after Ctrl-C: none outlives the command or keeps its semaphores)."""
+    from joblib.externals.loky import get_reusable_executor
+
+    get_reusable_executor().shutdown(wait=True, kill_workers=True)
