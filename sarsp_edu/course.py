@@ -18,6 +18,7 @@ folder or a zip.
 from __future__ import annotations
 
 import copy
+import os
 import re
 import shutil
 import tempfile
@@ -179,8 +180,18 @@ def execute(notebook, folder, timeout: int = 900):
     """
     from nbclient import NotebookClient
 
-    NotebookClient(notebook, timeout=timeout, kernel_name="python3", store_widget_state=False,
-                   resources={"metadata": {"path": str(folder)}}).execute()
+    from .live import AUTOPLAY_VARIABLE
+
+    before = os.environ.get(AUTOPLAY_VARIABLE)
+    os.environ[AUTOPLAY_VARIABLE] = "0"  # the kernel inherits it: nobody watches a batch run
+    try:
+        NotebookClient(notebook, timeout=timeout, kernel_name="python3", store_widget_state=False,
+                       resources={"metadata": {"path": str(folder)}}).execute()
+    finally:
+        if before is None:
+            os.environ.pop(AUTOPLAY_VARIABLE, None)
+        else:
+            os.environ[AUTOPLAY_VARIABLE] = before
     notebook.metadata.pop("widgets", None)
     for cell in notebook.cells:
         cell.metadata.pop("execution", None)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import base64
 import html
+import os
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -35,6 +36,10 @@ TP_AND_GP = {
     "tp": ("Student-t process", {"model": "tp"}),
     "gp": ("Gaussian process", {"model": "gp"}),
 }
+
+#: the environment variable that, set to 0, keeps ``autoplay`` from starting: batch runs of the notebooks
+#: (the test suite, ``sarsp-edu course``), where nobody watches and the agents would only compete for the cores
+AUTOPLAY_VARIABLE = "SARSP_EDU_AUTOPLAY"
 
 #: a side whose step has taken this long shows why it waits (a retrain of its cost model, usually)
 WAIT_SHOWN_AFTER = 0.25
@@ -181,7 +186,8 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         Start the agents when the dashboard is first shown, in a thread of
         their own (``play_in_background``): they then move while the notebook
         runs its later cells, where a click on *Run* waits for the kernel to
-        finish them.
+        finish them.  ``SARSP_EDU_AUTOPLAY=0`` in the environment keeps it off
+        (batch runs of the notebooks, where nobody watches).
     """
 
     def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
@@ -414,7 +420,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         # the widget view for live front ends, a PNG for static ones (GitHub, nbviewer): the world before the run
         bundle = dict(super()._repr_mimebundle_(**kwargs))
         bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
-        if self.autoplay and not self._autoplayed:
+        if self.autoplay and not self._autoplayed and os.environ.get(AUTOPLAY_VARIABLE, "1") != "0":
             self._autoplayed = True
             self.play_in_background()
         return bundle

@@ -487,6 +487,7 @@ def test_the_live_agents_start_at_once_and_neither_side_freezes_silently(tmp_pat
 def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, browser, shots, monkeypatch):
     """The lecturer's Run All: the time to the first agent step, while the tutorial's later cells still run."""
     monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))  # the stored sweep its section 6 reads
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
     work = tmp_path / "lab"
     work.mkdir()
     shutil.copy(ROOT / "tutorials" / "04_sarsp_live.ipynb", work / "04.ipynb")

@@ -692,8 +692,14 @@ def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
         projector("yes")
 
 
-def test_autoplay_starts_the_agents_when_shown_in_a_thread_of_their_own():
+def test_autoplay_starts_the_agents_when_shown_in_a_thread_of_their_own(monkeypatch):
     import time as clock
+
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "0")  # a batch run: shown, not started
+    quiet = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), autoplay=True)
+    quiet._repr_mimebundle_()
+    assert not quiet._running
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")
 
     live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), autoplay=True)
     live.speed.value = 60
