@@ -190,31 +190,50 @@ def test_live_agent_dashboard_in_voila(tmp_path, browser, shots):
         server.kill()
 
 
-def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
+@contextlib.contextmanager
+def tutorial_in_jupyterlab(name: str, tmp_path, browser, width: int, height: int):
+    """A copy of a tutorial opened in JupyterLab in a page of the given size, its kernel idle; the server stops after."""
     work = tmp_path / "lab"
     work.mkdir()
-    shutil.copy(ROOT / "tutorials" / "02_gp_vs_tp_outliers.ipynb", work / "02.ipynb")
+    shutil.copy(ROOT / "tutorials" / name, work / name)
     port = free_port()
     command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
                "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
                f"--ServerApp.root_dir={work}"]
     server = serve(command, work, f"http://127.0.0.1:{port}/lab")
     try:
-        page = browser.new_page(viewport={"width": 1500, "height": 1100})
-        page.goto(f"http://127.0.0.1:{port}/lab/tree/02.ipynb", timeout=120_000)
+        page = browser.new_page(viewport={"width": width, "height": height})
+        page.goto(f"http://127.0.0.1:{port}/lab/tree/{name}", timeout=120_000)
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
-        # A saved widget output renders no image in a fresh JupyterLab: the dashboard's
-        # image appears only once Run All has executed the cells (the busy indicator
-        # can come and go before a test sees it).
-        for attempt in range(2):
-            page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
-            page.locator("li[data-command='runmenu:run-all']").click()
-            try:
-                page.wait_for_selector("img.widget-image", timeout=120_000)
-                break
-            except playwright_api.TimeoutError:
-                if attempt:
-                    raise
+        yield page
+    finally:
+        server.kill()
+
+
+def run_all(page, until: str) -> float:
+    """Run > Run All Cells, once more if ``until`` does not appear (the first can be lost while the kernel
+    starts); the time.time() of the click that worked.
+
+    A saved widget output renders nothing in a fresh JupyterLab: a dashboard
+    appears only once Run All has executed its cell (the busy indicator can
+    come and go before a test sees it).
+    """
+    for attempt in range(2):
+        page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
+        page.locator("li[data-command='runmenu:run-all']").click()
+        started = time.time()
+        try:
+            page.wait_for_selector(until, timeout=120_000)
+            return started
+        except playwright_api.TimeoutError:
+            if attempt:
+                raise
+    raise AssertionError("unreachable")
+
+
+def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
+    with tutorial_in_jupyterlab("02_gp_vs_tp_outliers.ipynb", tmp_path, browser, 1500, 1100) as page:
+        run_all(page, "img.widget-image")
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
         page.wait_for_function("() => document.querySelectorAll('.jp-InputPrompt').length > 0 && "
                                "![...document.querySelectorAll('.jp-InputPrompt')].some(e => e.textContent.includes('*'))",
@@ -226,8 +245,6 @@ def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
         dashboard.scroll_into_view_if_needed()
         time.sleep(1.0)
         page.screenshot(path=str(shots / "jupyterlab_posterior_dashboard.png"))
-    finally:
-        server.kill()
 
 
 # --------------------------------------------------------------------------
@@ -488,30 +505,10 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
     """The lecturer's Run All: the time to the first agent step, while the tutorial's later cells still run."""
     monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))  # the stored sweep its section 6 reads
     monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
-    work = tmp_path / "lab"
-    work.mkdir()
-    shutil.copy(ROOT / "tutorials" / "04_sarsp_live.ipynb", work / "04.ipynb")
-    port = free_port()
-    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
-               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
-               f"--ServerApp.root_dir={work}"]
-    server = serve(command, work, f"http://127.0.0.1:{port}/lab")
     moving = ("() => [...document.querySelectorAll('.widget-html-content svg text')]"
               ".some(t => t.textContent.startsWith('episode'))")
-    try:
-        page = browser.new_page(viewport={"width": 1280, "height": 720})
-        page.goto(f"http://127.0.0.1:{port}/lab/tree/04.ipynb", timeout=120_000)
-        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
-        for attempt in range(2):  # as in the tutorial 2 test: the first Run All can be lost while the kernel starts
-            page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
-            page.locator("li[data-command='runmenu:run-all']").click()
-            started = time.time()
-            try:
-                page.wait_for_selector(".widget-html-content svg", timeout=120_000)
-                break
-            except playwright_api.TimeoutError:
-                if attempt:
-                    raise
+    with tutorial_in_jupyterlab("04_sarsp_live.ipynb", tmp_path, browser, 1280, 720) as page:
+        started = run_all(page, ".widget-html-content svg")
         page.wait_for_function(moving, timeout=180_000)
         first_motion = time.time() - started
         busy = page.locator('.jp-Notebook-ExecutionIndicator[data-status="busy"]').count() > 0
@@ -521,5 +518,3 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
             {"run_all_to_first_step_s": first_motion, "later_cells_still_running": busy}, indent=1))
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
-    finally:
-        server.kill()
