@@ -625,7 +625,8 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         self.status.value = "Running ..."
         if self._pool is None:  # the sides and the watch on them
             self._pool = ThreadPoolExecutor(max_workers=len(self.sides) + 1, thread_name_prefix="sarsp-edu-side")
-        self._frame_times = {name: [] for name in self.sides}
+        self._frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
+        self.frames = 0
         with one_blas_thread():  # entered once for the whole animation, not per step
             sides = [self._pool.submit(self._run_side, name, generation) for name in self.sides]
             watch = self._pool.submit(self._show_waits, generation, sides)
