@@ -43,16 +43,25 @@ class _Pending:
         return value
 
 
-def in_second_process(function, *args, **kwargs) -> _Pending:
-    """Start ``function(*args, **kwargs)`` in a worker process; ``.result()`` waits for its value."""
-    from joblib.externals.loky import get_reusable_executor
+_WORKER = {"executor": None}  # the comparison's own worker, apart from joblib's (a sweep's) reusable pool
 
-    executor = get_reusable_executor(max_workers=1)
-    return _Pending(executor.submit(_call_recording_warnings, function, args, kwargs))
+
+def in_second_process(function, *args, **kwargs) -> _Pending:
+    """Start ``function(*args, **kwargs)`` in a worker process; ``.result()`` waits for its value.
+
+    The worker is this module's own loky executor, kept for the next call; it
+    is not joblib's reusable pool, which a sweep's ``Parallel`` expects to
+    have made itself.
+    """
+    from joblib.externals.loky import ProcessPoolExecutor
+
+    if _WORKER["executor"] is None:
+        _WORKER["executor"] = ProcessPoolExecutor(max_workers=1)
+    return _Pending(_WORKER["executor"].submit(_call_recording_warnings, function, args, kwargs))
 
 
 def stop_workers() -> None:
-    """Stop the worker processes now (after Ctrl-C: none outlives the command or keeps its semaphores)."""
-    from joblib.externals.loky import get_reusable_executor
-
-    get_reusable_executor().shutdown(wait=True, kill_workers=True)
+    """Stop the worker now (after Ctrl-C: none outlives the command or keeps its semaphores)."""
+    executor, _WORKER["executor"] = _WORKER["executor"], None
+    if executor is not None:
+        executor.shutdown(wait=True, kill_workers=True)

@@ -606,9 +606,9 @@ def _execute(base, todo, folder, n_jobs, scheduler):
         except KeyboardInterrupt:
             # stop the workers now, so that no process outlives the command or
             # leaves its semaphores behind (the finished cells are stored)
-            from ._parallel import stop_workers
+            from joblib.externals.loky import get_reusable_executor
 
-            stop_workers()
+            get_reusable_executor().shutdown(wait=True, kill_workers=True)
             if folder is not None:
                 _clear_staging(Path(folder))
             raise
