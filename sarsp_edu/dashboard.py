@@ -99,7 +99,7 @@ def projector(on: bool = True) -> None:
     1280x720.  One call at the top of a notebook
     switches all of its dashboards.
     """
-    if not isinstance(on, (bool,)) and on not in (0, 1):
+    if not isinstance(on, bool) and on not in (0, 1):
         raise TypeError(f"on must be True or False, got on={on!r}")
     _SWITCH["on"] = bool(on)
     for dashboard in list(_DASHBOARDS):
@@ -141,12 +141,6 @@ class ProjectorMixin:
 
     def _resize_pictures(self) -> None:  # pragma: no cover - every dashboard overrides it
         raise NotImplementedError
-
-    @property
-    def picture_scale(self) -> float:
-        """How many times smaller a figure drawn to fill a fixed width is made in inches, its text the same
-        in points: 1, or ``PROJECTOR_SCALE`` in projector size."""
-        return PROJECTOR_SCALE if self.projector else 1.0
 
 
 def _walk(widget):
@@ -275,12 +269,12 @@ class Dashboard(ProjectorMixin, widgets.VBox):
         self.pictures = widgets.HBox(self.images, layout=widgets.Layout(width="100%"))
         super().__init__(children=[*rows, self.message, self.pictures, self.info])
         self._init_projector(projector)
-        self._lay_out_pictures()
+        self._resize_pictures()
         for control in controls.values():
             control.observe(self._on_change, names="value")
         self.refresh()
 
-    def _lay_out_pictures(self) -> None:
+    def _resize_pictures(self) -> None:
         """Notebook size: the pictures share one row.  Projector size: each is shown at PROJECTOR_PX_PER_PT
         CSS px per point (its 10 pt text at 14.5 px), and the row wraps where they do not fit side by side.
 
@@ -298,9 +292,6 @@ class Dashboard(ProjectorMixin, widgets.VBox):
         self.pictures.layout = widgets.Layout(
             width="100%", flex_flow="row wrap" if self.projector else "row",
             max_width="none" if self.projector else f"{total * 72 * self.max_scale:.0f}px")
-
-    def _resize_pictures(self) -> None:
-        self._lay_out_pictures()
 
     def snapshot(self, dpi: int = 72) -> bytes:
         """The pictures on show, side by side, as one PNG (what a static copy of the notebook shows)."""

@@ -24,8 +24,8 @@ from matplotlib.figure import Figure
 
 from . import markup, plotting
 from ._threads import one_blas_thread
-from .dashboard import (PROJECTOR_TEXT_PX, ProjectorMixin, control_row, fixed_layout_axes, render_figure, slider,
-                        stitch_png, wipe_axes)
+from .dashboard import (PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin, control_row, fixed_layout_axes,
+                        render_figure, slider, stitch_png, wipe_axes)
 
 __all__ = ["TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
@@ -45,12 +45,16 @@ AUTOPLAY_VARIABLE = "SARSP_EDU_AUTOPLAY"
 WAIT_SHOWN_AFTER = 0.25
 
 
+def changed_settings(sides: dict) -> dict:
+    """Name -> the settings that side changes: the dashboard's sides as ``experiments_on_one_world`` takes them."""
+    return {name: changes for name, (_, changes) in sides.items()}
+
+
 class _Preparation:
     """The runs of one setting as a worker thread fits them: each side appears as soon as its models are fitted."""
 
-    def __init__(self, condition, names):
+    def __init__(self, condition):
         self._condition = condition
-        self.names = tuple(names)
         self.experiments = {}
         self.error = None
         self.done = False
@@ -108,9 +112,8 @@ class _Preparer:
         """The preparation of ``config`` (finished or under way), handed out once; None if it was not requested."""
         with self._condition:
             key = self.key(config)
-            if self._pending and self.key(self._wanted) == key:  # requested, not begun: wait for it to begin
-                while self._pending and self.key(self._wanted) == key:
-                    self._condition.wait()
+            while self._pending and self.key(self._wanted) == key:  # requested, not begun: wait for it to begin
+                self._condition.wait()
             return self._preparations.pop(key, None)
 
     def _work(self) -> None:
@@ -124,13 +127,12 @@ class _Preparer:
                     return
                 config, self._pending = self._wanted, False
                 key = self.key(config)
-                preparation = _Preparation(self._condition, self.sides)
+                preparation = _Preparation(self._condition)
                 self._preparations = {key: preparation}  # only the latest settings are kept
                 self._condition.notify_all()
             try:
                 with one_blas_thread():
-                    for name, experiment in each_experiment_on_one_world(
-                            config, {n: changes for n, (_, changes) in self.sides.items()}):
+                    for name, experiment in each_experiment_on_one_world(config, changed_settings(self.sides)):
                         with self._condition:
                             preparation.experiments[name] = experiment
                             self._condition.notify_all()
@@ -376,8 +378,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         experiments = None if preparation is None else {name: preparation.wait_for(name) for name in self.sides}
         if experiments is None or None in experiments.values():  # not prepared ahead, or abandoned part-way
             with one_blas_thread():
-                experiments = experiments_on_one_world(
-                    config, {name: changes for name, (_, changes) in self.sides.items()})
+                experiments = experiments_on_one_world(config, changed_settings(self.sides))
         self._begin(experiments)
 
     def _begin(self, experiments) -> None:
@@ -432,7 +433,9 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
 
     # -- projector size ---------------------------------------------------------
     def _size_metrics_figure(self) -> None:
-        width, height = 14 / self.picture_scale, 2.5 if not self.projector else 2.6
+        """The metric curves' figure: in projector size PROJECTOR_SCALE times narrower in inches, its text
+        the same in points, so that the text is that much larger in the page's full width."""
+        width, height = (14 / PROJECTOR_SCALE, 2.6) if self.projector else (14, 2.5)
         self.metrics_figure.set_size_inches(width, height)
         self.metrics_figure.subplots_adjust(left=0.5 / width, right=1 - 0.15 / width, bottom=0.5 / height,
                                             top=1 - 0.35 / height, wspace=0.32 if self.projector else 0.28)
@@ -638,8 +641,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         """A side's run, waiting for its models to be fitted (in the background) if they are not yet."""
         if name in self.experiments:
             return self.experiments[name]
-        self.headers[name].value = (f"<b>{html.escape(self.sides[name][0])}</b> <span style='color:#b35900'>"
-                                    "⏳ fitting its models ...</span>")
+        self._say_waiting(name, "fitting its models ...")
         experiment = self._preparation.wait_for(name)
         if experiment is None:  # abandoned part-way: only when newer settings were asked for, so stale
             return None
@@ -688,10 +690,12 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
                     agent = self.experiments[name].agent
                     why = ("retraining the cost model after a corrective update" if agent.retraining
                            else "deciding")
-                    self.headers[name].value = (
-                        f"<b>{html.escape(self.sides[name][0])}</b> <span style='color:#b35900'>⏳ {why} "
-                        f"({now - since:.1f} s); the other side goes on</span>")
+                    self._say_waiting(name, f"{why} ({now - since:.1f} s); the other side goes on")
             time.sleep(0.1)
+
+    def _say_waiting(self, name, why: str) -> None:
+        self.headers[name].value = (f"<b>{html.escape(self.sides[name][0])}</b> "
+                                    f"<span style='color:#b35900'>⏳ {html.escape(why)}</span>")
 
     def _forward_quietly(self, episodes):  # every side is there: fast-forward waits for them
         with one_blas_thread():
