@@ -52,7 +52,12 @@ def staging_directory(parent, name: str) -> Path:
 
 
 def atomic_write_text(path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file and an atomic rename.
+    """Write ``text`` to ``path`` through a temporary file and an atomic rename (see :func:`atomic_write_bytes`)."""
+    return atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def atomic_write_bytes(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file and an atomic rename.
 
     The temporary file lives in the same folder (a rename is atomic only
     within one file system) and is removed if anything fails.
@@ -62,8 +67,8 @@ def atomic_write_text(path, text: str) -> Path:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         os.fchmod(fd, _permissions())
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
-            handle.write(text)
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp, path)

@@ -501,6 +501,23 @@ def _info(args, parser) -> int:
     return 0
 
 
+def _cache(args, parser) -> int:
+    from . import fitcache
+
+    directory = fitcache.cache_directory()
+    if directory is None:
+        print(f"the live dashboards' cache of fits is off ({fitcache.CACHE_VARIABLE}="
+              f"{os.environ.get(fitcache.CACHE_VARIABLE)!r})")
+        return 0
+    if args.clear:
+        print(f"removed {fitcache.clear()} stored fits from {directory}")
+        return 0
+    found = fitcache.entries()
+    print(f"{directory}: {len(found)} stored fits, {sum(size for _, size in found) / 2**20:.0f} MB "
+          f"(at most {fitcache.CACHE_BYTES / 2**20:.0f} MB are kept; {fitcache.CACHE_VARIABLE}=off turns it off)")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .config import (
         ABLATION_CELLS,
@@ -645,6 +662,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies, and the presets")
     info.set_defaults(func=_info, parser=info)
+
+    cache = sub.add_parser(
+        "cache", help="where the live dashboards keep their fitted runs, and how much (--clear removes them)",
+        description="The live dashboards keep each run they fit, so that the same settings start at once the "
+                    "next time (sarsp_edu.fitcache); compare, the sweeps and the tests always fit afresh.")
+    cache.add_argument("--clear", action="store_true", help="remove every stored fit")
+    cache.set_defaults(func=_cache, parser=cache)
     return parser
 
 

@@ -148,6 +148,8 @@ class Experiment:
             "episode_seconds": 0.0,
             "retrain_seconds": 0.0,
         }
+        #: True when :mod:`sarsp_edu.fitcache` loaded this experiment, fitted earlier with the same settings
+        self.loaded_from_cache = False
         self.act_seconds: list[float] = []  # one decision (both models, 4 actions)
         self.step_seconds: list[float] = []  # decision, environment step and learn (with any retrain)
         self.episodes: list[dict] = []
@@ -309,7 +311,7 @@ def _finish(experiment: "Experiment", progress: bool) -> ExperimentResult:
     return experiment.result()
 
 
-def experiments_on_one_world(config: ExperimentConfig, sides: dict) -> dict:
+def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False) -> dict:
     """Experiments of ``config`` with some settings changed, all on one prepared world.
 
     Every experiment shares the world, its shift, the offline data with its
@@ -331,15 +333,19 @@ def experiments_on_one_world(config: ExperimentConfig, sides: dict) -> dict:
     dict
         Name -> :class:`Experiment`.
     """
-    return dict(each_experiment_on_one_world(config, sides))
+    return dict(each_experiment_on_one_world(config, sides, cache=cache))
 
 
-def each_experiment_on_one_world(config: ExperimentConfig, sides: dict):
+def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False):
     """:func:`experiments_on_one_world` one experiment at a time: yields ``(name, Experiment)`` as each is fitted.
 
     The live dashboard starts a side as soon as its models are fitted, while
-    the other side's are still being fitted.
+    the other side's are still being fitted.  With ``cache=True`` a side
+    fitted before with the same settings, code and machine is loaded from
+    :mod:`sarsp_edu.fitcache` (the same bits as a new fit), and each side
+    fitted here is stored there.
     """
+    from . import fitcache
     from .preparation import PREPARATION_FIELDS
 
     if not isinstance(sides, dict) or not sides:
@@ -351,9 +357,16 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict):
             f"so change them in config (the fields of PREPARATION_FIELDS)"
         )
     configs = {name: config.replace(**changes) for name, changes in sides.items()}  # validated before any work
-    prepared = prepare(config)
+    stored = {name: fitcache.load(side) for name, side in configs.items()} if cache else {}
+    prepared = None
     for name, side in configs.items():
-        yield name, Experiment(side, prepared=prepared)
+        experiment = stored.get(name)
+        if experiment is None:
+            prepared = prepare(config) if prepared is None else prepared
+            experiment = Experiment(side, prepared=prepared)
+            if cache:
+                fitcache.store(experiment)
+        yield name, experiment
 
 
 def paired_experiments(config: ExperimentConfig) -> dict:

@@ -132,7 +132,8 @@ class _Preparer:
                 self._condition.notify_all()
             try:
                 with one_blas_thread():
-                    for name, experiment in each_experiment_on_one_world(config, changed_settings(self.sides)):
+                    sides = changed_settings(self.sides)
+                    for name, experiment in each_experiment_on_one_world(config, sides, cache=True):
                         with self._condition:
                             preparation.experiments[name] = experiment
                             self._condition.notify_all()
@@ -378,7 +379,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         experiments = None if preparation is None else {name: preparation.wait_for(name) for name in self.sides}
         if experiments is None or None in experiments.values():  # not prepared ahead, or abandoned part-way
             with one_blas_thread():
-                experiments = experiments_on_one_world(config, changed_settings(self.sides))
+                experiments = experiments_on_one_world(config, changed_settings(self.sides), cache=True)
         self._begin(experiments)
 
     def _begin(self, experiments) -> None:
@@ -731,7 +732,9 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
                    ("reached the goal", sum(e["task_completed"] for e in records)),
                    ("violations", sum(e["episode_cost"] for e in records)),
                    ("|S_u|", len(experiment.agent.unsafe_pairs)),
-                   ("corrective updates", experiment.agent.corrective_updates))
+                   ("corrective updates", experiment.agent.corrective_updates),
+                   ("offline fit", "loaded, fitted earlier" if experiment.loaded_from_cache
+                    else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
         self.summaries[name].value = (
             f"<table style='font-size:{self._text_px}px;border-collapse:collapse;margin-left:8px'>"
             + "".join(f"<tr><td style='padding:1px 8px 1px 0'>{label}</td><td style='text-align:right'>"

@@ -167,6 +167,15 @@ def tutorial_in_jupyterlab(name: str, tmp_path, browser, width: int, height: int
         server.kill()
 
 
+def kernel_idle(page) -> None:
+    """Wait for a kernel restart to end: the indicator leaves idle (if it is seen to), then returns to it."""
+    try:
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator:not([data-status="idle"])', timeout=5_000)
+    except playwright_api.TimeoutError:  # the restart was over before it could be seen
+        pass
+    page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+
+
 def run_all(page, until: str) -> float:
     """Run > Run All Cells, once more if ``until`` does not appear (the first can be lost while the kernel
     starts); the time.time() of the click that worked.
@@ -445,19 +454,36 @@ def test_the_live_agents_start_at_once_and_neither_side_freezes_silently(tmp_pat
 
 
 def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, browser, shots, monkeypatch):
-    """The lecturer's Run All: the time to the first agent step, while the tutorial's later cells still run."""
+    """The lecturer's rehearsal and class: Run All with nothing fitted yet, then, in a new kernel, Run All with
+    the fits the rehearsal stored; the time to the first agent step in each, while the later cells still run."""
     monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))  # the stored sweep its section 6 reads
     monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
+    cache = tmp_path / "fits"
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(cache))  # empty: the rehearsal fits
     moving = ("() => [...document.querySelectorAll('.widget-html-content svg text')]"
               ".some(t => t.textContent.startsWith('episode'))")
+    loaded = ".widget-html-content td:has-text('loaded, fitted earlier')"
     with tutorial_in_jupyterlab("04_sarsp_live.ipynb", tmp_path, browser, 1280, 720) as page:
         started = run_all(page, ".widget-html-content svg")
         page.wait_for_function(moving, timeout=180_000)
-        first_motion = time.time() - started
+        rehearsal = time.time() - started
         busy = page.locator('.jp-Notebook-ExecutionIndicator[data-status="busy"]').count() > 0
-        page.locator(".widget-html-content svg").first.scroll_into_view_if_needed()
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
+        assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
+        assert len(list(cache.glob("*.fit.pickle"))) == 2  # both agents' fits, kept for the class
+
+        # another day, in class: the kernel started afresh when the notebook opened, then Run All
+        page.locator('.jp-Toolbar-item[data-jp-item-name="restart"]').click()
+        page.locator(".jp-Dialog-button.jp-mod-accept").click()
+        kernel_idle(page)
+        started = run_all(page, loaded)  # a side of the new run, its fits loaded
+        page.wait_for_function(moving, timeout=60_000)
+        in_class = time.time() - started
+        page.evaluate("document.querySelector('.widget-html-content svg').scrollIntoView()")  # redrawn each step
         page.screenshot(path=str(shots / "jupyterlab-tutorial4-moving.png"))
         (shots / "jupyterlab-tutorial4.json").write_text(json.dumps(
-            {"run_all_to_first_step_s": first_motion, "later_cells_still_running": busy}, indent=1))
+            {"run_all_to_first_step_s": {"nothing_fitted_yet": rehearsal, "fits_stored_by_a_rehearsal": in_class},
+             "later_cells_still_running": busy}, indent=1))
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
+        assert page.locator(loaded).count() == 2
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0

@@ -122,6 +122,18 @@ def test_info_lists_the_presets(capsys):
         assert f"  {name}: " in out
 
 
+def test_cache_says_where_the_fits_are_and_clears_them(capsys, monkeypatch, tmp_path):
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path))
+    (tmp_path / "tp-0123.fit.pickle").write_bytes(b"x" * 2**20)
+    assert main(["cache"]) == 0
+    assert f"{tmp_path}: 1 stored fits, 1 MB" in capsys.readouterr().out
+    assert main(["cache", "--clear"]) == 0
+    assert "removed 1 stored fits" in capsys.readouterr().out and not list(tmp_path.iterdir())
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    assert main(["cache"]) == 0
+    assert "is off" in capsys.readouterr().out
+
+
 def test_ablation_list_and_bad_setting(capsys):
     assert main(["ablation", "--list"]) == 0
     assert "reference preset" in capsys.readouterr().out
