@@ -123,7 +123,8 @@ def check_X(X, name="X", n_features=None):
 
     X = np.asarray(X, dtype=float)
     if X.ndim != 2:
-        hint = " (for a single feature use X.reshape(-1, 1))" if X.ndim == 1 else ""
+        hint = (" (Reshape your data: X.reshape(-1, 1) for a single feature, X.reshape(1, -1) for a single sample)"
+                if X.ndim == 1 else "")
         raise ValueError(
             f"{name} must be a 2-D array of shape (n_samples, n_features), "
             f"got an array of shape {X.shape}{hint}"
@@ -137,7 +138,7 @@ def check_X(X, name="X", n_features=None):
     if not np.all(np.isfinite(X)):
         bad = np.argwhere(~np.isfinite(X))[0]
         raise ValueError(
-            f"{name} must be finite, got {X[tuple(bad)]} at row {bad[0]}, column {bad[1]}"
+            f"{name} must be finite (no NaN or inf), got {X[tuple(bad)]} at row {bad[0]}, column {bad[1]}"
         )
     check_scale(name, X)
     return X
@@ -172,6 +173,6 @@ def check_training(X, y):
         )
     if not np.all(np.isfinite(y)):
         i = int(np.flatnonzero(~np.isfinite(y))[0])
-        raise ValueError(f"y must be finite, got y[{i}]={y[i]}")
+        raise ValueError(f"y must be finite (no NaN or inf), got y[{i}]={y[i]}")
     check_scale("y", y)
     return X, y

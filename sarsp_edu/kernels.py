@@ -78,6 +78,19 @@ class RBF:
         self.amplitude = check_positive("amplitude", amplitude)
         self.length_scale = check_positive("length_scale", length_scale)
 
+    def get_params(self, deep: bool = True) -> dict:
+        """``amplitude`` and ``length_scale``: what scikit-learn's ``clone`` and nested parameters use."""
+        return {"amplitude": self.amplitude, "length_scale": self.length_scale}
+
+    def set_params(self, **params) -> "RBF":
+        """Set ``amplitude`` or ``length_scale`` (each checked); the model's ``set_params(kernel__...)`` calls it."""
+        unknown = sorted(set(params) - {"amplitude", "length_scale"})
+        if unknown:
+            raise ValueError(f"RBF has no parameters {unknown}; valid parameters are ['amplitude', 'length_scale']")
+        for name, value in params.items():
+            setattr(self, name, check_positive(name, value))
+        return self
+
     # -- hyperparameters in log space -------------------------------------
     @property
     def theta(self) -> np.ndarray:

@@ -47,6 +47,9 @@ import warnings
 
 import numpy as np
 from scipy import special, stats
+from sklearn import exceptions as _sklearn_exceptions
+from sklearn.base import BaseEstimator, RegressorMixin
+from sklearn.utils.validation import validate_data
 
 from ._validation import check_choice, check_int, check_nu, check_positive, check_training, check_X
 from .config import ADAM_STEPS, LEARNING_RATE, NOISE_CONVENTIONS, OPTIMIZERS, PRIORS
@@ -69,12 +72,11 @@ __all__ = ["GaussianProcess", "StudentTProcess", "NotFittedError", "ConvergenceW
 _LOG_2PI = math.log(2.0 * math.pi)
 
 
-class NotFittedError(ValueError, AttributeError):
-    """Raised when a model is used for prediction before ``fit``."""
-
-
-class ConvergenceWarning(UserWarning):
-    """The hyperparameter search did not reach an optimum (it ended on a bound, or out of reach of the data's scale)."""
+#: raised when a model is used for prediction before ``fit`` (scikit-learn's own class)
+NotFittedError = _sklearn_exceptions.NotFittedError
+#: the hyperparameter search did not reach an optimum (it ended on a bound, or out of reach of the data's
+#: scale); scikit-learn's own class
+ConvergenceWarning = _sklearn_exceptions.ConvergenceWarning
 
 
 # --------------------------------------------------------------------------
@@ -146,8 +148,14 @@ def tp_predictive_variance(latent, factor: float, noise, convention: str):
 # --------------------------------------------------------------------------
 # the shared model
 # --------------------------------------------------------------------------
-class _ProcessRegressor:
-    """Shared machinery of :class:`GaussianProcess` and :class:`StudentTProcess`."""
+class _ProcessRegressor(RegressorMixin, BaseEstimator):
+    """Shared machinery of :class:`GaussianProcess` and :class:`StudentTProcess`.
+
+    Both are scikit-learn regressors: ``get_params``/``set_params`` (nested
+    ``kernel__length_scale`` too), ``clone``, ``score`` (R^2), pipelines and
+    grid searches work as for any scikit-learn estimator, and the arguments
+    are checked in ``fit``, as scikit-learn's conventions ask.
+    """
 
     #: names of the log hyperparameters, in the order of ``theta``
     _base_names = ("log_amplitude", "log_length_scale", "log_noise_variance")
@@ -177,41 +185,19 @@ class _ProcessRegressor:
         self.max_fit_points = max_fit_points
         self.bounds = bounds
         self.rng = rng
-        # The arguments are stored as given (scikit-learn's convention, which
-        # clone() relies on) and checked at once, without changing them: a
-        # student who types nu=1.5 should hear about it here, not in fit.
-        # fit() checks again, after any set_params.
-        self._validate_params()
-
-    # -- parameters (scikit-learn's estimator API, without importing it) --
-    @classmethod
-    def _param_names(cls) -> list[str]:
-        signature = inspect.signature(cls.__init__)
-        return [name for name, p in signature.parameters.items() if name != "self" and p.kind != p.VAR_KEYWORD]
-
-    def get_params(self, deep: bool = True) -> dict:
-        """The constructor's arguments, as given (for ``sklearn.base.clone`` and grid searches)."""
-        return {name: getattr(self, name) for name in self._param_names()}
 
     def set_params(self, **params):
-        """Set constructor arguments by name; each is checked as the constructor checks it."""
-        valid = self._param_names()
-        unknown = sorted(set(params) - set(valid))
-        if unknown:
-            raise ValueError(f"{type(self).__name__} has no parameters {unknown}; valid parameters are {valid}")
-        old = self.get_params()
-        for name, value in params.items():
-            setattr(self, name, value)
-        try:
-            self._validate_params()
-        except ValueError:
-            for name, value in old.items():
-                setattr(self, name, value)
-            raise
-        return self
+        """Set constructor arguments by name, ``kernel__length_scale`` too; checked at the next ``fit``.
 
-    def _validate_params(self):
-        """Check every constructor argument; changes none of them."""
+        With ``kernel=None`` (the default RBF(1, 1)), a nested kernel
+        argument makes the default kernel explicit first.
+        """
+        if self.kernel is None and "kernel" not in params and any(k.startswith("kernel__") for k in params):
+            self.kernel = RBF()
+        return super().set_params(**params)
+
+    def _check_params(self):
+        """Check every constructor argument (in ``fit``); changes none of them."""
         if self.kernel is not None and not isinstance(self.kernel, RBF):
             raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
         check_positive("noise_variance", self.noise_variance)
@@ -369,7 +355,10 @@ class _ProcessRegressor:
         -------
         self
         """
-        self._validate_params()  # again: set_params may have changed an argument
+        self._check_params()
+        # scikit-learn's checks of shape, type and length (complex or sparse data refused, y of shape
+        # (n, 1) flattened with a warning; sets n_features_in_), then ours, which name a non-finite entry
+        X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64, ensure_all_finite=False)
         X, y = check_training(X, y)
         theta0 = self._initial_theta()
         if self.optimizer is None:
@@ -582,13 +571,17 @@ class _ProcessRegressor:
                 f"This {type(self).__name__} is not fitted yet: call fit(X, y) before predicting"
             )
 
-    def predict(self, X, return_var: bool = False, return_cov: bool = False, include_noise: bool = False):
-        """Posterior predictive mean, and optionally variance or covariance.
+    def predict(self, X, return_std: bool = False, return_var: bool = False, return_cov: bool = False,
+                include_noise: bool = False):
+        """Posterior predictive mean, and optionally standard deviation, variance or covariance.
 
         Parameters
         ----------
         X : array-like of shape (m, d)
             Query points.
+        return_std : bool, default False
+            Also return the predictive standard deviation at each query point
+            (as scikit-learn's ``GaussianProcessRegressor.predict``).
         return_var : bool, default False
             Also return the predictive variance at each query point
             (paper eq. 5 for the GP, eq. 6 in Shah et al.'s form for the TP).
@@ -601,23 +594,27 @@ class _ProcessRegressor:
         Returns
         -------
         mean : ndarray of shape (m,)
+        std : ndarray of shape (m,), if ``return_std``
         var : ndarray of shape (m,), if ``return_var``
         cov : ndarray of shape (m, m), if ``return_cov``
+            In this order, each only if asked for.
         """
         self._check_fitted()
-        X = check_X(X, n_features=self.X_train_.shape[1])
+        X = check_X(validate_data(self, X, reset=False, dtype=np.float64, ensure_all_finite=False))
         K_trans = self.kernel_.from_squared_distances(squared_distances(X, self.X_unique_))
         # paper eq. 4; Alg. 2.1, line 4
         mean = K_trans @ self.alpha_
-        if not (return_var or return_cov):
+        if not (return_std or return_var or return_cov):
             return mean
         out = [mean]
         # Alg. 2.1, line 5: v = L \ k*
         V = solve_lower(self.L_, K_trans.T)
-        if return_var:
+        if return_std or return_var:
             # paper eq. 5; Alg. 2.1, line 6
             latent = self.kernel_.diag(X) - np.einsum("ij,ij->j", V, V)
-            out.append(self._scale(np.maximum(latent, 0.0), include_noise, np.ones(len(mean))))
+            var = self._scale(np.maximum(latent, 0.0), include_noise, np.ones(len(mean)))
+            out += [np.sqrt(var)] if return_std else []
+            out += [var] if return_var else []
         if return_cov:
             latent = self.kernel_(X) - V.T @ V
             out.append(self._scale(0.5 * (latent + latent.T), include_noise, np.eye(len(mean))))
@@ -716,10 +713,6 @@ class _ProcessRegressor:
         # y = mean + sqrt((df - 2) / W) z, W ~ chi2(df), z ~ N(0, cov): a
         # multivariate t with covariance cov (Shah et al.'s parameterisation)
         return mean[:, None] + np.sqrt((df - 2.0) / rng.chisquare(df, size=n_samples))[None, :] * z
-
-    def __repr__(self) -> str:
-        fitted = "fitted" if hasattr(self, "L_") else "not fitted"
-        return f"{type(self).__name__}(kernel={self.kernel!r}, noise_variance={self.noise_variance:.4g}, optimizer={self.optimizer!r}; {fitted})"
 
 
 class GaussianProcess(_ProcessRegressor):
@@ -888,8 +881,8 @@ class StudentTProcess(_ProcessRegressor):
             rng=rng,
         )
 
-    def _validate_params(self):
-        super()._validate_params()
+    def _check_params(self):
+        super()._check_params()
         check_nu(self.nu)
         if not isinstance(self.fit_nu, (bool, np.bool_)):
             raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
@@ -921,6 +914,3 @@ class StudentTProcess(_ProcessRegressor):
 
     def _predictive_variance(self, latent, factor, noise):
         return tp_predictive_variance(latent, factor, noise, self.noise_convention)
-
-    def __repr__(self) -> str:
-        return super().__repr__().replace("(kernel=", f"(nu={self.nu:.4g}, kernel=", 1)
