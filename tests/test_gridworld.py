@@ -377,3 +377,18 @@ def test_the_registration_truncates_with_timelimit_where_the_environment_does():
         _, _, terminated, truncated, _ = env.step(action)
         steps += 1
     assert truncated and not terminated and steps == 100
+
+
+def test_vector_environments_seed_and_step_each_copy():
+    import gymnasium
+
+    envs = gymnasium.make_vec("sarsp_edu/SafeGridWorld-v0", num_envs=3, vectorization_mode="sync")
+    observations, infos = envs.reset(seed=5)  # copies seeded 5, 6, 7: the worlds of those seeds
+    assert observations.shape == (3, *envs.single_observation_space.shape)
+    for i, seed in enumerate((5, 6, 7)):
+        single = SafeGridWorld(seed=seed)
+        np.testing.assert_array_equal(observations[i], single.reset(seed=seed)[0])
+    for _ in range(120):  # past T_max: every copy ends an episode and starts the next by itself
+        observations, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
+        assert observations.shape == (3, *envs.single_observation_space.shape) and rewards.shape == (3,)
+    envs.close()
