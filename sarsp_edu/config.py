@@ -21,7 +21,10 @@ from ._validation import (
     check_switch_states,
 )
 
-__all__ = ["ExperimentConfig", "PRESETS", "PRESET_DOCS", "PRESET_FIELDS", "preset_of"]
+__all__ = [
+    "AgentSettings", "DataSettings", "ExperimentConfig", "ModelSettings", "PRESETS", "PRESET_DOCS", "PRESET_FIELDS",
+    "WorldSettings", "preset_of",
+]
 
 # -- the world (paper section 5.1) ------------------------------------------
 #: the paper's world: a 10 x 10 grid with 15 unsafe states
@@ -34,6 +37,10 @@ ACTION_MOVES = ((1, 0), (0, 1), (-1, 0), (0, -1))
 #: last row and column (the reference code)
 PLACEMENTS = ("full", "reference")
 
+
+def placement_span(size: int, placement: str = "full") -> int:
+    """The side of the area where objects may be placed: the grid's, or one less off the last row and column."""
+    return size if placement == "full" else size - 1
 
 
 def unsafe_capacity(size: int, placement: str = "full") -> int:
@@ -50,7 +57,7 @@ def unsafe_capacity(size: int, placement: str = "full") -> int:
     reference code's 9 x 9 placement area.  (The spacing rule alone would
     allow a whole chessboard colour, 50, which no shift could then move.)
     """
-    span = size if placement == "full" else size - 1
+    span = placement_span(size, placement)
     return max((span * span - 3) // 5, 0)
 
 
@@ -63,7 +70,7 @@ def check_n_unsafe(n_unsafe, size: int, placement: str, size_name: str = "size")
             f"{size_name} must be at least {smallest} with placement={placement!r}: a smaller grid leaves no "
             f"room for an unsafe state apart from the start, the goal and the agent, got {size_name}={size}"
         )
-    span = size if placement == "full" else size - 1
+    span = placement_span(size, placement)
     if isinstance(n_unsafe, bool) or not isinstance(n_unsafe, numbers.Integral) or not 1 <= n_unsafe <= capacity:
         raise ValueError(
             f"n_unsafe must be an integer from 1 to {capacity}, the most unsafe states that can always be "
@@ -78,6 +85,12 @@ OFFLINE_EPISODES = 100
 #: the reference implementation's duplicate caps
 COST_DUPLICATES = 12
 REWARD_DUPLICATES = 1
+
+# -- the models (section 3.2) -------------------------------------------------
+#: the TP's degrees of freedom, which the paper fixes at 3
+NU = 3.0
+#: the regression models an experiment can run
+MODELS = ("tp", "gp")
 
 # -- hyperparameter fits (section 5.2) ---------------------------------------
 #: the optimisers a model may use (None: keep the constructor's hyperparameters)
@@ -172,108 +185,267 @@ def _field(default, help: str, **metadata):
     return field(default=default, metadata={"help": help, **metadata})
 
 
-@dataclass(frozen=True)
-class ExperimentConfig:
-    """Every setting of one run; the defaults are the paper's (and its reference code's).
+# -- each setting's check, written once -----------------------------------------
+def _check_nu(nu):
+    if isinstance(nu, numbers.Real) and nu > LIMITS["nu"][0]:  # before check_nu's looser bound
+        raise ValueError(f"nu must be a number above 2 and at most {LIMITS['nu'][0]:g} ({LIMITS['nu'][1]}), "
+                         f"got nu={nu!r}")
+    check_nu(nu)
 
-    Each field's ``metadata["help"]`` documents it; the ``sarsp-edu`` command
-    builds its flags from the same text.
-    """
 
-    model: str = _field("tp", "the regression model of both the cost and the reward model: 'tp' or 'gp'",
-                        choices=("tp", "gp"))
-    nu: float = _field(3.0, "TP degrees of freedom, > 2 (paper: fixed at 3)")
-    outlier_magnitude: float = _field(40.0, "outlier magnitude m: outlier rows are multiplied by m (paper: 40, 60, 80)",
-                                      flag="m")
-    outlier_proportion: float = _field(0.2, "outlier proportion p in [0, 1] (paper: 0.2, 0.3, 0.4)", flag="p")
-    n_switch_states: int = _field(2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)", flag="nss")
-    episodes: int = _field(250, "online episodes (paper: 250)")
-    offline_episodes: int = _field(OFFLINE_EPISODES, "random-policy episodes of offline data (paper: 100)")
-    grid_size: int = _field(GRID_SIZE, "grid side n (paper: 10)")
-    n_unsafe: int = _field(N_UNSAFE, "number of unsafe states (paper: 15)")
-    d: float = _field(D, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
-    variance_threshold: float = _field(VARIANCE_THRESHOLD,
-                                       "sigma*^2: the largest cost variance of a safe action (reference code: 0.8)")
-    k_prior: int = _field(K_PRIOR, "random rows in each strategic prior (paper's text: 100; the reference "
-                          "code, which produced the paper's figures: 400)")
-    n_matching: int = _field(N_MATCHING, "rows matching each query added to the prior, at most (paper: 10)")
-    prior_draw: str = _field("per_action", "how strategic priors are drawn: 'per_action' (a fresh prior for every "
-                             "action and model, as the reference code) or 'per_step' (one per model and step, shared "
-                             "by the four actions, as the printed Algorithm 1)", choices=PRIOR_DRAWS)
-    cost_outliers: bool = _field(True, "inject outliers into the cost model's data (paper: yes)")
-    reward_outliers: bool = _field(True, "inject outliers into the reward model's data (paper: yes)")
-    seed: int = _field(0, "seed of every random choice of the run")
-    max_steps: int | None = _field(None, "steps before an episode is truncated (default: grid_size^2, the paper's T_max)")
-    placement: str = _field("full", "where objects are placed: 'full' grid (paper's text) or 'reference' (never "
-                            "the last row/column, as the reference code)", choices=PLACEMENTS)
-    cost_duplicates: int = _field(COST_DUPLICATES, "duplicate cap of the cost model's data (reference code: 12)")
-    reward_duplicates: int = _field(REWARD_DUPLICATES, "duplicate cap of the reward model's data (reference code: 1)")
-    predictive: str = _field("closed_form", "how predictions are made: 'closed_form' (exact) or 'sample' (the "
-                             "reference code's 150-draw estimate)", choices=PREDICTIVE)
-    n_samples: int = _field(N_SAMPLES, "draws per prediction with predictive='sample' (reference code: 150)")
-    noise_convention: str = _field("tfp", "how the TP's predictive variance includes the noise: 'tfp' (unscaled, "
-                                   "as the reference code's library; unlike a bare StudentTProcess, whose "
-                                   "default is 'shah') or 'shah' (scaled)", choices=NOISE_CONVENTIONS)
-    optimizer: str = _field("adam", "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'", choices=OPTIMIZERS)
-    learning_rate: float = _field(LEARNING_RATE, "Adam's learning rate (paper: 0.1)")
-    optimizer_steps: int = _field(ADAM_STEPS, "Adam steps, or L-BFGS-B's iteration cap (paper: 50 Adam steps)")
-    prior: str | None = _field("lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), reference code) "
-                               "or None (plain marginal likelihood)", choices=PRIORS)
-    cost_fit_points: int | None = _field(COST_FIT_POINTS, "rows of the cost model's data for each "
-                                         "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
-                                         "fast, the rows hold ~800 distinct inputs)")
-    reward_fit_points: int | None = _field(REWARD_FIT_POINTS, "rows drawn at random for the reward model's "
-                                           "hyperparameter fit (None: all ~4,900, as the reference code, about "
-                                           "4 minutes a fit)")
-    retrain: str = _field("if_changed", "when a corrective update retrains the cost model: 'if_changed' (only "
-                          "when it changed the data, as the reference code), 'always' (the printed Algorithm 1) "
-                          "or 'never'", choices=RETRAIN_RULES)
+def _check_bool(name):
+    def check(value):
+        if not isinstance(value, bool):
+            raise ValueError(f"{name} must be True or False, got {name}={value!r}")
+    return check
+
+
+def _limited_int(name, low, allow_none=False):
+    return lambda value: check_int(name, value, low, LIMITS[name][0], allow_none=allow_none, why=LIMITS[name][1])
+
+
+#: setting -> the function that checks a value of it (raising a ValueError that names the setting,
+#: the value and the valid range); each settings group below runs the checks of its own fields
+CHECKS = {
+    "model": lambda value: check_choice("model", value, MODELS),
+    "nu": _check_nu,
+    "noise_convention": lambda value: check_choice("noise_convention", value, NOISE_CONVENTIONS),
+    "optimizer": lambda value: check_choice("optimizer", value, OPTIMIZERS),
+    "learning_rate": lambda value: check_positive("learning_rate", value, *LIMITS["learning_rate"]),
+    "optimizer_steps": _limited_int("optimizer_steps", 1),
+    "prior": lambda value: check_choice("prior", value, PRIORS),
+    "outlier_magnitude": lambda value: check_positive("outlier_magnitude", value, *LIMITS["outlier_magnitude"]),
+    "outlier_proportion": lambda value: check_fraction("outlier_proportion", value),
+    "cost_outliers": _check_bool("cost_outliers"),
+    "reward_outliers": _check_bool("reward_outliers"),
+    "offline_episodes": _limited_int("offline_episodes", 1),
+    "cost_duplicates": lambda value: check_int("cost_duplicates", value, 1),
+    "reward_duplicates": lambda value: check_int("reward_duplicates", value, 1),
+    "grid_size": _limited_int("grid_size", 2),
+    "placement": lambda value: check_choice("placement", value, PLACEMENTS),
+    "max_steps": _limited_int("max_steps", 1, allow_none=True),
+    "d": lambda value: check_positive("d", value),
+    "variance_threshold": lambda value: check_positive("variance_threshold", value),
+    "k_prior": _limited_int("k_prior", 1),
+    "n_matching": _limited_int("n_matching", 0),
+    "prior_draw": lambda value: check_choice("prior_draw", value, PRIOR_DRAWS),
+    "predictive": lambda value: check_choice("predictive", value, PREDICTIVE),
+    "n_samples": _limited_int("n_samples", 2),
+    "cost_fit_points": _limited_int("cost_fit_points", 2, allow_none=True),
+    "reward_fit_points": _limited_int("reward_fit_points", 2, allow_none=True),
+    "retrain": lambda value: check_choice("retrain", value, RETRAIN_RULES),
+    "episodes": _limited_int("episodes", 1),
+    "seed": lambda value: check_int("seed", value, 0),
+}
+
+
+class _Settings:
+    """What the settings groups share: numpy scalars made Python numbers, each field checked, ``replace``."""
 
     def __post_init__(self):
-        for f in fields(self):  # numpy scalars become Python numbers, so that the config saves as JSON
+        self._make_plain()
+        for f in fields(self):
+            if f.name in CHECKS:
+                CHECKS[f.name](getattr(self, f.name))
+
+    def _make_plain(self):
+        """Numpy scalars become Python numbers, so that the settings save as JSON."""
+        for f in fields(self):
             value = getattr(self, f.name)
             if _plain(value) is not value:
                 object.__setattr__(self, f.name, _plain(value))
-        check_choice("model", self.model, ("tp", "gp"))
-        if isinstance(self.nu, numbers.Real) and self.nu > LIMITS["nu"][0]:  # before check_nu's looser bound
-            raise ValueError(f"nu must be a number above 2 and at most {LIMITS['nu'][0]:g} ({LIMITS['nu'][1]}), "
-                             f"got nu={self.nu!r}")
-        check_nu(self.nu)
-        check_positive("outlier_magnitude", self.outlier_magnitude, *LIMITS["outlier_magnitude"])
-        check_fraction("outlier_proportion", self.outlier_proportion)
-        for name in ("episodes", "offline_episodes"):
-            check_int(name, getattr(self, name), 1, LIMITS[name][0], why=LIMITS[name][1])
-        check_int("grid_size", self.grid_size, 2, LIMITS["grid_size"][0], why=LIMITS["grid_size"][1])
-        check_choice("placement", self.placement, PLACEMENTS)
-        check_n_unsafe(self.n_unsafe, self.grid_size, self.placement, size_name="grid_size")
-        check_switch_states(self.n_switch_states, self.n_unsafe)
-        check_positive("d", self.d)
-        check_positive("variance_threshold", self.variance_threshold)
-        check_int("k_prior", self.k_prior, 1, LIMITS["k_prior"][0], why=LIMITS["k_prior"][1])
-        check_int("n_matching", self.n_matching, 0, LIMITS["n_matching"][0], why=LIMITS["n_matching"][1])
-        check_choice("prior_draw", self.prior_draw, PRIOR_DRAWS)
-        check_choice("retrain", self.retrain, RETRAIN_RULES)
-        for name in ("cost_outliers", "reward_outliers"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name} must be True or False, got {name}={getattr(self, name)!r}")
-        check_int("seed", self.seed, 0)
-        check_int("max_steps", self.max_steps, 1, LIMITS["max_steps"][0], allow_none=True, why=LIMITS["max_steps"][1])
-        check_int("cost_duplicates", self.cost_duplicates, 1)
-        check_int("reward_duplicates", self.reward_duplicates, 1)
-        check_choice("predictive", self.predictive, PREDICTIVE)
-        check_int("n_samples", self.n_samples, 2, LIMITS["n_samples"][0], why=LIMITS["n_samples"][1])
-        check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
-        check_choice("optimizer", self.optimizer, OPTIMIZERS)
-        check_positive("learning_rate", self.learning_rate, *LIMITS["learning_rate"])
-        check_int("optimizer_steps", self.optimizer_steps, 1, LIMITS["optimizer_steps"][0],
-                  why=LIMITS["optimizer_steps"][1])
-        check_choice("prior", self.prior, PRIORS)
-        for name in ("cost_fit_points", "reward_fit_points"):
-            check_int(name, getattr(self, name), 2, LIMITS[name][0], allow_none=True, why=LIMITS[name][1])
 
-    def replace(self, **changes) -> "ExperimentConfig":
-        """A copy with some fields changed (validated again)."""
+    def replace(self, **changes):
+        """A copy with some fields changed (checked again)."""
+        valid = [f.name for f in fields(self)]
+        unknown = sorted(set(changes) - set(valid))
+        if unknown:
+            raise ValueError(f"{type(self).__name__} has no settings {unknown}; valid settings are {valid}")
         return dataclasses.replace(self, **changes)
+
+
+# -- the settings, grouped as the code uses them ----------------------------------
+@dataclass(frozen=True)
+class WorldSettings(_Settings):
+    """The world (paper section 5.1): :class:`~sarsp_edu.gridworld.SafeGridWorld` takes them (``env_kwargs``)."""
+
+    grid_size: int = GRID_SIZE
+    n_unsafe: int = N_UNSAFE
+    d: float = D
+    max_steps: int | None = None
+    placement: str = "full"
+
+    def __post_init__(self):
+        super().__post_init__()
+        check_n_unsafe(self.n_unsafe, self.grid_size, self.placement, size_name="grid_size")
+
+    def env_kwargs(self) -> dict:
+        """The keyword arguments of ``SafeGridWorld`` (and ``gymnasium.make``) for this world."""
+        return dict(size=self.grid_size, n_unsafe=self.n_unsafe, d=self.d, max_steps=self.max_steps,
+                    placement=self.placement)
+
+
+@dataclass(frozen=True)
+class DataSettings(_Settings):
+    """The offline data and its outliers (sections 5.2-5.3): ``collect_offline_data`` and ``inject_outliers``."""
+
+    offline_episodes: int = OFFLINE_EPISODES
+    cost_duplicates: int = COST_DUPLICATES
+    reward_duplicates: int = REWARD_DUPLICATES
+    outlier_magnitude: float = 40.0
+    outlier_proportion: float = 0.2
+    cost_outliers: bool = True
+    reward_outliers: bool = True
+
+
+@dataclass(frozen=True)
+class ModelSettings(_Settings):
+    """The regression model of both the cost and the reward model, and its hyperparameter fit.
+
+    ``noise_convention`` is ``"tfp"`` here, as in the reference code's
+    library, whose runs the experiments reproduce; a bare
+    :class:`~sarsp_edu.processes.StudentTProcess` defaults to ``"shah"``,
+    Shah et al.'s (2014) own form, which the tutorials teach.
+    """
+
+    model: str = "tp"
+    nu: float = NU
+    noise_convention: str = "tfp"
+    optimizer: str = "adam"
+    learning_rate: float = LEARNING_RATE
+    optimizer_steps: int = ADAM_STEPS
+    prior: str | None = "lognormal"
+
+
+@dataclass(frozen=True)
+class AgentSettings(_Settings):
+    """Algorithm 1's settings: what :class:`~sarsp_edu.sarsp.SARSPAgent` takes."""
+
+    d: float = D
+    variance_threshold: float = VARIANCE_THRESHOLD
+    k_prior: int = K_PRIOR
+    n_matching: int = N_MATCHING
+    prior_draw: str = "per_action"
+    predictive: str = "closed_form"
+    n_samples: int = N_SAMPLES
+    cost_fit_points: int | None = COST_FIT_POINTS
+    reward_fit_points: int | None = REWARD_FIT_POINTS
+    retrain: str = "if_changed"
+
+
+_GROUPS = {"world_settings": WorldSettings, "data_settings": DataSettings, "model_settings": ModelSettings,
+           "agent_settings": AgentSettings}
+
+
+@dataclass(frozen=True)
+class ExperimentConfig(_Settings):
+    """Every setting of one run; the defaults are the paper's (and its reference code's).
+
+    The settings are flat here (one flag each for the ``sarsp-edu`` command,
+    one key each in a stored ``result.json``); the code takes them in groups,
+    :attr:`world_settings`, :attr:`data_settings`, :attr:`model_settings` and
+    :attr:`agent_settings`, which hold each group's defaults and checks: a
+    config is checked by making its groups.  Each field's
+    ``metadata["help"]`` documents it; the ``sarsp-edu`` command builds its
+    flags from the same text.
+    """
+
+    model: str = _field(ModelSettings.model, "the regression model of both the cost and the reward model: 'tp' "
+                        "or 'gp'", choices=MODELS)
+    nu: float = _field(ModelSettings.nu, "TP degrees of freedom, > 2 (paper: fixed at 3)")
+    outlier_magnitude: float = _field(DataSettings.outlier_magnitude, "outlier magnitude m: outlier rows are "
+                                      "multiplied by m (paper: 40, 60, 80)", flag="m")
+    outlier_proportion: float = _field(DataSettings.outlier_proportion, "outlier proportion p in [0, 1] (paper: "
+                                       "0.2, 0.3, 0.4)", flag="p")
+    n_switch_states: int = _field(2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)", flag="nss")
+    episodes: int = _field(250, "online episodes (paper: 250)")
+    offline_episodes: int = _field(DataSettings.offline_episodes, "random-policy episodes of offline data "
+                                   "(paper: 100)")
+    grid_size: int = _field(WorldSettings.grid_size, "grid side n (paper: 10)")
+    n_unsafe: int = _field(WorldSettings.n_unsafe, "number of unsafe states (paper: 15)")
+    d: float = _field(AgentSettings.d, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
+    variance_threshold: float = _field(AgentSettings.variance_threshold,
+                                       "sigma*^2: the largest cost variance of a safe action (reference code: 0.8)")
+    k_prior: int = _field(AgentSettings.k_prior, "random rows in each strategic prior (paper's text: 100; the "
+                          "reference code, which produced the paper's figures: 400)")
+    n_matching: int = _field(AgentSettings.n_matching, "rows matching each query added to the prior, at most "
+                             "(paper: 10)")
+    prior_draw: str = _field(AgentSettings.prior_draw, "how strategic priors are drawn: 'per_action' (a fresh "
+                             "prior for every action and model, as the reference code) or 'per_step' (one per "
+                             "model and step, shared by the four actions, as the printed Algorithm 1)",
+                             choices=PRIOR_DRAWS)
+    cost_outliers: bool = _field(DataSettings.cost_outliers, "inject outliers into the cost model's data "
+                                 "(paper: yes)")
+    reward_outliers: bool = _field(DataSettings.reward_outliers, "inject outliers into the reward model's data "
+                                   "(paper: yes)")
+    seed: int = _field(0, "seed of every random choice of the run")
+    max_steps: int | None = _field(WorldSettings.max_steps, "steps before an episode is truncated (default: "
+                                   "grid_size^2, the paper's T_max)")
+    placement: str = _field(WorldSettings.placement, "where objects are placed: 'full' grid (paper's text) or "
+                            "'reference' (never the last row/column, as the reference code)", choices=PLACEMENTS)
+    cost_duplicates: int = _field(DataSettings.cost_duplicates, "duplicate cap of the cost model's data "
+                                  "(reference code: 12)")
+    reward_duplicates: int = _field(DataSettings.reward_duplicates, "duplicate cap of the reward model's data "
+                                    "(reference code: 1)")
+    predictive: str = _field(AgentSettings.predictive, "how predictions are made: 'closed_form' (exact) or "
+                             "'sample' (the reference code's 150-draw estimate)", choices=PREDICTIVE)
+    n_samples: int = _field(AgentSettings.n_samples, "draws per prediction with predictive='sample' (reference "
+                            "code: 150)")
+    noise_convention: str = _field(ModelSettings.noise_convention, "how the TP's predictive variance includes the "
+                                   "noise: 'tfp' (unscaled, as the reference code's library; unlike a bare "
+                                   "StudentTProcess, whose default is 'shah') or 'shah' (scaled)",
+                                   choices=NOISE_CONVENTIONS)
+    optimizer: str = _field(ModelSettings.optimizer, "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'",
+                            choices=OPTIMIZERS)
+    learning_rate: float = _field(ModelSettings.learning_rate, "Adam's learning rate (paper: 0.1)")
+    optimizer_steps: int = _field(ModelSettings.optimizer_steps, "Adam steps, or L-BFGS-B's iteration cap (paper: "
+                                  "50 Adam steps)")
+    prior: str | None = _field(ModelSettings.prior, "hyperparameter priors: 'lognormal' (LogNormal(0, 1), "
+                               "reference code) or None (plain marginal likelihood)", choices=PRIORS)
+    cost_fit_points: int | None = _field(AgentSettings.cost_fit_points, "rows of the cost model's data for each "
+                                         "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
+                                         "fast, the rows hold ~800 distinct inputs)")
+    reward_fit_points: int | None = _field(AgentSettings.reward_fit_points, "rows drawn at random for the reward "
+                                           "model's hyperparameter fit (None: all ~4,900, as the reference code, "
+                                           "about 4 minutes a fit)")
+    retrain: str = _field(AgentSettings.retrain, "when a corrective update retrains the cost model: 'if_changed' "
+                          "(only when it changed the data, as the reference code), 'always' (the printed "
+                          "Algorithm 1) or 'never'", choices=RETRAIN_RULES)
+
+    def __post_init__(self):
+        self._make_plain()
+        CHECKS["model"](self.model)
+        for name in _GROUPS:  # each group checks its own settings as it is made
+            getattr(self, name)
+        for name in ("episodes", "seed"):
+            CHECKS[name](getattr(self, name))
+        check_switch_states(self.n_switch_states, self.n_unsafe)
+
+    def _group(self, name: str):
+        group = _GROUPS[name]
+        made = group(**{f.name: getattr(self, f.name) for f in fields(group)})
+        self.__dict__[name] = made  # kept: the config is frozen, so its groups never change
+        return made
+
+    @property
+    def world_settings(self) -> WorldSettings:
+        """The world's settings: grid size, unsafe states, d, T_max, placement."""
+        return self.__dict__.get("world_settings") or self._group("world_settings")
+
+    @property
+    def data_settings(self) -> DataSettings:
+        """The offline data's settings and its outliers' (m, p and which models get them)."""
+        return self.__dict__.get("data_settings") or self._group("data_settings")
+
+    @property
+    def model_settings(self) -> ModelSettings:
+        """The regression model (TP or GP, nu, the noise convention) and its hyperparameter fit."""
+        return self.__dict__.get("model_settings") or self._group("model_settings")
+
+    @property
+    def agent_settings(self) -> AgentSettings:
+        """Algorithm 1's settings (d, sigma*^2, k, n, the prior draw, predictions, fits, retraining)."""
+        return self.__dict__.get("agent_settings") or self._group("agent_settings")
 
     @classmethod
     def from_preset(cls, name: str = "default", **changes) -> "ExperimentConfig":

@@ -12,7 +12,7 @@ from functools import lru_cache
 import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
-from .config import GRID_SIZE, N_UNSAFE, OFFLINE_EPISODES, ExperimentConfig
+from .config import GRID_SIZE, N_UNSAFE, NU, OFFLINE_EPISODES, ExperimentConfig
 from .preparation import offline_world, prepare
 from .kernels import RBF
 from .processes import GaussianProcess, StudentTProcess
@@ -51,7 +51,7 @@ def regression_data(n: int = 40, magnitude: float = 40.0, proportion: float = 0.
     return x.reshape(-1, 1), y, outliers
 
 
-def compute_posteriors(nu: float = 3.0, magnitude: float = 40.0, proportion: float = 0.1, seed: int = 0,
+def compute_posteriors(nu: float = NU, magnitude: float = 40.0, proportion: float = 0.1, seed: int = 0,
                        fit: bool = True, scale_inputs: bool = False, n: int = 40, noise_convention="shah"):
     """GP and TP fitted to the same data with outliers; posterior mean and variance on a grid.
 

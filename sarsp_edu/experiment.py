@@ -73,17 +73,18 @@ __all__ = [
 
 
 def make_model(config: ExperimentConfig):
-    """A fresh, unfitted model as the config describes it (hyperparameters start at 1)."""
+    """A fresh, unfitted model as the config's ``model_settings`` describe it (hyperparameters start at 1)."""
+    settings = config.model_settings
     common = dict(
         noise_variance=1.0,
-        optimizer=config.optimizer,
-        learning_rate=config.learning_rate,
-        max_iter=config.optimizer_steps,
-        prior=config.prior,
+        optimizer=settings.optimizer,
+        learning_rate=settings.learning_rate,
+        max_iter=settings.optimizer_steps,
+        prior=settings.prior,
         max_fit_points=None,  # the agent draws the fit subsets
     )
-    if config.model == "tp":
-        return StudentTProcess(RBF(1.0, 1.0), nu=config.nu, noise_convention=config.noise_convention, **common)
+    if settings.model == "tp":
+        return StudentTProcess(RBF(1.0, 1.0), nu=settings.nu, noise_convention=settings.noise_convention, **common)
     return GaussianProcess(RBF(1.0, 1.0), **common)
 
 
@@ -123,22 +124,8 @@ class Experiment:
         self.env = copy.deepcopy(prepared.env)
         self.data = prepared.data
         self._episode_seeds = prepared.episode_seeds
-        self.agent = SARSPAgent(
-            make_model(config),
-            make_model(config),
-            prepared.data,
-            d=config.d,
-            variance_threshold=config.variance_threshold,
-            k_prior=config.k_prior,
-            n_matching=config.n_matching,
-            prior_draw=config.prior_draw,
-            predictive=config.predictive,
-            n_samples=config.n_samples,
-            cost_fit_points=config.cost_fit_points,
-            reward_fit_points=config.reward_fit_points,
-            retrain=config.retrain,
-            rng=prepared.agent_seed,
-        )
+        self.agent = SARSPAgent(make_model(config), make_model(config), prepared.data, config.agent_settings,
+                                rng=prepared.agent_seed)
         start = time.perf_counter()
         with one_blas_thread():
             self.agent.fit()

@@ -23,7 +23,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ._validation import check_choice, check_int, check_positive, check_switch_states
-from .config import ACTION_MOVES, GRID_SIZE, N_UNSAFE, PLACEMENTS, check_n_unsafe, unsafe_capacity
+from .config import ACTION_MOVES, PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
 from .rng import as_generator
 
 __all__ = [
@@ -188,12 +188,12 @@ class SafeGridWorld(gym.Env):
 
     def __init__(
         self,
-        size: int = GRID_SIZE,
-        n_unsafe: int = N_UNSAFE,
-        d: float = 1.0,
-        max_steps: int | None = None,
+        size: int = WorldSettings.grid_size,
+        n_unsafe: int = WorldSettings.n_unsafe,
+        d: float = WorldSettings.d,
+        max_steps: int | None = WorldSettings.max_steps,
         *,
-        placement: str = "full",
+        placement: str = WorldSettings.placement,
         render_mode: str | None = None,
         seed=None,
     ):
@@ -232,13 +232,13 @@ class SafeGridWorld(gym.Env):
         self._moved_from = np.empty((0, 2), dtype=int)
 
     @staticmethod
-    def max_unsafe(size: int, placement: str = "full") -> int:
+    def max_unsafe(size: int, placement: str = WorldSettings.placement) -> int:
         """The most unsafe states the spacing rule allows on this grid (one colour of a chessboard).
 
         No world can hold more; :meth:`capacity` is how many it always
         places *and* shifts.
         """
-        span = size if placement == "full" else size - 1
+        span = placement_span(size, placement)
         return math.ceil(span * span / 2)
 
     #: the most unsafe states a world always places and shifts (see ``config.unsafe_capacity``)
@@ -272,7 +272,7 @@ class SafeGridWorld(gym.Env):
     # -- geometry -------------------------------------------------------------
     def _span(self) -> int:
         """Number of rows/columns where objects may be placed."""
-        return self.size if self.placement == "full" else self.size - 1
+        return placement_span(self.size, self.placement)
 
     def nearest_unsafe(self, position) -> tuple[np.ndarray, float]:
         """The nearest unsafe state to ``position`` and its Euclidean distance.

@@ -24,6 +24,7 @@ from matplotlib.figure import Figure
 
 from . import markup, plotting
 from ._threads import one_blas_thread
+from .config import NU, DataSettings
 from .dashboard import (PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin, control_row, fixed_layout_axes,
                         render_figure, slider, stitch_png, wipe_axes)
 
@@ -193,7 +194,8 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         (batch runs of the notebooks, where nobody watches).
     """
 
-    def __init__(self, nu=3.0, magnitude=40.0, proportion=0.2, n_switch_states=2, seed=0, episodes=30,
+    def __init__(self, nu=NU, magnitude=DataSettings.outlier_magnitude, proportion=DataSettings.outlier_proportion,
+                 n_switch_states=2, seed=0, episodes=30,
                  steps_per_second=30.0, config=None, sides=None, prepare_ahead: bool = True,
                  projector: bool | None = None, autoplay: bool = False):
         from .config import ExperimentConfig

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ._validation import LARGEST, check_fraction, check_int, check_positive
-from .config import COST_DUPLICATES, REWARD_DUPLICATES
+from .config import COST_DUPLICATES, OFFLINE_EPISODES, REWARD_DUPLICATES
 from .gridworld import ACTIONS, AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY
 from .rng import as_generator
 
@@ -260,7 +260,7 @@ class OfflineData:
 
 def collect_offline_data(
     env,
-    episodes: int = 100,
+    episodes: int = OFFLINE_EPISODES,
     rng=None,
     *,
     cost_duplicates: int | None = COST_DUPLICATES,

@@ -78,20 +78,14 @@ def offline_world(config: ExperimentConfig) -> tuple[SafeGridWorld, OfflineData]
     once per seed and hands it to :func:`prepare`.
     """
     rngs = _streams(config.seed)
-    env = SafeGridWorld(
-        size=config.grid_size,
-        n_unsafe=config.n_unsafe,
-        d=config.d,
-        max_steps=config.max_steps,
-        placement=config.placement,
-        seed=rngs["world"],
-    )
+    env = SafeGridWorld(**config.world_settings.env_kwargs(), seed=rngs["world"])
+    data_settings = config.data_settings
     data = collect_offline_data(
         env,
-        config.offline_episodes,
+        data_settings.offline_episodes,
         rng=rngs["offline"],
-        cost_duplicates=config.cost_duplicates,
-        reward_duplicates=config.reward_duplicates,
+        cost_duplicates=data_settings.cost_duplicates,
+        reward_duplicates=data_settings.reward_duplicates,
     )
     return env, data
 

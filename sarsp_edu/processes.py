@@ -52,7 +52,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import validate_data
 
 from ._validation import check_choice, check_int, check_nu, check_positive, check_training, check_X
-from .config import ADAM_STEPS, LEARNING_RATE, NOISE_CONVENTIONS, OPTIMIZERS, PRIORS
+from .config import ADAM_STEPS, LEARNING_RATE, NOISE_CONVENTIONS, NU, OPTIMIZERS, PRIORS
 from .kernels import RBF, squared_distances
 from .linalg import (
     GroupedRows,
@@ -854,7 +854,7 @@ class StudentTProcess(_ProcessRegressor):
         self,
         kernel: RBF | None = None,
         *,
-        nu: float = 3.0,
+        nu: float = NU,
         fit_nu: bool = False,
         noise_variance: float = 1.0,
         noise_convention: str = "shah",

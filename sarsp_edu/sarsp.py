@@ -26,29 +26,19 @@ sizes); :class:`SARSPAgent`'s parameters say which is which.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from ._threads import one_blas_thread
-from ._validation import check_choice, check_int, check_positive
-from .config import (  # Algorithm 1's defaults, defined once in config
-    COST_FIT_POINTS,
-    D,
-    K_PRIOR,
-    N_MATCHING,
-    N_SAMPLES,
-    PREDICTIVE,
-    PRIOR_DRAWS,
-    RETRAIN_RULES,
-    REWARD_FIT_POINTS,
-    VARIANCE_THRESHOLD,
-)
+from ._validation import check_choice
+from .config import AgentSettings  # Algorithm 1's settings, defined once
 from .offline import OfflineData, cost_inputs, reward_inputs
 from .rng import as_generator, draw_rows, draw_subset
 
-__all__ = ["SARSPAgent", "Decision", "LearnOutcome", "PRIOR_DRAWS", "RETRAIN_RULES"]
+__all__ = ["SARSPAgent", "Decision", "LearnOutcome"]
 
 @dataclass
 class Decision:
@@ -157,6 +147,11 @@ class SARSPAgent:
     data : OfflineData
         The offline training sets.  The agent works on a copy: its corrective
         updates never touch the caller's data.
+    settings : AgentSettings, optional
+        Algorithm 1's settings, below (``ExperimentConfig.agent_settings``
+        gives a run's); default ``AgentSettings()``.  Each may also be given
+        by name, ``SARSPAgent(cost, reward, data, k_prior=400)``, changing
+        ``settings``; they are checked where the settings are made.
     d : float, default 1.0
         Safety threshold on the predicted distance to danger.
     variance_threshold : float, default 0.8
@@ -222,32 +217,21 @@ class SARSPAgent:
         cost_model,
         reward_model,
         data: OfflineData,
+        settings: AgentSettings | None = None,
         *,
-        d: float = D,
-        variance_threshold: float = VARIANCE_THRESHOLD,
-        k_prior: int = K_PRIOR,
-        n_matching: int = N_MATCHING,
-        prior_draw: str = "per_action",
-        predictive: str = "closed_form",
-        n_samples: int = N_SAMPLES,
-        cost_fit_points: int | None = COST_FIT_POINTS,
-        reward_fit_points: int | None = REWARD_FIT_POINTS,
-        retrain: str = "if_changed",
         unsafe_pairs=None,
         rng=None,
+        **changes,
     ):
         self.cost_model = cost_model
         self.reward_model = reward_model
-        self.d = check_positive("d", d)
-        self.variance_threshold = check_positive("variance_threshold", variance_threshold)
-        self.k_prior = check_int("k_prior", k_prior, 1)
-        self.n_matching = check_int("n_matching", n_matching, 0)
-        self.prior_draw = check_choice("prior_draw", prior_draw, PRIOR_DRAWS)
-        self.predictive = check_choice("predictive", predictive, PREDICTIVE)
-        self.n_samples = check_int("n_samples", n_samples, 2)
-        self.cost_fit_points = check_int("cost_fit_points", cost_fit_points, 2, allow_none=True)
-        self.reward_fit_points = check_int("reward_fit_points", reward_fit_points, 2, allow_none=True)
-        self.retrain = check_choice("retrain", retrain, RETRAIN_RULES)
+        settings = AgentSettings() if settings is None else settings
+        if not isinstance(settings, AgentSettings):
+            raise TypeError(f"settings must be an AgentSettings, got {type(settings).__name__}")
+        #: Algorithm 1's settings; each is also an attribute (``agent.k_prior``)
+        self.settings = settings.replace(**changes) if changes else settings
+        for name, value in dataclasses.asdict(self.settings).items():
+            setattr(self, name, value)
         self.rng = as_generator(rng)
         data = data.copy()
         self.cost_data = data.cost

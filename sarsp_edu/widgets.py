@@ -16,6 +16,7 @@ import numpy as np
 
 from . import demos, plotting, tails
 from ._validation import check_choice
+from .config import N_UNSAFE, NU
 from .dashboard import Dashboard, Panel, control_row, projector, slider
 from .live import AgentDashboard, agent_dashboard
 
@@ -44,7 +45,7 @@ def _student_t_limit_expr():
     return _T_LIMIT
 
 
-def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
+def tail_decay_dashboard(nu: float = NU, lam: float = 5.0) -> Dashboard:
     """Sliders for nu and lambda: the densities, their tails, and the Karamata ratio's limit.
 
     The limit shown is derived by sympy (``tails.student_t_tail_limit``)
@@ -85,7 +86,7 @@ def tail_decay_dashboard(nu: float = 3.0, lam: float = 5.0) -> Dashboard:
 # --------------------------------------------------------------------------
 # tutorial 2: GP and TP under outliers
 # --------------------------------------------------------------------------
-def posterior_dashboard(nu: float = 3.0, magnitude: float = 10.0, proportion: float = 0.1, seed: int = 0,
+def posterior_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: float = 0.1, seed: int = 0,
                         fit: bool = True) -> Dashboard:
     """GP and TP fitted side by side on 1-D data with outliers; sliders for nu, m, p and the seed.
 
@@ -148,7 +149,7 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
     """
     controls = {
         "seed": slider("int", "seed", "seed", seed, 0, 50, 1),
-        "n_switch_states": slider("int", "n_switch_states", "nss (switch states)", n_switch_states, 0, 15, 1),
+        "n_switch_states": slider("int", "n_switch_states", "nss (switch states)", n_switch_states, 0, N_UNSAFE, 1),
         "magnitude": slider("float", "magnitude", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
         "proportion": slider("float", "proportion", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
     }

@@ -239,10 +239,10 @@ def test_per_action_predictions_equal_conditioning_each_prior_on_its_own():
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
 def test_sampled_predictions_estimate_the_closed_form(model_cls):
     exact = tiny_agent(5.0, model_cls)
-    sampled = tiny_agent(5.0, model_cls, predictive="sample", n_samples=20_000)
+    sampled = tiny_agent(5.0, model_cls, predictive="sample", n_samples=10_000)  # LIMITS' largest
     mu_e, var_e, mr_e, _ = exact.predict(OBS)
     mu_s, var_s, mr_s, _ = sampled.predict(OBS)
-    np.testing.assert_allclose(mu_s, mu_e, atol=5 * np.sqrt(var_e.max() / 20_000) + 1e-9)
+    np.testing.assert_allclose(mu_s, mu_e, atol=5 * np.sqrt(var_e.max() / 10_000) + 1e-9)
     np.testing.assert_allclose(var_s, var_e, rtol=0.1)
 
 
@@ -261,7 +261,8 @@ def test_decision_record():
     [
         (dict(d=0), "d must be a positive finite number"),
         (dict(variance_threshold=-1), "variance_threshold"),
-        (dict(k_prior=0), "k_prior must be an integer >= 1, got k_prior=0"),
+        (dict(k_prior=0), r"k_prior must be an integer from 1 to 5000 \(.*\), got k_prior=0"),
+        (dict(k_prior=10_000), "k_prior must be an integer from 1 to 5000"),
         (dict(n_matching=-1), "n_matching"),
         (dict(predictive="mc"), "predictive must be one of"),
         (dict(n_samples=1), "n_samples"),
@@ -271,8 +272,27 @@ def test_decision_record():
     ],
 )
 def test_bad_agent_arguments(kwargs, match):
+    from sarsp_edu.config import AgentSettings
+
     with pytest.raises(ValueError, match=match):
         tiny_agent(5.0, **kwargs)
+    with pytest.raises(ValueError, match=match):  # the same check, where the settings are made
+        AgentSettings(**kwargs)
+
+
+def test_an_agent_takes_its_settings_as_a_group_or_by_name():
+    from sarsp_edu import ExperimentConfig
+    from sarsp_edu.config import AgentSettings
+
+    config = ExperimentConfig.from_preset("reference")
+    model = GaussianProcess(RBF(2.0, 1.0), noise_variance=0.01, optimizer=None)
+    grouped = SARSPAgent(model, model, tiny_data(5.0), config.agent_settings)
+    assert grouped.settings == config.agent_settings and grouped.k_prior == 400 and grouped.predictive == "sample"
+    changed = SARSPAgent(model, model, tiny_data(5.0), config.agent_settings, k_prior=50)
+    assert changed.k_prior == 50 and changed.predictive == "sample"
+    assert SARSPAgent(model, model, tiny_data(5.0)).settings == AgentSettings()
+    with pytest.raises(ValueError, match=r"AgentSettings has no settings \['nu'\]"):
+        SARSPAgent(model, model, tiny_data(5.0), nu=4.0)
 
 
 def test_public_strategic_prior():
