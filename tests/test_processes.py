@@ -191,16 +191,16 @@ def test_gradients_match_finite_differences(dataset, model):
 
 def test_prior_gradient_matches_finite_differences():
     X, y = make_data(0, n=15, d=2)
-    from sarsp_edu.kernels import squared_distances
-    from sarsp_edu.linalg import group_rows
-
     model = StudentTProcess(optimizer=None).fit(X, y)
-    data = group_rows(X, y)
-    D2 = squared_distances(data.X)
     theta = np.array([0.3, -0.2, -1.0])
-    _, grad = model._log_joint(theta, D2, data)
-    fd = approx_fprime(theta, lambda t: model._log_joint(t, D2, data)[0], 1e-6)
+    _, grad = model.log_joint(theta, eval_gradient=True)
+    fd = approx_fprime(theta, lambda t: model.log_joint(t), 1e-6)
     np.testing.assert_allclose(grad, fd, rtol=1e-4, atol=1e-5)
+    # the joint is the likelihood plus the LogNormal(0, 1) densities of the three positive values
+    lognormal = sum(stats.lognorm(s=1.0).logpdf(v) for v in np.exp(theta))
+    assert model.log_joint(theta) == pytest.approx(model.log_marginal_likelihood(theta) + lognormal, rel=1e-12)
+    assert StudentTProcess(optimizer=None, prior=None).fit(X, y).log_joint(theta) == \
+        pytest.approx(model.log_marginal_likelihood(theta), rel=1e-12)
 
 
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
@@ -337,7 +337,7 @@ def test_near_interpolation_with_tiny_noise(seed, n):
                   StudentTProcess(kernel, noise_variance=1e-8, optimizer=None)):
         mean, var = model.fit(X, y).predict(X, return_var=True)
         np.testing.assert_allclose(mean, y, atol=1e-4)
-        assert np.all(var < 1e-4 * max(1.0, model._scale(1.0, False, 1.0)))
+        assert np.all(var < 1e-4 * max(1.0, model.variance_scale_))
 
 
 # --------------------------------------------------------------------------
@@ -443,19 +443,17 @@ def repeated_rows(seed, n_distinct=40, max_copies=12):
 
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
 def test_grouped_likelihood_and_gradient_equal_the_expanded_rows(model_cls):
-    from sarsp_edu.kernels import squared_distances
-    from sarsp_edu.linalg import GroupedRows, group_rows
-
+    """Folding repeated inputs is exact: the value and gradient a fit follows are those of every row on its own,
+    so Adam's path is the same folded or not."""
     X, y = repeated_rows(0)
-    grouped = group_rows(X, y)
-    assert len(grouped.counts) < len(X) / 3  # the folding does something here
-    plain = GroupedRows.ungrouped(X, y)  # every row on its own: the textbook path
     model = model_cls(optimizer=None).fit(X, y)
+    assert len(model.X_unique_) < len(X) / 3  # the folding does something here
     for theta in (np.array([0.3, -0.2, -1.0]), np.array([1.2, 0.5, -3.0]), np.array([-0.5, 1.0, 0.7])):
-        v_g, g_g = model._lml_from_distances(theta, squared_distances(grouped.X), grouped, True)
-        v_p, g_p = model._lml_from_distances(theta, squared_distances(X), plain, True)
-        assert v_g == pytest.approx(v_p, rel=1e-8, abs=1e-8)
-        np.testing.assert_allclose(g_g, g_p, rtol=1e-8, atol=1e-8 * np.abs(g_p).max())
+        for objective in (model.log_marginal_likelihood, model.log_joint):
+            v_g, g_g = objective(theta, eval_gradient=True)
+            v_p, g_p = objective(theta, eval_gradient=True, fold_repeats=False)  # the textbook path
+            assert v_g == pytest.approx(v_p, rel=1e-8, abs=1e-8)
+            np.testing.assert_allclose(g_g, g_p, rtol=1e-8, atol=1e-8 * np.abs(g_p).max())
 
 
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
@@ -482,23 +480,6 @@ def test_grouped_model_equals_scipy_density_and_predicts_as_the_expanded_rows(mo
     got_mean, got_var = model.predict(Xq, return_var=True)
     np.testing.assert_allclose(got_mean, mean, rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(got_var, latent, rtol=1e-7, atol=1e-10)
-
-
-def test_fit_on_repeated_rows_equals_fit_on_the_expanded_rows():
-    """Adam's path is the same whether the likelihood is folded or not."""
-    import sarsp_edu.processes as processes
-    from sarsp_edu.linalg import GroupedRows
-
-    X, y = repeated_rows(2, n_distinct=25)
-    folded = StudentTProcess(max_iter=10).fit(X, y)
-    original = processes.group_rows
-    try:
-        processes.group_rows = GroupedRows.ungrouped
-        expanded = StudentTProcess(max_iter=10).fit(X, y)
-    finally:
-        processes.group_rows = original
-    np.testing.assert_allclose(folded.theta_, expanded.theta_, rtol=1e-8)
-    np.testing.assert_allclose(folded.objective_trace_, expanded.objective_trace_, rtol=1e-9)
 
 
 @pytest.mark.parametrize("model_cls,convention", [(GaussianProcess, None), (StudentTProcess, "tfp"),
