@@ -379,7 +379,7 @@ def _beside_paper_sections(tables: dict) -> list:
     sweep's mean is over fewer, and the title says how many.
     """
     from . import paper
-    from .sweep import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+    from .config import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
     from .tables import beside_paper, table1_beside_paper
 
     n = len(tables["table1"]) // 2  # a TP row and a GP row per configuration

@@ -144,7 +144,7 @@ def compute_world(seed: int = 0, n_switch_states: int = 6, magnitude: float = 40
                   offline_episodes: int = OFFLINE_EPISODES, size: int = GRID_SIZE, n_unsafe: int = N_UNSAFE):
     """The world before and after the shift, the offline data's coverage and its outliers.
 
-    Built by :func:`sarsp_edu.experiment.prepare`, as an experiment builds
+    Built by :func:`sarsp_edu.preparation.prepare`, as an experiment builds
     them: seed 0 here is the world, the data, the outliers and the shift of
     ``ExperimentConfig(seed=0, ...)`` in a run, a sweep and tutorial 4.  The
     world and its offline data are cached per seed, so moving the nss, m or

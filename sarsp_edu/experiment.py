@@ -25,50 +25,23 @@ import numpy as np
 import pandas as pd
 
 from ._threads import one_blas_thread
-from .config import DEFINITION_4_A, PRESET_DOCS, PRESET_FIELDS, PRESETS, ExperimentConfig, preset_of
+from .config import DEFINITION_4_A, ExperimentConfig
 from .kernels import RBF
-from .preparation import Prepared, offline_world, prepare  # noqa: F401  (importable from here too)
+from .metrics import RECORD_COLUMNS, check_a, running_metrics
+from .preparation import Prepared, prepare
 from .processes import GaussianProcess, StudentTProcess
-from .metrics import (  # the metrics' names stay importable from here too
-    RECORD_COLUMNS,
-    SUMMARY_METRICS,
-    backup_share,
-    check_a,
-    cost_rate_undefined,
-    percent_difference,
-    prefers,
-    running_metrics,
-    stuck_share,
-)
-from .results import Comparison, ExperimentResult, StoredResultError
+from .results import Comparison, ExperimentResult
 from .sarsp import Decision, LearnOutcome, SARSPAgent
 
 __all__ = [
-    "ExperimentConfig",
     "Experiment",
-    "Prepared",
-    "prepare",
-    "offline_world",
+    "StepRecord",
+    "make_model",
     "experiments_on_one_world",
     "each_experiment_on_one_world",
     "paired_experiments",
-    "ExperimentResult",
-    "Comparison",
     "run_experiment",
     "compare",
-    "prefers",
-    "running_metrics",
-    "percent_difference",
-    "backup_share",
-    "SUMMARY_METRICS",
-    "RECORD_COLUMNS",
-    "StoredResultError",
-    "PRESETS",
-    "PRESET_DOCS",
-    "PRESET_FIELDS",
-    "preset_of",
-    "stuck_share",
-    "cost_rate_undefined",
 ]
 
 

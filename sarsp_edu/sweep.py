@@ -3,9 +3,8 @@
 ``run_sweep`` runs the cells locally (joblib processes) or on a Dask cluster,
 storing each finished cell in a results folder as soon as it finishes, and
 ``SweepResults`` reads a folder back, checking every file.  The tables
-(:func:`sarsp_edu.tables.summary_tables`, re-exported here) are in
-:mod:`sarsp_edu.tables`.  Running and reading back a sweep are one idea, the
-stored grid, and stay one file of about 450 lines.
+built from it (:func:`sarsp_edu.tables.summary_tables`) are in
+:mod:`sarsp_edu.tables`, which imports nothing from here.
 
 Each cell's seed is derived from the sweep seed and the cell's (m, p, nss),
 never from the order in which cells run, so the numbers do not depend on how
@@ -36,21 +35,15 @@ from .config import ExperimentConfig
 from .experiment import compare
 from .metrics import SUMMARY_METRICS, check_a
 from .results import Comparison
-from .tables import frame_to_markdown, summary_tables, tables_markdown  # noqa: F401  (the sweep's tables)
 
 __all__ = [
     "StoredResultWarning",
     "run_sweep",
     "SweepResults",
-    "summary_tables",
     "cell_config",
     "describe_cells",
     "load_cell",
     "stored_sweep",
-    "frame_to_markdown",
-    "PAPER_MAGNITUDES",
-    "PAPER_PROPORTIONS",
-    "PAPER_SWITCH_STATES",
 ]
 
 

@@ -30,10 +30,13 @@ from .metrics import (
 if TYPE_CHECKING:
     from .sweep import SweepResults
 
-__all__ = ["beside_paper", "frame_to_markdown", "summary_tables", "table1_beside_paper", "tables_markdown"]
+__all__ = [
+    "beside_paper", "bootstrap_ci", "frame_to_markdown", "paired", "paper_mode", "per_configuration", "summary_tables",
+    "table1_beside_paper", "tables_markdown",
+]
 
 
-def _paper_mode(values: np.ndarray) -> float:
+def paper_mode(values: np.ndarray) -> float:
     """The smallest of the most frequent values (scipy.stats.mode's rule).
 
     For a continuous metric whose values are all different this is simply
@@ -42,18 +45,23 @@ def _paper_mode(values: np.ndarray) -> float:
     return float(stats.mode(np.asarray(values, dtype=float), keepdims=False).mode)
 
 
-def _per_configuration(frame: pd.DataFrame) -> pd.DataFrame:
+def per_configuration(frame: pd.DataFrame) -> pd.DataFrame:
     """Mean over seeds of each (m, p, nss, model)."""
     return frame.groupby(["m", "p", "nss", "model"], as_index=False)[list(SUMMARY_METRICS)].mean()
 
 
-def _paired(frame: pd.DataFrame, metric: str):
+def paired(frame: pd.DataFrame, metric: str):
+    """``metric``'s TP and GP values, as two arrays in the same order of configurations (m, p, nss)."""
     wide = frame.pivot_table(index=["m", "p", "nss"], columns="model", values=metric)
     return wide["TP"].to_numpy(), wide["GP"].to_numpy()
 
 
-def _bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):
-    """A percentile interval over resampled pairs; NaN from a single pair, which has no spread to resample.
+def bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):
+    """A percentile interval of ``statistic(tp, gp)`` over resampled pairs; NaN from a single pair.
+
+    ``tp`` and ``gp`` are paired arrays (:func:`paired`); each of ``n_boot``
+    resamples draws pairs with replacement from ``rng``.  A single pair has
+    no spread to resample, hence NaN.
 
     The resamples are drawn even then, so that the intervals computed after
     this one do not depend on how many pairs it had.
@@ -110,7 +118,7 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
     a = results.a if a is None else a
     boot_rng = np.random.default_rng(rng)
     raw = results.frame()
-    per_config = _per_configuration(raw)
+    per_config = per_configuration(raw)
 
     # Table 1
     rows = []
@@ -136,7 +144,7 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
     def central(function, with_spread):
         out = []
         for metric in SUMMARY_METRICS:
-            tp, gp = _paired(per_config, metric)
+            tp, gp = paired(per_config, metric)
             row = {"metric": metric, "TP": function(tp), "GP": function(gp)}
             row["% change"] = percent_difference(row["TP"], row["GP"])
             row["better"] = better_of(metric, row["TP"], row["GP"]) if math.isfinite(row["% change"]) else "n/a"
@@ -144,7 +152,7 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
             # paper's 0 is kept in the averages, and counted here
             row["p_c undefined in"] = undefined_configs if metric == "cost_rate" else 0
             if with_spread:
-                low, high = _bootstrap_ci(
+                low, high = bootstrap_ci(
                     tp, gp, lambda t, g: percent_difference(function(t), function(g)), n_boot, boot_rng
                 )
                 row["95% CI low"], row["95% CI high"] = low, high
@@ -157,11 +165,11 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
         "table1": table1,
         "mean": central(np.mean, True),
         "median": central(np.median, False),
-        "mode": central(_paper_mode, False),
+        "mode": central(paper_mode, False),
     }
 
     # eq. 12's undefined cost rates (kept as the paper's 0 in Tables 1-4) carry no value to test or average
-    tp_defined, gp_defined = (~_paired(per_config.assign(undefined=undefined), "undefined")[i].astype(bool)
+    tp_defined, gp_defined = (~paired(per_config.assign(undefined=undefined), "undefined")[i].astype(bool)
                               for i in (0, 1))
 
     def defined(metric, tp, gp):
@@ -172,7 +180,7 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
 
     tests = []
     for metric in SUMMARY_METRICS:
-        tp, gp = _paired(per_config, metric)
+        tp, gp = paired(per_config, metric)
         keep = np.logical_and(*defined(metric, tp, gp))
         tp, gp = tp[keep], gp[keep]
         diff = tp - gp
@@ -195,7 +203,7 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
             wide = group.pivot_table(index="seed", columns="model", values=list(SUMMARY_METRICS))
             for metric in SUMMARY_METRICS:
                 tp, gp = wide[(metric, "TP")].to_numpy(), wide[(metric, "GP")].to_numpy()
-                low, high = _bootstrap_ci(
+                low, high = bootstrap_ci(
                     tp, gp, lambda t, g: percent_difference(t.mean(), g.mean()), n_boot, boot_rng
                 )
                 seed_rows.append({"m": m, "p": p, "nss": nss, "metric": metric, "seeds": len(tp),
@@ -207,12 +215,12 @@ def summary_tables(results: "SweepResults", a: float | None = None, n_boot: int 
     # drawn last, so that the intervals above do not depend on it
     level_rows = []
     for metric in SUMMARY_METRICS:
-        tp, gp = _paired(per_config, metric)
+        tp, gp = paired(per_config, metric)
         row = {"metric": metric}
         for label, values, keep in zip(("TP", "GP"), (tp, gp), defined(metric, tp, gp)):
             values = values[keep]
             row[label] = float(np.mean(values)) if len(values) else math.nan
-            row[f"{label} 95% CI low"], row[f"{label} 95% CI high"] = _bootstrap_ci(
+            row[f"{label} 95% CI low"], row[f"{label} 95% CI high"] = bootstrap_ci(
                 values, values, lambda t, g: np.mean(t), n_boot, boot_rng
             )
             row[f"{label} n"] = len(values)

@@ -68,7 +68,8 @@ def test_compute_world():
 
 def test_the_dashboards_seed_is_the_experiments_seed():
     """Seed 3 in tutorial 3's dashboard is the world, data, outliers and shift of a run with seed 3."""
-    from sarsp_edu.experiment import ExperimentConfig, prepare
+    from sarsp_edu.config import ExperimentConfig
+    from sarsp_edu.preparation import prepare
 
     world = demos.compute_world(seed=3, n_switch_states=6, magnitude=60, proportion=0.3, offline_episodes=10)
     config = ExperimentConfig(seed=3, n_switch_states=6, outlier_magnitude=60.0, outlier_proportion=0.3,

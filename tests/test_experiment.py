@@ -8,7 +8,9 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import ExperimentConfig, ExperimentResult, compare, prefers, run_experiment
-from sarsp_edu.experiment import RECORD_COLUMNS, SUMMARY_METRICS, Comparison, Experiment, running_metrics
+from sarsp_edu.experiment import Experiment
+from sarsp_edu.metrics import RECORD_COLUMNS, SUMMARY_METRICS, running_metrics
+from sarsp_edu.results import Comparison
 
 TINY = ExperimentConfig(
     grid_size=5, n_unsafe=3, n_switch_states=1, episodes=4, offline_episodes=6,
@@ -327,7 +329,7 @@ def test_defaults_are_the_papers():
 # --------------------------------------------------------------------------
 # presets
 # --------------------------------------------------------------------------
-from sarsp_edu.experiment import PRESET_DOCS, PRESET_FIELDS, PRESETS, preset_of  # noqa: E402
+from sarsp_edu.config import PRESET_DOCS, PRESET_FIELDS, PRESETS, preset_of  # noqa: E402
 
 
 @pytest.mark.parametrize("name", sorted(PRESETS))

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from sarsp_edu import RBF, GaussianProcess, ObservationBuffer, SARSPAgent, StudentTProcess
-from sarsp_edu.offline import OfflineData
+from sarsp_edu.offline import OfflineData, cost_inputs
 from sarsp_edu.sarsp import choose_action
 
 INF = np.inf
@@ -163,24 +163,24 @@ def test_the_agent_works_on_a_copy_of_the_data():
 
 def test_per_step_prior_holds_random_rows_and_every_actions_matches():
     agent = tiny_agent(5.0, k_prior=2, prior_draw="per_step")
-    queries = np.array([[0, 2, 2, 3, 2.0], [1, 2, 2, 3, 2.0]])
-    priors = agent._priors(agent.cost_data, queries)
-    assert len(priors) == 2 and priors[0] is priors[1]  # one set, shared
-    for query in queries:
-        assert set(agent.cost_data.rows_of(query)) <= set(priors[0])
-    assert len(priors[0]) <= 2 + 6
+    priors = agent.strategic_prior(OBS, "cost")
+    assert len(priors) == 4 and all(p is priors[0] for p in priors)  # one set, shared
+    matches = [set(agent.cost_data.rows_of(query)) for query in cost_inputs(OBS)]
+    assert all(len(m) == 3 for m in matches)
+    for m in matches:
+        assert m <= set(priors[0])
+    assert len(priors[0]) <= 2 + 4 * 3
     agent = tiny_agent(5.0, k_prior=2, n_matching=2, prior_draw="per_step")
-    rows = agent._priors(agent.cost_data, queries[:1])[0]
-    assert len(set(agent.cost_data.rows_of(queries[0])) & set(rows)) >= 2
+    rows = set(agent.strategic_prior(OBS, "cost")[0])
+    assert all(len(m & rows) >= 2 for m in matches)
 
 
 def test_per_action_prior_holds_its_own_matches_only():
     agent = tiny_agent(5.0, k_prior=1, n_matching=10)
-    queries = np.array([[0, 2, 2, 3, 2.0], [1, 2, 2, 3, 2.0]])
-    first, second = agent._priors(agent.cost_data, queries)
-    assert set(agent.cost_data.rows_of(queries[0])) <= set(first)
-    assert set(agent.cost_data.rows_of(queries[1])) <= set(second)
-    assert len(first) <= 1 + 3 and len(second) <= 1 + 3 + 5  # one random row plus the matches
+    priors = agent.strategic_prior(OBS, "cost")
+    for rows, query in zip(priors, cost_inputs(OBS)):
+        assert set(agent.cost_data.rows_of(query)) <= set(rows)
+        assert len(rows) <= 1 + 3  # one random row plus the three matches
 
 
 def large_buffer_agent(prior_draw, n=1000, k=100):
@@ -222,18 +222,15 @@ def test_per_step_prior_is_one_set_for_the_four_actions():
 
 def test_per_action_predictions_equal_conditioning_each_prior_on_its_own():
     """The batched prediction is the model conditioned on each action's prior."""
-    from sarsp_edu.offline import cost_inputs
-
     agent = tiny_agent(5.0, StudentTProcess, k_prior=5)
     state = agent.rng.bit_generator.state
-    mu, var, sizes = agent._predict(agent.cost_model, agent.cost_data, cost_inputs(OBS))
+    mu, var, _, _ = agent.predict(OBS)  # the cost model's priors are drawn first
     agent.rng.bit_generator.state = state  # the same priors again
-    priors = agent._priors(agent.cost_data, cost_inputs(OBS))
+    priors = agent.strategic_prior(OBS, "cost")
     for a, rows in enumerate(priors):
         model = agent.cost_model.condition(agent.cost_data.X[rows], agent.cost_data.y[rows])
         m, v = model.predict(cost_inputs(OBS)[a : a + 1], return_var=True, include_noise=True)
         assert mu[a] == pytest.approx(m[0], rel=1e-9) and var[a] == pytest.approx(v[0], rel=1e-8)
-        assert sizes[a] == len(rows)
 
 
 @pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])

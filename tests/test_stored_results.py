@@ -16,7 +16,8 @@ from sarsp_edu import ExperimentConfig, run_experiment, run_sweep
 from sarsp_edu.cli import main
 from sarsp_edu.provenance import code_provenance
 from sarsp_edu.results import ExperimentResult, StoredResultError
-from sarsp_edu.sweep import LOCK_NAME, StoredResultWarning, SweepResults, summary_tables
+from sarsp_edu.sweep import LOCK_NAME, StoredResultWarning, SweepResults
+from sarsp_edu.tables import summary_tables
 
 from .test_cli import _usage_error as usage_error  # a usage error's last line, with no traceback
 

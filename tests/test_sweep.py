@@ -7,9 +7,10 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import ExperimentConfig, compare, run_sweep, summary_tables
-from sarsp_edu.experiment import SUMMARY_METRICS
+from sarsp_edu.metrics import SUMMARY_METRICS
 from sarsp_edu.metrics import cost_rate_undefined
-from sarsp_edu.sweep import SweepResults, cell_config, cell_seed, frame_to_markdown, tables_markdown
+from sarsp_edu.sweep import SweepResults, cell_config, cell_seed
+from sarsp_edu.tables import frame_to_markdown, tables_markdown
 
 TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
                         cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
@@ -193,15 +194,15 @@ def test_level_intervals_leave_the_change_intervals_as_they_were(sweep_dir):
     # the levels' resamples are drawn after every other interval, so adding
     # them changed no interval that stored results and docs quote
     from sarsp_edu.metrics import percent_difference
-    from sarsp_edu.tables import _bootstrap_ci, _paired, _per_configuration
+    from sarsp_edu.tables import bootstrap_ci, paired, per_configuration
 
     _, results = sweep_dir
     tables = summary_tables(results, n_boot=100, rng=3)
-    per_config = _per_configuration(results.frame())
+    per_config = per_configuration(results.frame())
     rng = np.random.default_rng(3)
     for metric in SUMMARY_METRICS:
-        tp, gp = _paired(per_config, metric)
-        low, high = _bootstrap_ci(tp, gp, lambda t, g: percent_difference(t.mean(), g.mean()), 100, rng)
+        tp, gp = paired(per_config, metric)
+        low, high = bootstrap_ci(tp, gp, lambda t, g: percent_difference(t.mean(), g.mean()), 100, rng)
         np.testing.assert_equal([tables["mean"].loc[metric, "95% CI low"], tables["mean"].loc[metric, "95% CI high"]],
                                 [low, high])
 
@@ -215,10 +216,10 @@ def test_table1_uses_definition_4_and_the_symmetric_difference():
 
 
 def test_mode_is_scipys_rule():
-    from sarsp_edu.tables import _paper_mode
+    from sarsp_edu.tables import paper_mode
 
-    assert _paper_mode(np.array([3.0, 1.0, 3.0, 2.0])) == 3.0  # the most frequent
-    assert _paper_mode(np.array([-145.3, -60.2, -88.8])) == -145.3  # all unique: the smallest
+    assert paper_mode(np.array([3.0, 1.0, 3.0, 2.0])) == 3.0  # the most frequent
+    assert paper_mode(np.array([-145.3, -60.2, -88.8])) == -145.3  # all unique: the smallest
 
 
 def test_markdown_export(sweep_dir):
