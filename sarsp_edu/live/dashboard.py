@@ -1,14 +1,4 @@
-"""The live dashboards: two agents stepping side by side on one world.
-
-Tutorial 4 runs the TP agent beside the GP agent, tutorial 6 one agent as the
-printed algorithm and as the reference code run it.  The runs of
-:func:`sarsp_edu.experiment.experiments_on_one_world` are prepared ahead in a
-worker thread (the offline fits take seconds), and each side steps in its own
-worker thread under an asyncio loop, so the notebook stays responsive and one
-side's retrain of its cost model does not stop the other; the pictures come
-from :mod:`sarsp_edu.plotting` (``plot_live_metrics``) and
-:mod:`sarsp_edu.markup` (``gridworld_svg``, ``decision_table_html``).
-"""
+"""The live dashboard itself: its sliders, the world they imply, the two sides' pictures and numbers."""
 
 from __future__ import annotations
 
@@ -17,18 +7,19 @@ import html
 import os
 import threading
 import time
-from concurrent.futures import ThreadPoolExecutor
 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
 
-from . import markup, plotting
-from ._threads import one_blas_thread
-from .config import NU, DataSettings
-from .dashboard import (PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin, control_row, fixed_layout_axes,
+from .. import markup, plotting
+from .._threads import one_blas_thread
+from ..config import NU, DataSettings
+from ..dashboard import (PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin, control_row, fixed_layout_axes,
                         render_figure, slider, stitch_png, wipe_axes)
+from .animation import Animation
+from .background import Preparer, changed_settings
 
-__all__ = ["TP_AND_GP", "AgentDashboard", "agent_dashboard"]
+__all__ = ["AUTOPLAY_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
 _LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
 
@@ -42,112 +33,8 @@ TP_AND_GP = {
 #: (the test suite, ``sarsp-edu course``), where nobody watches and the agents would only compete for the cores
 AUTOPLAY_VARIABLE = "SARSP_EDU_AUTOPLAY"
 
-#: a side whose step has taken this long shows why it waits (a retrain of its cost model, usually)
-WAIT_SHOWN_AFTER = 0.25
 
-
-def changed_settings(sides: dict) -> dict:
-    """Name -> the settings that side changes: the dashboard's sides as ``experiments_on_one_world`` takes them."""
-    return {name: changes for name, (_, changes) in sides.items()}
-
-
-class _Preparation:
-    """The runs of one setting as a worker thread fits them: each side appears as soon as its models are fitted."""
-
-    def __init__(self, condition):
-        self._condition = condition
-        self.experiments = {}
-        self.error = None
-        self.done = False
-
-    def wait_for(self, name):
-        """The side's Experiment, once fitted (raises what the preparation raised; None if it was abandoned)."""
-        with self._condition:
-            while name not in self.experiments and self.error is None and not self.done:
-                self._condition.wait()
-            if self.error is not None:
-                raise self.error
-            return self.experiments.get(name)
-
-
-class _Preparer:
-    """Prepares the runs of the latest requested settings in one daemon thread.
-
-    A slider move requests new settings; settings requested while another
-    preparation runs are prepared after it (the one under way stops after
-    the side it is fitting), and only the latest request is kept, so a
-    lecturer dragging a slider does not queue up work.  ``claim`` hands a
-    preparation, finished or under way, to the dashboard once.
-    """
-
-    def __init__(self, sides: dict):
-        self.sides = sides
-        self._condition = threading.Condition()
-        self._wanted = None
-        self._pending = False
-        self._preparations = {}  # key -> _Preparation (the latest only)
-        self._thread = None
-
-    @staticmethod
-    def key(config):
-        return repr(config)
-
-    def request(self, config) -> None:
-        """Prepare ``config`` (again), after the preparation under way."""
-        with self._condition:
-            self._wanted, self._pending = config, True
-            if self._thread is None:
-                self._thread = threading.Thread(target=self._work, name="sarsp-edu-prepare", daemon=True)
-                self._thread.start()
-            self._condition.notify_all()
-
-    def busy_with(self, config) -> bool:
-        """Whether a preparation of ``config`` is under way or waits to begin."""
-        with self._condition:
-            key = self.key(config)
-            preparation = self._preparations.get(key)
-            return (preparation is not None and not preparation.done) or (
-                self._pending and self.key(self._wanted) == key)
-
-    def claim(self, config):
-        """The preparation of ``config`` (finished or under way), handed out once; None if it was not requested."""
-        with self._condition:
-            key = self.key(config)
-            while self._pending and self.key(self._wanted) == key:  # requested, not begun: wait for it to begin
-                self._condition.wait()
-            return self._preparations.pop(key, None)
-
-    def _work(self) -> None:
-        from .experiment import each_experiment_on_one_world
-
-        while True:
-            with self._condition:
-                if not self._pending:
-                    self._thread = None
-                    self._condition.notify_all()
-                    return
-                config, self._pending = self._wanted, False
-                key = self.key(config)
-                preparation = _Preparation(self._condition)
-                self._preparations = {key: preparation}  # only the latest settings are kept
-                self._condition.notify_all()
-            try:
-                with one_blas_thread():
-                    sides = changed_settings(self.sides)
-                    for name, experiment in each_experiment_on_one_world(config, sides, cache=True):
-                        with self._condition:
-                            preparation.experiments[name] = experiment
-                            self._condition.notify_all()
-                            if self._pending:  # newer settings wanted: the rest of this one is abandoned
-                                break
-            except Exception as exc:  # handed to whoever waits for these settings
-                preparation.error = exc
-            with self._condition:
-                preparation.done = True
-                self._condition.notify_all()
-
-
-class AgentDashboard(ProjectorMixin, widgets.VBox):
+class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
     """Two agents running paired on one world, side by side, live: by default the TP agent and the GP agent.
 
     Sliders for nu, m, p, nss, the seed and the number of episodes: a move
@@ -198,8 +85,8 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
                  n_switch_states=2, seed=0, episodes=30,
                  steps_per_second=30.0, config=None, sides=None, prepare_ahead: bool = True,
                  projector: bool | None = None, autoplay: bool = False):
-        from .config import ExperimentConfig
-        from .preparation import PREPARATION_FIELDS
+        from ..config import ExperimentConfig
+        from ..preparation import PREPARATION_FIELDS
 
         self.base_config = ExperimentConfig() if config is None else config
         self.sides = dict(TP_AND_GP if sides is None else sides)
@@ -279,7 +166,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         self._metrics_drawn_at = -float("inf")
         self._offline = {}  # seed -> the offline world and its clean data (a slider move reuses them)
         self._generation = 0  # counts setting changes: a preparation begun before one is discarded
-        self._preparer = _Preparer(self.sides)
+        self._preparer = Preparer(self.sides)
         self._pool = None
         self._preparation = None
         self._draw_lock = threading.RLock()  # the sides' threads draw; one picture at a time
@@ -317,7 +204,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         models are fitted in the background (``prepare_ahead``) or when
         **Run** starts the agents.
         """
-        from .preparation import offline_world, prepare
+        from ..preparation import offline_world, prepare
 
         start = time.perf_counter()
         config = self.config()
@@ -374,7 +261,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         Uses the runs prepared ahead for these settings when there are some
         (waiting for them if they are under way).
         """
-        from .experiment import experiments_on_one_world
+        from ..experiment import experiments_on_one_world
 
         config = self.config()
         preparation = self._preparer.claim(config)
@@ -401,7 +288,7 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
         it, without fitting the models), so a static copy of the notebook shows
         where the agents will start.
         """
-        from .preparation import prepare
+        from ..preparation import prepare
 
         figure = Figure(figsize=(5.6, 4.4))
         figure.subplots_adjust(left=0.09, right=1 - 1.8 / 5.6, bottom=0.11, top=0.9)
@@ -451,261 +338,6 @@ class AgentDashboard(ProjectorMixin, widgets.VBox):
             self._draw_world()
             self._drawn_key = None
             self._draw_metrics_if_new_episode()
-
-    # -- stepping -----------------------------------------------------------
-    def step_pair(self, draw: bool = True) -> None:
-        """One step of each agent that has episodes left."""
-        self._every_side()
-        for model, experiment in self.experiments.items():
-            if not experiment.finished:
-                self._last[model] = experiment.step()
-        if draw:
-            self._draw_world()
-            self._draw_metrics_if_new_episode(throttle=True)
-            self.frames += 1
-            now = time.perf_counter()
-            for times in self._frame_times.values():
-                times.append(now)
-
-    def _every_side(self) -> None:
-        """Both sides' runs, prepared here if no run is on show, waited for if one is still being fitted."""
-        if self.experiments is None:
-            self.prepare()
-        for name in self.sides:
-            if name not in self.experiments:
-                self._await_side(name, self._generation)
-
-    def run_steps(self, n: int, draw: bool = True) -> None:
-        """``n`` paired steps, synchronously."""
-        with one_blas_thread():
-            for _ in range(n):
-                if self.finished:
-                    break
-                self.step_pair(draw=draw)
-
-    def fast_forward(self, episodes: int = 10) -> None:
-        """Run whole episodes of both agents without drawing each step, synchronously."""
-        self._every_side()
-        self._forward_quietly(episodes)
-        self._draw_world()
-        self._draw_metrics_if_new_episode()
-
-    @property
-    def displayed_steps_per_second(self) -> float:
-        """Steps drawn per second over the current animation, on the slower side (NaN before two frames)."""
-        rates = []
-        for times in self._frame_times.values():
-            if len(times) < 2 or times[-1] == times[0]:
-                return float("nan")
-            rates.append((len(times) - 1) / (times[-1] - times[0]))
-        return min(rates)
-
-    # -- running without blocking the kernel (the buttons, autoplay) ---------------
-    def start(self, episodes: int | None = None):
-        """Start animating (or fast-forward ``episodes`` episodes) without blocking the kernel.
-
-        Returns the asyncio task that runs it (None if a run is already under
-        way, which the status line then says).
-        """
-        import asyncio
-
-        if self._running:
-            self.status.value = ("Already running: press <b>Stop</b> first, then "
-                                 + ("<b>Fast-forward</b>." if episodes is not None else "<b>Run</b>."))
-            return None
-        self._running = True
-        self._task = asyncio.ensure_future(self._loop(episodes))
-        return self._task
-
-    def play_in_background(self) -> threading.Thread | None:
-        """Start animating in a thread of its own: the agents move even while the notebook runs other cells.
-
-        *Run* waits for the kernel, which handles a click only between cells;
-        this does not (``autoplay=True`` calls it when the dashboard is first
-        shown).  Returns the thread, or None if a run is already under way.
-        """
-        if self._running:
-            return None
-        self._running = True
-        generation = self._generation
-        thread = threading.Thread(target=self._play_reporting, args=(generation,), name="sarsp-edu-play",
-                                  daemon=True)
-        thread.start()
-        return thread
-
-    def stop(self) -> None:
-        self._running = False
-        if self.experiments is not None:
-            self.status.value = "Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders."
-
-    def reset(self) -> None:
-        with self._draw_lock:
-            self._discard_run()
-            self.preview()
-        self._prepare_ahead()
-        self.status.value = "Press <b>Run</b> to start both agents."
-
-    async def _loop(self, episodes):
-        import asyncio
-
-        loop = asyncio.get_running_loop()
-        generation = self._generation
-        try:
-            if episodes is None:
-                await loop.run_in_executor(None, self._play, generation)
-                return
-            await loop.run_in_executor(None, self._claim_preparation, generation)
-            if generation != self._generation:
-                return
-            for name in self.sides:  # fast-forward needs every side
-                await loop.run_in_executor(None, self._await_side, name, generation)
-            if generation != self._generation:
-                return
-            for done in range(episodes):  # one episode at a time: progress shown, Stop obeyed
-                if not self._running or self.finished:
-                    break
-                self.status.value = f"Fast-forwarding: episode {done + 1} of {episodes} ..."
-                await loop.run_in_executor(None, self._forward_quietly, 1)
-                if generation != self._generation:
-                    return
-                with self._draw_lock:
-                    self._draw_world()
-                    self._draw_metrics_if_new_episode()
-            self._say_where_it_stands(generation)
-        except Exception as exc:  # the dashboard reports, the kernel lives on
-            self._say_error(exc)
-        finally:
-            self._running = False
-
-    def _play_reporting(self, generation) -> None:
-        try:
-            self._play(generation)
-        except Exception as exc:  # a background thread has nobody to raise to
-            self._say_error(exc)
-        finally:
-            self._running = False
-
-    def _say_error(self, exc) -> None:
-        self.status.value = f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>"
-
-    def _say_where_it_stands(self, generation) -> None:
-        if generation != self._generation:
-            return
-        with self._draw_lock:
-            self._draw_metrics_if_new_episode()
-        if self.finished:
-            self.status.value = "Finished every episode. <b>New run</b> starts again from the sliders."
-        elif self._running:
-            self.status.value = "Paused. <b>Run</b> continues."
-
-    def _claim_preparation(self, generation) -> None:
-        """Take the runs prepared (or being prepared) for the sliders' settings; each side joins when fitted."""
-        if self.experiments is not None:
-            return
-        config = self.config()
-        ahead = self._preparer.busy_with(config)
-        self.status.value = ("Preparing: " + ("the fits begun in the background are finishing" if ahead else
-                                              f"{self.base_config.offline_episodes} offline episodes, outliers, "
-                                              "fitting the agents' models")
-                             + "; each agent starts as soon as its models are fitted ...")
-        if not ahead:
-            self._preparer.request(config)
-        preparation = self._preparer.claim(config)
-        if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
-            return
-        if preparation is None:  # not found (never expected): prepared here instead
-            self.prepare()
-        else:
-            self._preparation = preparation
-            self._begin({})
-
-    def _play(self, generation) -> None:
-        """Animate until stopped or finished, blocking: each side steps in a worker thread of its own.
-
-        Run from a worker thread (by *Run* through the asyncio loop, or by
-        ``play_in_background``); the drawing is serialised by a lock.
-        """
-        self._claim_preparation(generation)
-        if generation != self._generation:
-            return
-        self.status.value = "Running ..."
-        if self._pool is None:  # the sides and the watch on them
-            self._pool = ThreadPoolExecutor(max_workers=len(self.sides) + 1, thread_name_prefix="sarsp-edu-side")
-        self._frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
-        self.frames = 0
-        with one_blas_thread():  # entered once for the whole animation, not per step
-            sides = [self._pool.submit(self._run_side, name, generation) for name in self.sides]
-            watch = self._pool.submit(self._show_waits, generation, sides)
-            for future in [*sides, watch]:
-                future.result()
-        self._say_where_it_stands(generation)
-
-    def _await_side(self, name, generation):
-        """A side's run, waiting for its models to be fitted (in the background) if they are not yet."""
-        if name in self.experiments:
-            return self.experiments[name]
-        self._say_waiting(name, "fitting its models ...")
-        experiment = self._preparation.wait_for(name)
-        if experiment is None:  # abandoned part-way: only when newer settings were asked for, so stale
-            return None
-        with self._draw_lock:
-            if generation == self._generation:
-                self.experiments[name] = experiment
-                self._draw_side(name)
-        return experiment
-
-    def _run_side(self, name, generation) -> None:
-        experiment = self._await_side(name, generation)
-        if experiment is None:
-            return
-        while self._running and generation == self._generation and not experiment.finished:
-            start = time.perf_counter()
-            self._stepping_since[name] = start
-            try:
-                record = experiment.step()
-            finally:
-                self._stepping_since[name] = None
-            with self._draw_lock:
-                if generation != self._generation:  # a slider moved: the preview is on show now
-                    return
-                self._last[name] = record
-                self._draw_side(name)
-                times = self._frame_times[name]
-                now = time.perf_counter()
-                if times:
-                    self.longest_wait_seconds[name] = max(self.longest_wait_seconds[name], now - times[-1])
-                times.append(now)
-                steps = min(len(t) for t in self._frame_times.values())
-                if steps > self.frames:
-                    self.frames = steps
-                    if steps % 10 == 0:
-                        self.status.value = (f"Running: {steps} steps shown, "
-                                             f"{self.displayed_steps_per_second:.1f} steps per second.")
-                self._draw_metrics_if_new_episode(throttle=True)
-            time.sleep(max(0.0, 1.0 / self.speed.value - (time.perf_counter() - start)))
-
-    def _show_waits(self, generation, sides) -> None:
-        """Every tenth of a second: a side whose step has taken over WAIT_SHOWN_AFTER says why it waits."""
-        while generation == self._generation and not all(side.done() for side in sides):
-            now = time.perf_counter()
-            for name, since in list(self._stepping_since.items()):
-                if since is not None and now - since > WAIT_SHOWN_AFTER and name in self.experiments:
-                    agent = self.experiments[name].agent
-                    why = ("retraining the cost model after a corrective update" if agent.retraining
-                           else "deciding")
-                    self._say_waiting(name, f"{why} ({now - since:.1f} s); the other side goes on")
-            time.sleep(0.1)
-
-    def _say_waiting(self, name, why: str) -> None:
-        self.headers[name].value = (f"<b>{html.escape(self.sides[name][0])}</b> "
-                                    f"<span style='color:#b35900'>⏳ {html.escape(why)}</span>")
-
-    def _forward_quietly(self, episodes):  # every side is there: fast-forward waits for them
-        with one_blas_thread():
-            for experiment in self.experiments.values():
-                target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
-                while len(experiment.episodes) < target:
-                    experiment.run_episode()
 
     # -- drawing ------------------------------------------------------------
     def _draw_world(self) -> None:

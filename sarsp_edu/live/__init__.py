@@ -1,0 +1,17 @@
+"""The live dashboards: two agents stepping side by side on one world.
+
+Tutorial 4 runs the TP agent beside the GP agent, tutorial 6 one agent as the
+printed algorithm and as the reference code run it.  The runs of
+:func:`sarsp_edu.experiment.experiments_on_one_world` are prepared ahead in a
+worker thread (the offline fits take seconds), and each side steps in its own
+worker thread under an asyncio loop, so the notebook stays responsive and one
+side's retrain of its cost model does not stop the other; the pictures come
+from :mod:`sarsp_edu.plotting` (``plot_live_metrics``) and
+:mod:`sarsp_edu.markup` (``gridworld_svg``, ``decision_table_html``).
+"""
+
+from .animation import WAIT_SHOWN_AFTER
+from .background import changed_settings
+from .dashboard import AUTOPLAY_VARIABLE, TP_AND_GP, AgentDashboard, agent_dashboard
+
+__all__ = ["AUTOPLAY_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard", "agent_dashboard", "changed_settings"]
