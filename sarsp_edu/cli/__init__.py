@@ -1,0 +1,19 @@
+"""The ``sarsp-edu`` command: the paper's experiments from a terminal.
+
+Examples::
+
+    sarsp-edu run --model tp --m 60 --p 0.3 --nss 6 --out results/tp-run
+    sarsp-edu compare --episodes 50 --seed 1
+    sarsp-edu sweep --jobs 2 --out results/paper
+    sarsp-edu tables results/paper
+    sarsp-edu info
+
+The command's parser and entry point are in :mod:`~sarsp_edu.cli.main`, its
+settings flags and path checks in :mod:`~sarsp_edu.cli.arguments`, what each
+command does in :mod:`~sarsp_edu.cli.commands`.
+"""
+
+from .arguments import add_config_arguments, config_flags, config_from_args
+from .main import build_parser, main
+
+__all__ = ["add_config_arguments", "build_parser", "config_flags", "config_from_args", "main"]

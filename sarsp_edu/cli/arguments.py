@@ -1,0 +1,192 @@
+"""The command's settings flags, built from ``ExperimentConfig``'s fields, and the checks on its paths.
+
+Every check runs before any work starts: a folder that cannot be written,
+results of other settings in the way, a missing file, each ends the command
+with one line naming the flag, the value and what to do.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import sys
+
+
+def _none_or(convert):
+    def parse(text: str):
+        return None if text.lower() == "none" else convert(text)
+
+    parse.__name__ = convert.__name__
+    return parse
+
+
+_TYPES = {
+    "float": float,
+    "int": int,
+    "str": str,
+    "int | None": _none_or(int),
+    "str | None": _none_or(str),
+}
+
+
+def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
+    """One flag per ``ExperimentConfig`` field, with the field's own help text.
+
+    Defaults are left to the dataclass (one source of truth): a flag not
+    given is not passed on.
+    """
+    from ..config import LIMITS, PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
+
+    preset_fields = set(PRESET_FIELDS)
+
+    group = parser.add_argument_group(
+        "experiment settings (defaults: the 'default' preset; a flag given overrides the preset)")
+    group.add_argument(
+        "--preset", choices=list(PRESET_DOCS), default=None,
+        help="a named set of SARSP settings: " + "; ".join(f"'{k}': {v}" for k, v in PRESET_DOCS.items())
+        + " [default: default]")
+    for f in dataclasses.fields(ExperimentConfig):
+        if f.name in skip:
+            continue
+        names = [f"--{f.name.replace('_', '-')}"]
+        if "flag" in f.metadata:
+            names.insert(0, f"--{f.metadata['flag']}")
+        bound = f"; at most {LIMITS[f.name][0]:,}" if f.name in LIMITS else ""
+        help_text = f"{f.metadata['help']} [default: {f.default}{bound}]"
+        if f.name in preset_fields:
+            help_text = help_text[:-1] + ", or the preset's]"
+        kwargs = dict(dest=f.name, default=argparse.SUPPRESS, help=help_text)
+        if f.type == "bool":
+            kwargs["action"] = argparse.BooleanOptionalAction
+        else:
+            kwargs["type"] = _TYPES[f.type]
+            kwargs["metavar"] = f.name.upper() if "flag" not in f.metadata else f.metadata["flag"].upper()
+            if "choices" in f.metadata:
+                kwargs["choices"] = list(f.metadata["choices"])
+                kwargs["metavar"] = "{" + ",".join(str(c) for c in f.metadata["choices"]) + "}"
+        group.add_argument(*names, **kwargs)
+
+
+def config_flags(args: argparse.Namespace) -> dict:
+    """The ``ExperimentConfig`` fields given as flags (a flag not given is absent)."""
+    from ..config import ExperimentConfig
+
+    names = {f.name for f in dataclasses.fields(ExperimentConfig)}
+    return {k: v for k, v in vars(args).items() if k in names}
+
+
+def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace, base=None):
+    """Build the config (the preset, or ``base``, then the flags given), turning a bad value into a usage error.
+
+    A flag that the other settings leave unused (``--n-samples`` with exact
+    predictions, say) is reported on standard error.
+    """
+    from ..config import ExperimentConfig
+
+    values = config_flags(args)
+    try:
+        if base is not None:
+            config = base.replace(**values)
+        else:
+            config = ExperimentConfig.from_preset(getattr(args, "preset", None) or "default", **values)
+    except ValueError as exc:
+        parser.error(str(exc))
+    ignored = config.ignored_settings()
+    if args.command == "compare":  # both models run: the TP's settings count
+        ignored = {k: v for k, v in ignored.items() if k not in ("nu", "noise_convention")}
+    for name in sorted(set(values) & set(ignored)):
+        print(f"warning: --{name.replace('_', '-')} is ignored: {ignored[name]}", file=sys.stderr)
+    return config
+
+
+#: what marks a folder as holding each command's results
+_MARKERS = {"sweep": "sweep.json", "ablation": "ablation.json", "run": "result.json", "compare": "tp/result.json"}
+
+
+def check_writable(parser: argparse.ArgumentParser, flag: str, name, path) -> None:
+    """Refuse a folder ``path`` (to make, or to write in) that cannot be written, before any work starts.
+
+    The folder is made and a file written and removed in it, then whatever
+    this made is removed again: a permission, a read-only or pseudo file
+    system (``/proc``), a file in the way, a name too long: each is found now,
+    not after the run, and nothing is left behind.
+    """
+    import tempfile
+
+    made = []
+    ancestor = path
+    while not ancestor.exists():
+        made.append(ancestor)
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        parser.error(f"{flag} {name} cannot be made: {ancestor} is a file")
+    try:
+        for folder in reversed(made):
+            folder.mkdir()
+        handle, probe = tempfile.mkstemp(prefix=".sarsp-edu-probe-", dir=path)
+        os.close(handle)
+        os.unlink(probe)
+    except OSError as exc:
+        parser.error(f"{flag} {name} cannot be written: {exc.strerror or exc}")
+    finally:
+        for folder in made:  # the deepest first
+            try:
+                folder.rmdir()
+            except OSError:
+                pass
+
+
+def check_out(parser: argparse.ArgumentParser, out, command: str, config=None, overwrite: bool = False) -> None:
+    """Refuse an ``--out`` folder the command could not or should not write to, before any work starts.
+
+    A command writes into a new folder, an empty one, or one holding its own
+    kind of results: a sweep or an ablation resumes there; a run or a
+    comparison replaces a result of the same settings there, and one of other
+    settings only with ``--overwrite``.
+    """
+    if out is None:
+        return
+    from pathlib import Path
+
+    path = Path(out)
+    if path.exists() and not path.is_dir():
+        parser.error(f"--out {out} is a file; give a folder (new, empty, or holding a {command}'s results)")
+    check_writable(parser, "--out", out, path)
+    if not (path.is_dir() and any(not entry.name.startswith(".") for entry in path.iterdir())):
+        return
+    kind = next((k for k, marker in _MARKERS.items() if (path / marker).exists()), None)
+    if kind != command:
+        holds = f"a {kind}'s results" if kind else "other files"
+        parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
+                     f"or one holding a {command}'s results")
+    if command in ("run", "compare") and config is not None and not overwrite:
+        differing = stored_settings_differ(path / _MARKERS[command], config)
+        if differing:
+            parser.error(f"--out {out} holds a {command} of other settings ({differing}); to keep both, give "
+                         "another folder; to replace it, add --overwrite")
+
+
+def stored_settings_differ(result_json, config) -> str:
+    """The settings in which a stored run differs from ``config``, in a line ('' when none)."""
+    from .._io import StoredResultError, read_json
+    from ..config import ExperimentConfig
+
+    try:
+        stored = read_json(result_json, keys=("config",))["config"]
+    except StoredResultError:
+        return f"{result_json} cannot be read"
+    ours = config.replace(model=stored.get("model", config.model)).to_dict()
+    known = {f.name for f in dataclasses.fields(ExperimentConfig)}
+    fields_ = sorted(k for k in known if stored.get(k, ours[k]) != ours[k] or k not in stored)
+    return ", ".join(f"{k}: stored {stored.get(k, 'nothing')!r}, now {ours[k]!r}" for k in fields_)
+
+
+def check_file(parser: argparse.ArgumentParser, flag: str, name) -> None:
+    """Refuse an output file that could not be written, before any work starts."""
+    from pathlib import Path
+
+    path = Path(name)
+    if path.is_dir():
+        parser.error(f"{flag} {name} is a folder; give a file name")
+    check_writable(parser, flag, name, path.parent)

@@ -1,0 +1,327 @@
+"""What each ``sarsp-edu`` command does once its arguments are checked: one function per command."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import os
+import platform
+import sys
+
+from .._version import __version__
+
+from .arguments import check_file, check_out, check_writable, config_flags, config_from_args
+
+#: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
+_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium", "pandas", "tqdm", "joblib", "dask")
+
+
+def _format_table(frame) -> str:
+    """A table for the terminal; NaN (an undefined value, such as eq. 12 without a clean success) reads n/a."""
+    return frame.to_string(float_format=lambda v: f"{v:,.3f}", na_rep="n/a")
+
+
+def _run(args, parser) -> int:
+    from ..experiment import run_experiment
+    from ..metrics import SUMMARY_METRICS, backup_share, displayed_summary
+
+    config = config_from_args(parser, args)
+    check_out(parser, args.out, "run", config, args.overwrite)
+    result = run_experiment(config, progress=not args.quiet)
+    import pandas as pd
+
+    table = pd.DataFrame({config.model.upper(): displayed_summary(result.summary)}).loc[list(SUMMARY_METRICS)]
+    print(f"SARSP with a {'Student-t' if config.model == 'tp' else 'Gaussian'} process, {_describe(config)}")
+    print(_format_table(table))
+    records = result.records
+    print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "
+          f"decisions with no safe action: {backup_share(records):.0%}")
+    if args.out:
+        print(f"saved to {result.save(args.out)}")
+    return 0
+
+
+def _compare(args, parser) -> int:
+    from ..experiment import compare
+
+    config = config_from_args(parser, args)
+    check_out(parser, args.out, "compare", config, args.overwrite)
+    try:
+        comparison = compare(config, progress=not args.quiet, a=args.a, n_jobs=args.jobs)
+    except ValueError as exc:
+        parser.error(str(exc))
+    print(f"TP vs GP, paired: {_describe(config)}")
+    print(_format_table(comparison.table()))
+    verdict = comparison.verdict
+    if verdict["tp_preferred"] is None:
+        print(f"Definition 4 (a={args.a:g}) cannot decide: a cost rate is undefined (violations, but no "
+              "episode reached the goal without one)")
+    else:
+        print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
+              f"GP preferred to TP: {verdict['gp_preferred']}")
+    if args.out:
+        print(f"saved to {comparison.save(args.out)}")
+    return 0
+
+
+def _sweep(args, parser) -> int:
+    import shlex
+    from pathlib import Path
+
+    from ..sweep import SweepResults, run_sweep, stored_sweep
+    from ..tables import summary_tables
+
+    grid = {"magnitudes": args.magnitudes, "proportions": args.proportions, "nss": args.nss, "seeds": args.seeds}
+    stored = None
+    if args.out and (Path(args.out) / "sweep.json").exists():
+        try:
+            stored = stored_sweep(args.out)
+        except ValueError as exc:
+            parser.error(str(exc))
+    resume_settings = stored is not None and not config_flags(args) and args.preset is None
+    config = config_from_args(parser, args, base=stored[0] if resume_settings else None)
+    check_out(parser, args.out, "sweep")
+    if args.scheduler and not _dask_installed():
+        parser.error("--scheduler needs Dask, which is not installed: pip install 'sarsp_edu[dask]'")
+    resume_cells = stored is not None and all(values is None for values in grid.values())
+    if resume_cells:
+        keys = sorted(stored[1])  # the cells the stored sweep was asked for
+        print(f"resuming the sweep in {args.out}: {len(keys)} cells, preset {config.preset}"
+              + (" (its stored settings)" if resume_settings else ""), file=sys.stderr)
+    else:
+        from ..config import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+
+        defaults = {"magnitudes": PAPER_MAGNITUDES, "proportions": PAPER_PROPORTIONS, "nss": PAPER_SWITCH_STATES,
+                    "seeds": (0,)}
+        grid = {name: defaults[name] if values is None else values for name, values in grid.items()}
+        keys = [(float(m), float(p), int(nss), int(seed)) for seed in grid["seeds"] for m in grid["magnitudes"]
+                for p in grid["proportions"] for nss in grid["nss"]]
+    if args.out:
+        args.stored = [(args.out, set(keys))]
+    try:
+        if resume_cells:
+            for seed in sorted({key[3] for key in keys}):  # a stored sweep's cells, seed by seed
+                run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
+                          results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
+                          progress=not args.quiet, a=args.a)
+            results = SweepResults.load(args.out, a=args.a)
+        else:
+            results = run_sweep(
+                config,
+                magnitudes=grid["magnitudes"],
+                proportions=grid["proportions"],
+                n_switch_states=grid["nss"],
+                seeds=grid["seeds"],
+                results_dir=args.out,
+                n_jobs=args.jobs,
+                scheduler=args.scheduler,
+                progress=not args.quiet,
+                a=args.a,
+            )
+    except ValueError as exc:
+        parser.error(str(exc))
+    tables = summary_tables(results)
+    cells = f"{len(results)} cell{'' if len(results) == 1 else 's'}"
+    print(f"{cells}, each a paired TP-vs-GP run of {config.episodes} episodes; preset {config.preset}")
+    print(_format_table(tables["mean"]))
+    if args.out:
+        print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {shlex.quote(str(args.out))}")
+    return 0
+
+
+def _dask_installed() -> bool:
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec("dask.distributed") is not None
+    except ModuleNotFoundError:
+        return False
+
+
+def _tables(args, parser) -> int:
+    from .._io import StoredResultError, atomic_write_text
+    from ..sweep import SweepResults, describe_cells, stored_sweep
+    from ..tables import frame_to_markdown, summary_tables, tables_markdown
+
+    if args.markdown:
+        check_file(parser, "--markdown", args.markdown)
+    try:
+        stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    try:
+        results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial, seeds=args.seeds)
+        tables = summary_tables(results)
+    except StoredResultError as exc:
+        parser.error(f"{exc}; rerun the sweep's command, which computes a damaged cell again")
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    if results.missing:
+        print(f"partial sweep: {len(results)} of {len(results) + len(results.missing)} cells stored; "
+              f"missing: {describe_cells(results.missing)}")
+    versions = results.code_versions()
+    if len(versions) > 1:
+        print(f"note: the runs were computed by {len(versions)} versions of the code, whose numbers may differ: "
+              + "; ".join(f"{label}: {runs} runs" for label, runs in versions.items()))
+    for key, frame in tables.items():
+        if key == "seeds":
+            continue
+        print(f"\n{key}\n{_format_table(frame)}")
+    sections = _beside_paper_sections(tables)
+    for title, frame in sections:
+        print(f"\n{title}\n{_format_table(frame)}")
+    if args.markdown:
+        markdown = tables_markdown(tables)
+        for title, frame in sections:
+            flat = frame.reset_index()
+            for column in {"m", "p"} & set(flat.columns):  # 40 and 0.2, not 40.000 and 0.200
+                flat[column] = flat[column].map(lambda v: f"{v:g}")
+            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(flat)}\n"
+        atomic_write_text(args.markdown, markdown + "\n")
+        print(f"\nMarkdown tables written to {args.markdown}")
+    return 0
+
+
+def _beside_paper_sections(tables: dict) -> list:
+    """(title, frame) pairs: the sweep's mean and Table 1 rows beside the paper's.
+
+    The paper's Table 2 is a mean over its 45 configurations; a partial
+    sweep's mean is over fewer, and the title says how many.
+    """
+    from .. import paper
+    from ..config import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+    from ..tables import beside_paper, table1_beside_paper
+
+    n = len(tables["table1"]) // 2  # a TP row and a GP row per configuration
+    total = len(PAPER_MAGNITUDES) * len(PAPER_PROPORTIONS) * len(PAPER_SWITCH_STATES)
+    over = (f"all {total} configurations" if n == total
+            else f"the {n} configurations stored (the paper's: all {total})")
+    sections = [(f"beside the paper's Table 2: mean over {over}, with each model's 95% bootstrap interval",
+                 beside_paper(tables["mean"], paper.TABLE2, levels=tables["levels"]))]
+    rows = table1_beside_paper(tables["table1"], paper.TABLE1)
+    if len(rows):
+        shown = rows.index.droplevel("metric").nunique()
+        sections.append((f"beside the paper's Table 1: {shown} of its {len(paper.TABLE1)} configurations stored",
+                         rows))
+    return sections
+
+
+def _describe(config) -> str:
+    """One line: the configuration, the preset and the settings that differ from it."""
+    from ..config import PRESET_FIELDS, PRESETS
+
+    text = (f"m={config.outlier_magnitude:g} p={config.outlier_proportion:g} nss={config.n_switch_states} "
+            f"episodes={config.episodes} seed={config.seed}; preset {config.preset}")
+    if config.preset == "custom":
+        closest = min(PRESETS, key=lambda name: sum(getattr(config, k) != v for k, v in PRESETS[name].items()))
+        changed = [f"{k}={getattr(config, k)!r}" for k in PRESET_FIELDS if getattr(config, k) != PRESETS[closest][k]]
+        text += f" ('{closest}' with {', '.join(changed)})"
+    return text
+
+
+def _ablation(args, parser) -> int:
+    import shlex
+
+    from ..ablation import ABLATION_SETTINGS, AblationResults, run_ablation
+
+    if args.list:
+        for name, setting in ABLATION_SETTINGS.items():
+            print(f"{name}: {setting or 'the default preset'}")
+        return 0
+    unknown = [name for name in args.settings or () if name not in ABLATION_SETTINGS]
+    if unknown:
+        parser.error(f"unknown setting(s) {unknown}; 'sarsp-edu ablation --list' names them")
+    settings = {name: ABLATION_SETTINGS[name] for name in (args.settings or ABLATION_SETTINGS)}
+    if args.cells:
+        if len(args.cells) % 3:
+            parser.error(f"--cells takes m p nss triples, got {len(args.cells)} numbers")
+        cells = [(args.cells[i], args.cells[i + 1], int(args.cells[i + 2])) for i in range(0, len(args.cells), 3)]
+    else:
+        from ..config import ABLATION_CELLS as cells
+    check_out(parser, args.out, "ablation")
+    if args.out:
+        from pathlib import Path
+
+        from ..ablation import setting_folder
+
+        keys = {(float(m), float(p), int(nss), int(seed)) for seed in args.seeds for m, p, nss in cells}
+        args.stored = [(Path(args.out) / setting_folder(name), keys) for name in settings]
+    command = "sarsp-edu " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if args.record_command else None
+    try:
+        results = run_ablation(settings, cells=cells, seeds=args.seeds, episodes=args.episodes,
+                               results_dir=args.out, n_jobs=args.jobs, progress=not args.quiet, command=command)
+    except ValueError as exc:
+        parser.error(str(exc))
+    if args.out:
+        results = AblationResults.load(args.out)
+    print(_format_table(results.table()))
+    return 0
+
+
+def _course(args, parser) -> int:
+    from pathlib import Path
+
+    from ..course import execute_sources, write_handout, write_pages, write_student_notebooks
+
+    if args.action in ("sources", "student", "pages"):
+        try:
+            if args.action == "sources":
+                written = execute_sources(args.tutorials)
+            elif args.action == "student":
+                written = write_student_notebooks(args.tutorials, run=not args.no_execute)
+            else:
+                if args.out is None:
+                    parser.error("pages needs --out DIR")
+                check_writable(parser, "--out", args.out, Path(args.out))
+                written = [write_pages(args.tutorials, args.out, mathjax=args.mathjax)]
+        except (FileNotFoundError, ValueError) as exc:
+            parser.error(str(exc))
+        for path in written:
+            print(f"wrote {path}")
+        return 0
+    if (args.out is None) == (args.zip is None):
+        parser.error("handout needs --out DIR or --zip FILE")
+    if args.out is not None:
+        check_out(parser, args.out, "handout")
+    else:
+        check_file(parser, "--zip", args.zip)
+    try:
+        made = write_handout(args.root, out=args.out, zip_path=args.zip)
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    print(f"the students' copy of the course (no sources, no solutions) is in {made}")
+    return 0
+
+
+def _info(args, parser) -> int:
+    from ..config import PRESET_DOCS, PRESETS
+
+    print(f"sarsp_edu {__version__}")
+    print(f"python {platform.python_version()} ({sys.executable})")
+    for name in _REPORTED:
+        try:
+            version = importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            version = "not installed"
+        print(f"{name} {version}")
+    print("\npresets (sarsp-edu run|compare|sweep|ablation --preset NAME):")
+    for name, values in PRESETS.items():
+        print(f"  {name}: {PRESET_DOCS[name]}")
+        print("    " + ", ".join(f"{k}={v!r}" for k, v in values.items()))
+    return 0
+
+
+def _cache(args, parser) -> int:
+    from .. import fitcache
+
+    directory = fitcache.cache_directory()
+    if directory is None:
+        print(f"the live dashboards' cache of fits is off ({fitcache.CACHE_VARIABLE}="
+              f"{os.environ.get(fitcache.CACHE_VARIABLE)!r})")
+        return 0
+    if args.clear:
+        print(f"removed {fitcache.clear()} stored fits from {directory}")
+        return 0
+    found = fitcache.entries()
+    print(f"{directory}: {len(found)} stored fits, {sum(size for _, size in found) / 2**20:.0f} MB "
+          f"(at most {fitcache.CACHE_BYTES / 2**20:.0f} MB are kept; {fitcache.CACHE_VARIABLE}=off turns it off)")
+    return 0

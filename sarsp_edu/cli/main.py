@@ -1,0 +1,202 @@
+"""The ``sarsp-edu`` command's parser and its entry point, with one-line errors and interruptions."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .._version import __version__
+
+from .arguments import add_config_arguments
+from .commands import _ablation, _cache, _compare, _course, _info, _run, _sweep, _tables
+
+def build_parser() -> argparse.ArgumentParser:
+    from ..config import (
+        ABLATION_CELLS,
+        ABLATION_SEEDS,
+        DEFINITION_4_A,
+        PAPER_MAGNITUDES,
+        PAPER_PROPORTIONS,
+        PAPER_SWITCH_STATES,
+    )
+
+    parser = argparse.ArgumentParser(
+        prog="sarsp-edu",
+        description=(
+            "Safe reinforcement learning with Gaussian and Student-t processes: run the "
+            "paper's experiment (SARSP, Algorithm 1) on the safe gridworld with outliers "
+            "and a covariate shift."
+        ),
+        epilog="Run 'sarsp-edu COMMAND --help' for the settings of a command.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    run = sub.add_parser(
+        "run",
+        help="run one experiment (TP or GP) and print its summary",
+        description="Run one experiment: offline data with outliers, model fits, the covariate "
+        "shift, then the online episodes. Prints the paper's six metrics.",
+    )
+    add_config_arguments(run)
+    run.add_argument("--out", metavar="DIR", help="save records.csv and result.json in DIR")
+    run.add_argument("--overwrite", action="store_true",
+                     help="replace a result of other settings already in --out DIR (refused without it)")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(func=_run, parser=run)
+
+    cmp_ = sub.add_parser(
+        "compare",
+        help="run the TP and the GP paired and apply the preference criterion",
+        description="Run the TP and the GP on the same world, shift, offline data, outliers and "
+        "episode starts and goals; print both summaries, the % differences and Definition 4. Where this "
+        "process may use two cores or more, the GP runs in a second process while the TP runs in this one "
+        "(one BLAS thread each; the records are the same as one after the other); --jobs 1 runs both here.",
+    )
+    add_config_arguments(cmp_, skip=("model",))
+    cmp_.add_argument("--a", type=float, default=DEFINITION_4_A,
+                      help=f"Definition 4's TSR threshold a in [1, 100] [default: {DEFINITION_4_A:g}]")
+    cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
+    cmp_.add_argument("--overwrite", action="store_true",
+                      help="replace a comparison of other settings already in --out DIR (refused without it)")
+    cmp_.add_argument("--jobs", type=int, choices=(1, 2), default=None,
+                      help="processes: 2 runs the GP beside the TP, 1 one after the other "
+                      "[default: 2 where two cores are free to this process, else 1]")
+    cmp_.add_argument("--quiet", action="store_true", help="no progress bars")
+    cmp_.set_defaults(func=_compare, parser=cmp_)
+
+    sweep = sub.add_parser(
+        "sweep",
+        help="run the paper's grid of paired comparisons (m x p x nss x seeds)",
+        description="Run every (m, p, nss, seed) cell as a paired TP-vs-GP comparison, locally "
+        "or on a Dask cluster. With --out each finished cell is stored at once, and a rerun "
+        "skips the cells already there; 'sarsp-edu sweep --out DIR' alone resumes the sweep stored "
+        "in DIR with its own settings and cells.",
+    )
+    def listed(values):
+        return " ".join(f"{v:g}" for v in values)
+
+    sweep.add_argument("--m", "--magnitudes", dest="magnitudes", type=float, nargs="+", metavar="M",
+                       help=f"outlier magnitudes [default: {listed(PAPER_MAGNITUDES)}, or a stored sweep's]")
+    sweep.add_argument("--p", "--proportions", dest="proportions", type=float, nargs="+", metavar="P",
+                       help=f"outlier proportions [default: {listed(PAPER_PROPORTIONS)}, or a stored sweep's]")
+    sweep.add_argument("--nss", "--n-switch-states", dest="nss", type=int, nargs="+", metavar="NSS",
+                       help=f"numbers of switch states [default: {listed(PAPER_SWITCH_STATES)}, or a stored "
+                       "sweep's]")
+    sweep.add_argument("--seeds", type=int, nargs="+", help="sweep seeds [default: 0, or a stored sweep's]")
+    sweep.add_argument("--jobs", type=int, default=1, help="local worker processes; -1: one per core [default: 1]")
+    sweep.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler address (needs sarsp_edu[dask])")
+    sweep.add_argument("--a", type=float, default=DEFINITION_4_A,
+                       help=f"Definition 4's TSR threshold [default: {DEFINITION_4_A:g}]")
+    sweep.add_argument("--out", metavar="DIR", help="results folder (cells stored as they finish)")
+    sweep.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_config_arguments(sweep, skip=("model", "outlier_magnitude", "outlier_proportion", "n_switch_states", "seed"))
+    sweep.set_defaults(func=_sweep, parser=sweep)
+
+    tables = sub.add_parser(
+        "tables",
+        help="print the paper's Tables 1-4 for a sweep's results folder (and write them as Markdown)",
+        description="Read a sweep's results folder; print Table 1 (every configuration), Tables 2-4 "
+        "(mean, median, mode) and a paired Wilcoxon test; with --markdown, write them all as Markdown.",
+    )
+    tables.add_argument("results_dir", metavar="RESULTS_DIR")
+    tables.add_argument("--a", type=float, default=DEFINITION_4_A,
+                        help=f"Definition 4's TSR threshold [default: {DEFINITION_4_A:g}]")
+    tables.add_argument("--markdown", metavar="FILE", help="also write every table as Markdown to FILE")
+    tables.add_argument("--allow-partial", action="store_true",
+                        help="tabulate a sweep with cells still to run (and list them)")
+    tables.add_argument("--seeds", type=int, nargs="+", metavar="SEED",
+                        help="tabulate only these sweep seeds [default: every seed stored]")
+    tables.set_defaults(func=_tables, parser=tables)
+
+    ablation = sub.add_parser(
+        "ablation",
+        help="run the paired comparison under a list of settings and tabulate what each changes",
+        description="Run the TP-vs-GP comparison of a few configurations and seeds once per setting (a preset "
+        "with some fields changed) and tabulate TSR, steps, total cost, cost rate, backup share and trapped "
+        "failures with 95% intervals. With --out every run is stored and a rerun resumes.",
+    )
+    ablation.add_argument("--settings", nargs="+", metavar="NAME", help="setting names [default: all; see --list]")
+    ablation.add_argument("--list", action="store_true", help="list the settings and exit")
+    ablation.add_argument("--cells", type=float, nargs="+", metavar="M P NSS",
+                          help=f"configurations as m p nss triples [default: {listed(sum(ABLATION_CELLS, ()))}]")
+    ablation.add_argument("--seeds", type=int, nargs="+", default=list(ABLATION_SEEDS),
+                          help=f"seeds [default: {listed(ABLATION_SEEDS)}]")
+    ablation.add_argument("--episodes", type=int, default=80, help="episodes per run [default: 80]")
+    ablation.add_argument("--jobs", type=int, default=1, help="local worker processes [default: 1]")
+    ablation.add_argument("--out", metavar="DIR", help="results folder (runs stored as they finish)")
+    ablation.add_argument("--quiet", action="store_true", help="no progress bars")
+    ablation.set_defaults(func=_ablation, parser=ablation, record_command=True)
+
+    course = sub.add_parser(
+        "course",
+        help="run the source notebooks, make the student notebooks, static pages or a students' copy",
+        description="'sources': execute the source notebooks in tutorials/source/ in place (answers in). "
+        "'student': write the student notebooks tutorials/NN_*.ipynb from the sources (nbgrader's format: solution "
+        "regions become '# YOUR CODE HERE', hidden tests go) and execute them. 'pages': static HTML pages of the "
+        "student notebooks, dashboards' pictures included, to project with no Python running. 'handout': copy the "
+        "student notebooks, the glossary and the stored results they read, never the sources, into a new folder "
+        "or a zip file to hand out. Notebooks are stored without widget state, so that a reader without a "
+        "kernel sees each dashboard's picture.",
+    )
+    course.add_argument("action", choices=["sources", "student", "pages", "handout"])
+    course.add_argument("--tutorials", default="tutorials", metavar="DIR",
+                        help="the tutorials folder, holding source/ [default: tutorials]")
+    course.add_argument("--no-execute", action="store_true", help="student: write without executing")
+    course.add_argument("--root", default=".", metavar="DIR",
+                        help="handout: the repository, holding tutorials/ and results/ [default: .]")
+    course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder; pages: the pages' folder")
+    course.add_argument("--mathjax", metavar="DIR",
+                        help="pages: a MathJax 2 folder (holding MathJax.js) to copy beside the pages "
+                        "[default: Debian's libjs-mathjax where installed, else a CDN]")
+    course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
+    course.set_defaults(func=_course, parser=course)
+
+    info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies, and the presets")
+    info.set_defaults(func=_info, parser=info)
+
+    cache = sub.add_parser(
+        "cache", help="where the live dashboards keep their fitted runs, and how much (--clear removes them)",
+        description="The live dashboards keep each run they fit, so that the same settings start at once the "
+                    "next time (sarsp_edu.fitcache); compare, the sweeps and the tests always fit afresh.")
+    cache.add_argument("--clear", action="store_true", help="remove every stored fit")
+    cache.set_defaults(func=_cache, parser=cache)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    import warnings
+
+    from .._io import one_line_warning
+
+    warnings.formatwarning = one_line_warning  # a warning is one line to a terminal user
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not hasattr(args, "func"):
+        parser.print_help()
+        return 0
+    try:
+        return args.func(args, args.parser)
+    except KeyboardInterrupt:
+        print(_interrupted(args), file=sys.stderr)
+        return 130  # the shell's code for a command ended by Ctrl-C
+    except OSError as exc:  # a full disk, a folder made read-only meanwhile: one line, not a traceback
+        print(f"sarsp-edu {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+
+
+def _interrupted(args) -> str:
+    """One line for Ctrl-C: what is saved and how to go on."""
+    stored = getattr(args, "stored", None)
+    if stored:
+        from ..sweep import finished_cells
+
+        saved = sum(len(finished_cells(folder) & keys) for folder, keys in stored)
+        total = sum(len(keys) for _, keys in stored)
+        return (f"interrupted: {saved} of {total} cells are saved in {args.out}; "
+                "rerun the same command to resume")
+    if args.command in ("sweep", "ablation"):
+        return "interrupted: nothing was saved (with --out DIR finished cells are kept, and a rerun resumes)"
+    if args.command in ("run", "compare"):
+        return "interrupted: nothing was saved (a run is saved only when it has finished)"
+    return "interrupted"
