@@ -62,7 +62,7 @@ def test_cell_seeds_depend_on_the_cell_not_the_order():
 
 def test_rerun_skips_finished_cells(sweep_dir, monkeypatch):
     folder, results = sweep_dir
-    from sarsp_edu import sweep as sweep_module
+    from sarsp_edu.sweep import run as sweep_module  # where the cells are run
 
     def must_not_run(*args, **kwargs):
         raise AssertionError("a finished cell was run again")
@@ -73,7 +73,7 @@ def test_rerun_skips_finished_cells(sweep_dir, monkeypatch):
 
 
 def test_an_interrupted_sweep_resumes(tmp_path, monkeypatch):
-    from sarsp_edu import sweep as sweep_module
+    from sarsp_edu.sweep import run as sweep_module  # where the cells are run
 
     real = sweep_module._run_cell
     calls = []
