@@ -232,9 +232,9 @@ def test_bad_arguments_are_named(kwargs, match):
 
 def test_a_cornered_placement_falls_back_to_a_chessboard_colour(monkeypatch):
     # as if the greedy draw cornered itself every time: the fallback alone must place and shift
-    import sarsp_edu.gridworld as gridworld
+    import sarsp_edu.gridworld.env as environment
 
-    monkeypatch.setattr(gridworld, "_PLACEMENT_ATTEMPTS", 0)
+    monkeypatch.setattr(environment, "PLACEMENT_ATTEMPTS", 0)  # the greedy draws the placement makes first
     for size, placement in [(4, "full"), (10, "full"), (10, "reference")]:
         n = SafeGridWorld.capacity(size, placement)
         for seed in range(10):

@@ -1,99 +1,22 @@
-"""The safe-navigation gridworld of the paper (sections 2.4, 5.4, 5.5), with its covariate shift.
-
-The agent walks an ``n x n`` grid from a random start to a random goal while
-avoiding unsafe cells.  After the offline phase, ``shift`` moves some of the
-unsafe cells: the covariate shift of the paper.  The models' inputs are
-built from its observations in :mod:`sarsp_edu.offline`; this module knows
-nothing of the models.  It is one idea, the environment (its rules, its
-placement of unsafe states that cannot fail below the stated capacity, its
-shift and its renderings), and so stays one file of about 500 lines.
-
-Coordinates are ``(x, y)`` with ``x`` the column and ``y`` the row; ``y``
-grows downwards (``DOWN`` is ``(0, +1)``), as in the reference code.
-"""
+"""``SafeGridWorld``: the paper's world as a Gymnasium environment, its placement of unsafe states and its shift."""
 
 from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from ._validation import check_choice, check_int, check_positive, check_switch_states
-from .config import ACTION_MOVES, PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
-from .rng import as_generator
-
-__all__ = [
-    "SafeGridWorld",
-    "GridLayout",
-    "RIGHT",
-    "DOWN",
-    "LEFT",
-    "UP",
-    "ACTIONS",
-    "ACTION_NAMES",
-    "MOVES",
-    "OBSERVATION_FIELDS",
-    "AGENT_XY",
-    "GOAL_XY",
-    "NEAREST_UNSAFE_XY",
-]
-
-#: action constants, numbered as in the reference implementation
-RIGHT, DOWN, LEFT, UP = 0, 1, 2, 3
-ACTIONS = np.array([RIGHT, DOWN, LEFT, UP])
-ACTION_NAMES = ("right", "down", "left", "up")
-#: (dx, dy) of each action
-MOVES = np.array(ACTION_MOVES)
-
-#: the entries of an observation, in order (the reference implementation's)
-OBSERVATION_FIELDS = (
-    "agent_x",
-    "agent_y",
-    "goal_x",
-    "goal_y",
-    "goal_l1_distance",
-    "unsafe_x",
-    "unsafe_y",
-    "unsafe_distance",
-)
-#: where an observation holds the agent's, the goal's and the nearest unsafe state's (x, y)
-AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY = slice(0, 2), slice(2, 4), slice(5, 7)
-
-_PLACEMENT_ATTEMPTS = 200
+from .._validation import check_choice, check_int, check_positive, check_switch_states
+from ..config import PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
+from ..rng import as_generator
+from .layout import MOVES, PLACEMENT_ATTEMPTS, GridLayout
+from .rendering import Rendering
 
 
-@dataclass(frozen=True)
-class GridLayout:
-    """A snapshot of a world, for drawing (see :func:`sarsp_edu.plotting.plot_gridworld`).
-
-    Attributes
-    ----------
-    size : int
-    unsafe_states : ndarray of shape (n_unsafe, 2)
-    start, goal, agent : tuple of int or None
-    moved : ndarray of int
-        Indices (into ``unsafe_states``) of the states moved by the last shift.
-    moved_from : ndarray of shape (len(moved), 2)
-        Where those states were before the shift.
-    d : float
-        The safety threshold.
-    """
-
-    size: int
-    unsafe_states: np.ndarray
-    start: tuple | None
-    goal: tuple | None
-    agent: tuple | None
-    moved: np.ndarray
-    moved_from: np.ndarray
-    d: float = 1.0
-
-
-class SafeGridWorld(gym.Env):
+class SafeGridWorld(Rendering, gym.Env):
     """Navigate an ``n x n`` grid to a goal while avoiding unsafe states.
 
     ## Description
@@ -332,7 +255,7 @@ class SafeGridWorld(gym.Env):
         for cell in list(avoid) + list(exclude):
             if cell is not None and 0 <= cell[0] < span and 0 <= cell[1] < span:
                 base[int(cell[0]) + 1, int(cell[1]) + 1] = True
-        for _ in range(_PLACEMENT_ATTEMPTS):
+        for _ in range(PLACEMENT_ATTEMPTS):
             grid = base.copy()
             placed = []
             for _ in range(n):
@@ -488,46 +411,3 @@ class SafeGridWorld(gym.Env):
             moved_from=self._moved_from.copy(),
             d=self.d,
         )
-
-    def render(self):
-        """A text grid (``"ansi"``) or an RGB image (``"rgb_array"``)."""
-        if self.render_mode is None:
-            gym.logger.warn("render() called without render_mode; pass render_mode='ansi' or 'rgb_array'")
-            return None
-        if self.render_mode == "ansi":
-            return self._render_text()
-        return self._render_rgb()
-
-    def _render_text(self) -> str:
-        rows = [["." for _ in range(self.size)] for _ in range(self.size)]
-        for x, y in self._unsafe:
-            rows[y][x] = "X"
-        gx, gy = self._goal
-        rows[gy][gx] = "G"
-        ax, ay = self._agent
-        rows[ay][ax] = "!" if rows[ay][ax] == "X" else ("*" if (ax, ay) == self._goal else "A")
-        legend = "A agent  G goal  X unsafe  ! agent in an unsafe state  * agent at the goal"
-        return "\n".join(" ".join(row) for row in rows) + "\n" + legend + "\n"
-
-    def _render_rgb(self, cell: int = 24) -> np.ndarray:
-        colours = {
-            "empty": (245, 245, 245),
-            "unsafe": (214, 39, 40),
-            "goal": (44, 160, 44),
-            "agent": (31, 119, 180),
-            "line": (200, 200, 200),
-        }
-        image = np.empty((self.size * cell, self.size * cell, 3), dtype=np.uint8)
-        image[:] = colours["empty"]
-
-        def paint(x, y, colour, margin=0):
-            image[y * cell + margin : (y + 1) * cell - margin, x * cell + margin : (x + 1) * cell - margin] = colour
-
-        for x, y in self._unsafe:
-            paint(x, y, colours["unsafe"])
-        paint(*self._goal, colours["goal"])
-        paint(*self._agent, colours["agent"], margin=cell // 5)
-        image[::cell, :] = colours["line"]
-        image[:, ::cell] = colours["line"]
-        return image
-
