@@ -1,0 +1,269 @@
+"""``ExperimentConfig``: every setting of one run, flat, checked by making its groups; and the named presets."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, fields
+
+from .._validation import check_choice, check_switch_states
+from .defaults import (
+    MODELS,
+    NOISE_CONVENTIONS,
+    OPTIMIZERS,
+    PLACEMENTS,
+    PREDICTIVE,
+    PRIORS,
+    PRIOR_DRAWS,
+    RETRAIN_RULES,
+)
+from .settings import (
+    AgentSettings,
+    CHECKS,
+    DataSettings,
+    ModelSettings,
+    WorldSettings,
+    _GROUPS,
+    _Settings,
+    _field,
+)
+
+
+
+@dataclass(frozen=True)
+class ExperimentConfig(_Settings):
+    """Every setting of one run; the defaults are the paper's (and its reference code's).
+
+    The settings are flat here (one flag each for the ``sarsp-edu`` command,
+    one key each in a stored ``result.json``); the code takes them in groups,
+    :attr:`world_settings`, :attr:`data_settings`, :attr:`model_settings` and
+    :attr:`agent_settings`, which hold each group's defaults and checks: a
+    config is checked by making its groups.  Each field's
+    ``metadata["help"]`` documents it; the ``sarsp-edu`` command builds its
+    flags from the same text.
+    """
+
+    model: str = _field(ModelSettings.model, "the regression model of both the cost and the reward model: 'tp' "
+                        "or 'gp'", choices=MODELS)
+    nu: float = _field(ModelSettings.nu, "TP degrees of freedom, > 2 (paper: fixed at 3)")
+    outlier_magnitude: float = _field(DataSettings.outlier_magnitude, "outlier magnitude m: outlier rows are "
+                                      "multiplied by m (paper: 40, 60, 80)", flag="m")
+    outlier_proportion: float = _field(DataSettings.outlier_proportion, "outlier proportion p in [0, 1] (paper: "
+                                       "0.2, 0.3, 0.4)", flag="p")
+    n_switch_states: int = _field(2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)", flag="nss")
+    episodes: int = _field(250, "online episodes (paper: 250)")
+    offline_episodes: int = _field(DataSettings.offline_episodes, "random-policy episodes of offline data "
+                                   "(paper: 100)")
+    grid_size: int = _field(WorldSettings.grid_size, "grid side n (paper: 10)")
+    n_unsafe: int = _field(WorldSettings.n_unsafe, "number of unsafe states (paper: 15)")
+    d: float = _field(AgentSettings.d, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
+    variance_threshold: float = _field(AgentSettings.variance_threshold,
+                                       "sigma*^2: the largest cost variance of a safe action (reference code: 0.8)")
+    k_prior: int = _field(AgentSettings.k_prior, "random rows in each strategic prior (paper's text: 100; the "
+                          "reference code, which produced the paper's figures: 400)")
+    n_matching: int = _field(AgentSettings.n_matching, "rows matching each query added to the prior, at most "
+                             "(paper: 10)")
+    prior_draw: str = _field(AgentSettings.prior_draw, "how strategic priors are drawn: 'per_action' (a fresh "
+                             "prior for every action and model, as the reference code) or 'per_step' (one per "
+                             "model and step, shared by the four actions, as the printed Algorithm 1)",
+                             choices=PRIOR_DRAWS)
+    cost_outliers: bool = _field(DataSettings.cost_outliers, "inject outliers into the cost model's data "
+                                 "(paper: yes)")
+    reward_outliers: bool = _field(DataSettings.reward_outliers, "inject outliers into the reward model's data "
+                                   "(paper: yes)")
+    seed: int = _field(0, "seed of every random choice of the run")
+    max_steps: int | None = _field(WorldSettings.max_steps, "steps before an episode is truncated (default: "
+                                   "grid_size^2, the paper's T_max)")
+    placement: str = _field(WorldSettings.placement, "where objects are placed: 'full' grid (paper's text) or "
+                            "'reference' (never the last row/column, as the reference code)", choices=PLACEMENTS)
+    cost_duplicates: int = _field(DataSettings.cost_duplicates, "duplicate cap of the cost model's data "
+                                  "(reference code: 12)")
+    reward_duplicates: int = _field(DataSettings.reward_duplicates, "duplicate cap of the reward model's data "
+                                    "(reference code: 1)")
+    predictive: str = _field(AgentSettings.predictive, "how predictions are made: 'closed_form' (exact) or "
+                             "'sample' (the reference code's 150-draw estimate)", choices=PREDICTIVE)
+    n_samples: int = _field(AgentSettings.n_samples, "draws per prediction with predictive='sample' (reference "
+                            "code: 150)")
+    noise_convention: str = _field(ModelSettings.noise_convention, "how the TP's predictive variance includes the "
+                                   "noise: 'tfp' (unscaled, as the reference code's library; unlike a bare "
+                                   "StudentTProcess, whose default is 'shah') or 'shah' (scaled)",
+                                   choices=NOISE_CONVENTIONS)
+    optimizer: str = _field(ModelSettings.optimizer, "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'",
+                            choices=OPTIMIZERS)
+    learning_rate: float = _field(ModelSettings.learning_rate, "Adam's learning rate (paper: 0.1)")
+    optimizer_steps: int = _field(ModelSettings.optimizer_steps, "Adam steps, or L-BFGS-B's iteration cap (paper: "
+                                  "50 Adam steps)")
+    prior: str | None = _field(ModelSettings.prior, "hyperparameter priors: 'lognormal' (LogNormal(0, 1), "
+                               "reference code) or None (plain marginal likelihood)", choices=PRIORS)
+    cost_fit_points: int | None = _field(AgentSettings.cost_fit_points, "rows of the cost model's data for each "
+                                         "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
+                                         "fast, the rows hold ~800 distinct inputs)")
+    reward_fit_points: int | None = _field(AgentSettings.reward_fit_points, "rows drawn at random for the reward "
+                                           "model's hyperparameter fit (None: all ~4,900, as the reference code, "
+                                           "about 4 minutes a fit)")
+    retrain: str = _field(AgentSettings.retrain, "when a corrective update retrains the cost model: 'if_changed' "
+                          "(only when it changed the data, as the reference code), 'always' (the printed "
+                          "Algorithm 1) or 'never'", choices=RETRAIN_RULES)
+
+    def __post_init__(self):
+        self._make_plain()
+        CHECKS["model"](self.model)
+        for name in _GROUPS:  # each group checks its own settings as it is made
+            getattr(self, name)
+        for name in ("episodes", "seed"):
+            CHECKS[name](getattr(self, name))
+        check_switch_states(self.n_switch_states, self.n_unsafe)
+
+    def _group(self, name: str):
+        group = _GROUPS[name]
+        made = group(**{f.name: getattr(self, f.name) for f in fields(group)})
+        self.__dict__[name] = made  # kept: the config is frozen, so its groups never change
+        return made
+
+    @property
+    def world_settings(self) -> WorldSettings:
+        """The world's settings: grid size, unsafe states, d, T_max, placement."""
+        return self.__dict__.get("world_settings") or self._group("world_settings")
+
+    @property
+    def data_settings(self) -> DataSettings:
+        """The offline data's settings and its outliers' (m, p and which models get them)."""
+        return self.__dict__.get("data_settings") or self._group("data_settings")
+
+    @property
+    def model_settings(self) -> ModelSettings:
+        """The regression model (TP or GP, nu, the noise convention) and its hyperparameter fit."""
+        return self.__dict__.get("model_settings") or self._group("model_settings")
+
+    @property
+    def agent_settings(self) -> AgentSettings:
+        """Algorithm 1's settings (d, sigma*^2, k, n, the prior draw, predictions, fits, retraining)."""
+        return self.__dict__.get("agent_settings") or self._group("agent_settings")
+
+    @classmethod
+    def from_preset(cls, name: str = "default", **changes) -> "ExperimentConfig":
+        """The config of a named preset (see ``PRESETS``), with some fields changed.
+
+        Examples
+        --------
+        >>> ExperimentConfig.from_preset("reference").k_prior
+        400
+        >>> ExperimentConfig.from_preset("paper_text", episodes=20).prior_draw
+        'per_step'
+        """
+        check_choice("preset", name, tuple(PRESETS))
+        return cls(**{**PRESETS[name], **changes})
+
+    @property
+    def preset(self) -> str:
+        """The preset whose settings this config has (``PRESET_FIELDS``), or ``"custom"``.
+
+        Fields outside ``PRESET_FIELDS`` (the configuration m, p, nss, the
+        seed, the number of episodes) do not count.
+        """
+        return preset_of(self)
+
+    def ignored_settings(self) -> dict:
+        """The settings that this config's other choices leave unused: ``{field: reason}``.
+
+        Examples
+        --------
+        >>> sorted(ExperimentConfig(model="gp").ignored_settings())
+        ['n_samples', 'noise_convention', 'nu']
+        """
+        ignored = {}
+        if self.predictive != "sample":
+            ignored["n_samples"] = (f"predictions are exact (predictive={self.predictive!r}); it counts only with "
+                                    "predictive='sample'")
+        if self.optimizer != "adam":
+            ignored["learning_rate"] = f"it is Adam's, and optimizer={self.optimizer!r}"
+        if self.model == "gp":
+            ignored["nu"] = "it is the TP's degrees of freedom, and model='gp'"
+            ignored["noise_convention"] = "it says how the TP scales its noise, and model='gp'"
+        return ignored
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, values: dict) -> "ExperimentConfig":
+        """A config from ``to_dict``'s output, also from results stored by sarsp_edu 0.1.
+
+        Every field must be there (a stored config holds them all: a gap
+        means the file was cut or edited, and a default filled in would be
+        untrue).  Version 0.1 had one ``fit_points`` for both models, a
+        boolean ``retrain`` (True: after every corrective update) and always
+        one prior per step; such a config is read with exactly those settings.
+        """
+        values = dict(values)
+        if "fit_points" in values:  # written by sarsp_edu 0.1
+            points = values.pop("fit_points")
+            values.setdefault("cost_fit_points", points)
+            values.setdefault("reward_fit_points", points)
+            values.setdefault("prior_draw", "per_step")
+            if isinstance(values.get("retrain"), bool):
+                values["retrain"] = "always" if values["retrain"] else "never"
+            legacy = True
+        else:
+            legacy = False
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(values) - known)
+        if unknown:
+            raise ValueError(f"unknown ExperimentConfig fields {unknown}; valid fields are {sorted(known)}")
+        lacking = sorted(known - set(values))
+        if lacking and not legacy:  # a stored config holds every field: a gap means it was cut or edited
+            raise ValueError(f"the config lacks the fields {lacking}, which every stored config holds")
+        return cls(**values)
+
+
+#: the settings a preset fixes: how SARSP is run, not which configuration
+PRESET_FIELDS = (
+    "prior_draw",
+    "k_prior",
+    "n_matching",
+    "predictive",
+    "n_samples",
+    "cost_fit_points",
+    "reward_fit_points",
+    "retrain",
+    "placement",
+    "max_steps",
+    "noise_convention",
+)
+
+_DEFAULTS = {f.name: f.default for f in fields(ExperimentConfig)}
+
+#: named sets of SARSP settings, each documented in ``PRESET_DOCS``
+PRESETS = {
+    # the package's defaults: the reference code's strategic prior, at teaching speed
+    "default": {name: _DEFAULTS[name] for name in PRESET_FIELDS},
+    # everything as the authors' code that produced the paper's figures
+    "reference": dict(prior_draw="per_action", k_prior=400, n_matching=10, predictive="sample", n_samples=150,
+                      cost_fit_points=None, reward_fit_points=None, retrain="if_changed", placement="reference",
+                      max_steps=101, noise_convention="tfp"),
+    # the algorithm as the paper prints it
+    "paper_text": dict(prior_draw="per_step", k_prior=100, n_matching=10, predictive="closed_form",
+                       n_samples=150, cost_fit_points=None, reward_fit_points=None, retrain="always",
+                       placement="full", max_steps=None, noise_convention="tfp"),
+}
+
+PRESET_DOCS = {
+    "default": "the reference code's strategic prior (a fresh prior per action) at teaching speed: k = 100, "
+               "closed-form predictions, exact whole-buffer cost fits, reward fits on 1,000 random rows, "
+               "the paper's full grid and T_max = n^2",
+    "reference": "everything as the authors' code that produced the paper's figures: a prior per action, "
+                 "k = 400, 150-draw sampled predictions, whole-buffer fits of both models, retrain only when "
+                 "the data changed, placement off the last row and column, at most 101 steps an episode "
+                 "(on one core, about 8 minutes a 250-episode run of one model, of which 4 are the reward "
+                 "model's fit)",
+    "paper_text": "the algorithm as the paper prints it: one prior per step shared by the four actions, "
+                  "k = 100, hyperparameters fitted on all the data, retrain after every corrective update, "
+                  "the full grid and T_max = n^2",
+}
+
+
+def preset_of(config: "ExperimentConfig") -> str:
+    """The name of the preset whose ``PRESET_FIELDS`` all equal the config's, or ``"custom"``."""
+    for name, values in PRESETS.items():
+        if all(getattr(config, key) == value for key, value in values.items()):
+            return name
+    return "custom"
