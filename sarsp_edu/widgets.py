@@ -17,7 +17,8 @@ import numpy as np
 from . import demos, plotting, tails
 from ._validation import check_choice
 from .config import N_UNSAFE, NU
-from .dashboard import Dashboard, Panel, control_row, projector, slider
+from .dashboard import Dashboard, Panel, control_row, slider
+from .projector import projector
 from .live import AgentDashboard, agent_dashboard
 
 __all__ = [

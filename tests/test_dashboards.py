@@ -661,10 +661,9 @@ def test_a_slow_side_says_why_it_waits_and_the_other_side_goes_on(monkeypatch):
 
 
 def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
-    from sarsp_edu import dashboard
     from sarsp_edu.widgets import projector, tail_decay_dashboard
 
-    monkeypatch.setattr(dashboard, "_SWITCH", {"on": None})
+    projector(None)  # automatic: on in Voila or with SARSP_EDU_PROJECTOR=1
     monkeypatch.delenv("VOILA_KERNEL_ID", raising=False)
     monkeypatch.setenv("SARSP_EDU_PROJECTOR", "0")
     tails = tail_decay_dashboard()
@@ -683,13 +682,16 @@ def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
     projector(False)
     assert not tails.projector and tails.controls["nu"].layout.width == normal_width
     assert tails.images[0].layout.width.endswith("%")
-    monkeypatch.setattr(dashboard, "_SWITCH", {"on": None})
+    from sarsp_edu.projector import projector_default
+
+    projector(None)  # automatic again
     monkeypatch.setenv("SARSP_EDU_PROJECTOR", "1")
-    assert dashboard.projector_default()
+    assert projector_default()
     monkeypatch.delenv("SARSP_EDU_PROJECTOR")
     monkeypatch.setenv("VOILA_KERNEL_ID", "any")
-    assert dashboard.projector_default()  # Voila's kernels
-    with pytest.raises(TypeError, match="on must be True or False"):
+    assert projector_default()  # Voila's kernels
+    monkeypatch.delenv("VOILA_KERNEL_ID")
+    with pytest.raises(TypeError, match="on must be True, False or None"):
         projector("yes")
 
 

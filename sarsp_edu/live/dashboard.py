@@ -14,8 +14,8 @@ from matplotlib.figure import Figure
 from .. import markup, plotting
 from .._threads import one_blas_thread
 from ..config import NU, DataSettings
-from ..dashboard import (PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin, control_row, fixed_layout_axes,
-                        render_figure, slider, stitch_png, wipe_axes)
+from ..dashboard import control_row, fixed_layout_axes, render_figure, slider, stitch_png, wipe_axes
+from ..projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
 from .animation import Animation
 from .background import Preparer, changed_settings
 
@@ -71,8 +71,8 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         Prepare the runs of the sliders' settings in a worker thread as soon
         as they are set, so that *Run* need not wait for the fits.
     projector : bool, optional
-        Projector size (see :func:`sarsp_edu.dashboard.projector`); default
-        :func:`~sarsp_edu.dashboard.projector_default`.
+        Projector size (see :func:`sarsp_edu.projector.projector`); default
+        :func:`~sarsp_edu.projector.projector_default`.
     autoplay : bool, default False
         Start the agents when the dashboard is first shown, in a thread of
         their own (``play_in_background``): they then move while the notebook
