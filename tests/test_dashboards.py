@@ -434,7 +434,7 @@ def test_live_dashboard_async_run_and_stop(live):
         return live.frames
 
     frames = asyncio.run(scenario())
-    assert frames > 0 and not live._running
+    assert frames > 0 and not live.running
     assert "Paused" in live.status.value or "Stopped" in live.status.value or "Finished" in live.status.value
 
 
@@ -701,21 +701,21 @@ def test_autoplay_starts_the_agents_when_shown_in_a_thread_of_their_own(monkeypa
     monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "0")  # a batch run: shown, not started
     quiet = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), autoplay=True)
     quiet._repr_mimebundle_()
-    assert not quiet._running
+    assert not quiet.running
     monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")
 
     live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), autoplay=True)
     live.speed.value = 60
-    assert not live._running  # made, not yet shown
+    assert not live.running  # made, not yet shown
     bundle = live._repr_mimebundle_()
     assert "image/png" in bundle  # the stored picture is the world before the run
-    assert live._running and live.play_in_background() is None  # started once, on the first showing
+    assert live.running and live.play_in_background() is None  # started once, on the first showing
     live._repr_mimebundle_()  # a second showing starts nothing more
     deadline = clock.time() + 120
     while live.frames < 3 and not live.finished and clock.time() < deadline:
         clock.sleep(0.05)  # no asyncio loop runs here: the thread moves the agents by itself
     live.stop()
-    while live._running and clock.time() < deadline:
+    while live.running and clock.time() < deadline:
         clock.sleep(0.05)
     assert live.frames >= 3 or live.finished
-    assert not live._running
+    assert not live.running

@@ -62,6 +62,11 @@ class Animation:
         self._draw_metrics_if_new_episode()
 
     @property
+    def running(self) -> bool:
+        """Whether the agents are animated now (after *Run* or autoplay, until *Stop* or the last episode)."""
+        return self._running
+
+    @property
     def displayed_steps_per_second(self) -> float:
         """Steps drawn per second over the current animation, on the slower side (NaN before two frames)."""
         rates = []
