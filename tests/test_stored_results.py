@@ -252,3 +252,31 @@ def test_undefined_cost_rates_are_left_out_of_the_levels_and_the_wilcoxon_test(s
     assert levels.loc["cost_rate", "GP"] == 0.3 and levels.loc["cost_rate", "TP"] == pytest.approx(0.15)
     assert math.isnan(levels.loc["cost_rate", "GP 95% CI low"])  # one value: no interval
 
+
+
+# -- the stored results are what the code computes (issue 28, section 5) ----------------------------------
+#: per-episode diagnostics of the models' predictions: sums of predicted values whose last digits depend on
+#: the BLAS kernels of the processor (a stored cell computed on another machine differs from 1e-14 to 5e-9);
+#: every other column, the agents' steps and everything counted from them, is the same to the last digit
+PREDICTION_DIAGNOSTICS = ("reward_mse", "cost_prediction_error", "safe_action_variance")
+
+
+def test_a_stored_cell_of_the_reduced_sweep_is_what_the_code_computes():
+    from pathlib import Path
+
+    from sarsp_edu import compare
+    from sarsp_edu.results import Comparison
+    from sarsp_edu.sweep import cell_config
+
+    folder = Path(__file__).resolve().parents[1] / "results" / "sweep-reduced"
+    base = ExperimentConfig.from_dict(json.loads((folder / "sweep.json").read_text())["base_config"])
+    stored = Comparison.load(folder / "cells" / "m40_p0.2_nss2_seed0")
+    again = compare(cell_config(base, 40.0, 0.2, 2, 0))
+    for side in ("tp", "gp"):
+        old, new = getattr(stored, side).records, getattr(again, side).records
+        assert getattr(stored, side).config == getattr(again, side).config
+        exact = [c for c in old.columns if c not in PREDICTION_DIAGNOSTICS]
+        pd.testing.assert_frame_equal(new[exact], old[exact], check_exact=True, check_dtype=False)
+        for column in PREDICTION_DIAGNOSTICS:
+            np.testing.assert_allclose(new[column], old[column], rtol=1e-7, atol=0)
+    assert again.verdict == stored.verdict
