@@ -91,6 +91,7 @@ _LAZY = {
     "NotFittedError": "processes",
     "ConvergenceWarning": "processes",
     "StudentTProcess": "processes",
+    "StudentTLikelihoodGP": "processes",
     "Decision": "sarsp",
     "SARSPAgent": "sarsp",
     "SweepResults": "sweep",

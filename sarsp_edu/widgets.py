@@ -29,6 +29,7 @@ __all__ = [
     "agent_dashboard",
     "gridworld_dashboard",
     "posterior_dashboard",
+    "robust_dashboard",
     "projector",
     "tail_decay_dashboard",
 ]
@@ -136,6 +137,42 @@ def posterior_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: flo
         Panel(lambda ax, data, **_: plotting.plot_variances(ax, data), 5.0, label_offsets=(24, 38)),
     ]
     return Dashboard(controls, compute, panels, height=4.2, layout_rows=rows)
+
+
+def robust_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: float = 0.1, seed: int = 0) -> Dashboard:
+    """The GP, the TP and the GP with a Student-t likelihood on the same outliers; sliders for nu, m, p, the seed.
+
+    The same nu is the TP's degrees of freedom and the likelihood's.  Left:
+    the three posterior means against the function without noise (each
+    with its rmse on the grid); right: how much each point pulls the
+    Student-t-likelihood GP's mean, against a Gaussian likelihood's pull.
+    """
+    controls = {
+        "nu": slider("float", "nu", "ν", nu, 2.1, 50.0, 0.1),
+        "magnitude": slider("float", "magnitude", "outlier magnitude m", magnitude, 1.0, 100.0, 1.0),
+        "proportion": slider("float", "proportion", "outlier proportion p", proportion, 0.0, 0.5, 0.05),
+        "seed": slider("int", "seed", "seed", seed, 0, 20, 1),
+    }
+
+    def compute(nu, magnitude, proportion, seed):
+        data = demos.compute_robust(nu, magnitude, proportion, seed)
+        flagged = int((data["weights"] < 0.1).sum())
+        text = (f"rmse against the function without noise: GP {data['rmse']['gp']:.2f}, TP {data['rmse']['tp']:.2f}, "
+                f"Student-t likelihood {data['rmse']['robust']:.2f}; fitted noise scale s = {data['scale']:.2g}; "
+                f"{flagged} of {len(data['y'])} points pull with less than a tenth of a Gaussian's weight "
+                f"({int(data['outliers'].sum())} are outliers)")
+        return data, text
+
+    def draw_means(ax, data, **_):
+        inlier_y = data["y"][~data["outliers"]]
+        span = max(float(abs(inlier_y).max()), 1.0)
+        plotting.plot_robust(ax, data, ylim=(-2.5 * span, 2.5 * span))
+
+    panels = [
+        Panel(draw_means, 6.5, margins={"left": 0.6}, label_offsets=(24, 30)),
+        Panel(lambda ax, data, **_: plotting.plot_outlier_weights(ax, data), 4.5, label_offsets=(24, 30)),
+    ]
+    return Dashboard(controls, compute, panels, height=4.2)
 
 
 # --------------------------------------------------------------------------

@@ -16,7 +16,7 @@ import pytest
 from matplotlib.figure import Figure
 
 from sarsp_edu import demos, markup, plotting
-from sarsp_edu.widgets import Dashboard, gridworld_dashboard, posterior_dashboard, tail_decay_dashboard
+from sarsp_edu.widgets import Dashboard, gridworld_dashboard, posterior_dashboard, robust_dashboard, tail_decay_dashboard
 
 
 # --------------------------------------------------------------------------
@@ -253,6 +253,8 @@ def test_expensive_sliders_update_on_release():
         (posterior_dashboard, {"nu": 2.1, "magnitude": 100.0, "proportion": 0.5}),
         (posterior_dashboard, {"proportion": 0.0, "fit": False, "scale_inputs": True}),
         (tail_decay_dashboard, {"nu": 0.5, "lam": 10.0}),
+        (robust_dashboard, {"nu": 2.1, "magnitude": 100.0, "proportion": 0.5}),
+        (robust_dashboard, {"proportion": 0.0, "nu": 50.0, "seed": 20}),
         (gridworld_dashboard, {"n_switch_states": 15, "magnitude": 100.0, "proportion": 0.5}),
     ],
 )
@@ -719,3 +721,17 @@ def test_autoplay_starts_the_agents_when_shown_in_a_thread_of_their_own(monkeypa
         clock.sleep(0.05)
     assert live.frames >= 3 or live.finished
     assert not live.running
+
+
+def test_the_robust_dashboard_says_what_its_pictures_show():
+    dashboard = robust_dashboard()  # Tutorial 2's section 9 at its stored settings
+    data = demos.compute_robust()
+    assert data["rmse"]["robust"] < data["rmse"]["gp"] / 5 and data["rmse"]["robust"] < data["rmse"]["tp"] / 5
+    flagged = int((data["weights"] < 0.1).sum())
+    assert flagged == int(data["outliers"].sum()) == 4 and data["weights"][data["outliers"]].max() < 0.04
+    assert f"{flagged} of 40 points pull with less than a tenth" in dashboard.info.value
+    assert f"Student-t likelihood {data['rmse']['robust']:.2f}" in dashboard.info.value
+    dashboard.controls["nu"].value = 50.0  # a thin tail: nothing discounted, the mean drifts to the outliers
+    thin = demos.compute_robust(nu=50.0)
+    assert (thin["weights"] < 0.1).sum() == 0 and thin["rmse"]["robust"] > 2 * data["rmse"]["robust"]
+    assert "0 of 40 points" in dashboard.info.value

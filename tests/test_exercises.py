@@ -66,6 +66,11 @@ def cap_duplicates(X, y, cap):
     return X[keep], y[keep]
 
 
+def student_t_pull(residual, nu, scale):
+    residual = np.asarray(residual, dtype=float)
+    return (nu + 1) * residual / (nu * scale**2 + residual**2)
+
+
 def distance_to_unsafe(position, unsafe):
     return min(math.dist(position, cell) for cell in unsafe)
 
@@ -112,7 +117,7 @@ def prefers(summary_1, summary_2, a):
 
 
 RIGHT = {"1.1": student_t_logpdf, "1.2": tail_ratio, "1.3": outlier_costs, "2.1": rbf, "2.2": gp_posterior,
-         "2.3": tp_variance_factor, "2.4": tp_log_marginal_likelihood, "3.1": cap_duplicates,
+         "2.3": tp_variance_factor, "2.4": tp_log_marginal_likelihood, "2.7": student_t_pull, "3.1": cap_duplicates,
          "3.2": distance_to_unsafe, "3.3": move, "4.1": safe_actions, "4.2": choose, "4.3": corrects,
          "5.1": symmetric_percent_difference, "6.1": tsr_and_cost_rate, "6.2": prefers}
 
@@ -127,6 +132,9 @@ WRONG = {
     "1.3": [(lambda residual, nu: (np.asarray(residual) ** 2 / 2, (nu + 1) / 2 * np.log1p(np.asarray(residual) ** 2 / nu)),
              "The constants are missing"),
             (lambda residual, nu: outlier_costs(residual, nu)[::-1], "swapped")],
+    "2.7": [(lambda residual, nu, scale: np.asarray(residual) / scale**2, "Gaussian likelihood's pull"),
+            (lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
+             "scale s is missing")],
     "2.1": [(lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, length_scale) / amplitude,
              "amplitude enters squared"),
             (lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, np.sqrt(length_scale)),

@@ -126,6 +126,20 @@ def _tp_lml(K, y, noise_variance, nu):
     return float(stats.multivariate_t(np.zeros(len(y)), (nu - 2) / nu * covariance, df=nu).logpdf(y))
 
 
+def _pull_cases(rng):
+    return [
+        {"residual": np.array([0.0, 0.3, 1.0, 3.0, 30.0, -30.0]), "nu": 3.0, "scale": 0.5},
+        {"residual": rng.normal(0, 5, 7), "nu": float(rng.uniform(2.5, 20)), "scale": float(rng.uniform(0.2, 2))},
+        {"residual": rng.uniform(-100, 100, 5), "nu": 1.0, "scale": 1.0},
+    ]
+
+
+def _pull(residual, nu, scale):
+    from ..processes import student_t_log_likelihood
+
+    return student_t_log_likelihood(np.asarray(residual, dtype=float), nu, scale)[1]
+
+
 MODEL_EXERCISES = {
     "1.1": CodingExercise(
         question="the log density of the standard Student-t distribution with nu degrees of freedom",
@@ -279,5 +293,25 @@ MODEL_EXERCISES = {
         ),
         hint="scipy.stats.multivariate_t takes a shape matrix, not a covariance: covariance = shape nu/(nu - 2).",
         explanation="It matches the package's StudentTProcess.log_marginal_likelihood, the quantity Adam climbs.",
+    ),
+    "2.7": CodingExercise(
+        question="the pull of a point on the function under a Student-t likelihood: d log p(y | f) / d f",
+        signature="student_t_pull(residual, nu, scale) -> ndarray like residual",
+        reference=_pull,
+        cases=_pull_cases,
+        mistakes=(
+            Mistake(lambda residual, nu, scale: np.asarray(residual) / scale**2,
+                    "That is a Gaussian likelihood's pull, r / s^2: it grows without end, so an outlier pulls hardest."),
+            Mistake(lambda residual, nu, scale: -_pull(residual, nu, scale),
+                    "The sign: a point above the function (r = y - f > 0) pulls it up."),
+            Mistake(lambda residual, nu, scale: np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
+                    "The factor nu + 1 from the exponent -(nu + 1)/2 is missing."),
+            Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
+                    "The scale s is missing: the residual is measured in units of s, nu s^2 + r^2."),
+        ),
+        hint="Differentiate -(nu + 1)/2 log(1 + r^2 / (nu s^2)) with r = y - f; d r / d f = -1.",
+        explanation="It grows with the residual up to |r| = sqrt(nu) s, then falls towards 0: the farther a point "
+                    "lies from the function, the less it pulls. That is how this model discounts outliers, which "
+                    "the TP's posterior mean does not.",
     ),
 }

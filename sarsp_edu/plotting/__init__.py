@@ -13,7 +13,9 @@ from __future__ import annotations
 from .models import (
     plot_densities,
     plot_gaussian_ratio,
+    plot_outlier_weights,
     plot_posterior,
+    plot_robust,
     plot_tail_ratio_comparison,
     plot_tail_ratios,
     plot_variances,
@@ -43,6 +45,8 @@ __all__ = [
     "plot_macro",
     "plot_metric_curves",
     "plot_outlier_scatter",
+    "plot_outlier_weights",
+    "plot_robust",
     "plot_posterior",
     "plot_tail_ratio_comparison",
     "plot_tail_ratios",

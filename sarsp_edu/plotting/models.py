@@ -10,7 +10,9 @@ from .style import COLOURS, SMALL, finish_axes, log_scale
 __all__ = [
     "plot_densities",
     "plot_gaussian_ratio",
+    "plot_outlier_weights",
     "plot_posterior",
+    "plot_robust",
     "plot_tail_ratio_comparison",
     "plot_tail_ratios",
     "plot_variances",
@@ -147,3 +149,65 @@ def plot_variances(ax, data, *, title: str | None = None):
     ax.legend(fontsize=SMALL, frameon=False, loc="upper right", ncols=2, handlelength=1.5, columnspacing=1.0)
     ax.set_title(title or "posterior variance: eq. 5 (GP) and eq. 6 (TP)")
     return ax
+
+
+def plot_robust(ax, data, *, ylim=None):
+    """The posterior means of the GP, the TP and the Student-t-likelihood GP on one data set, the truth dashed.
+
+    ``data`` is ``demos.compute_robust``'s output; the Student-t-likelihood
+    GP's latent 2-sd band is shaded.  Outliers beyond ``ylim`` are drawn as
+    triangles on its edge.
+    """
+    x = data["x_grid"]
+    ax.plot(x, data["truth"], color="grey", lw=1.2, ls="--", label="the function without noise")
+    mean, sd = data["mean"]["robust"], data["robust_sd"]
+    ax.fill_between(x, mean - 2 * sd, mean + 2 * sd, color=COLOURS["robust"], alpha=0.2)
+    names = {"gp": "GP", "tp": "TP", "robust": "Student-t likelihood"}
+    for name in ("gp", "tp", "robust"):
+        ax.plot(x, data["mean"][name], color=COLOURS[name], lw=2 if name == "robust" else 1.5,
+                ls=":" if name == "tp" else "-", label=f"{names[name]} (rmse {data['rmse'][name]:.2f})")
+    inliers = ~data["outliers"]
+    ax.scatter(data["X"][inliers], data["y"][inliers], s=12, color="black", zorder=3, label="data")
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    low, high = ax.get_ylim()
+    ys, xs = data["y"], data["X"]
+    inside = data["outliers"] & (ys >= low) & (ys <= high)
+    ax.scatter(xs[inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4, label="outliers")
+    for mask, edge, marker in ((data["outliers"] & (ys > high), high, "^"), (data["outliers"] & (ys < low), low, "v")):
+        ax.scatter(xs[mask], np.full(mask.sum(), edge), s=60, marker=marker, color=COLOURS["unsafe"], zorder=5,
+                   clip_on=False)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.grid(alpha=0.3)
+    # the legend in a strip above the plotted range (whose top edge holds the off-scale outliers), as in
+    # plot_posterior: the curves are clipped at that edge, so nothing runs under the legend
+    clip = TransformedBbox(Bbox.from_extents(x[0] - 10, low, x[-1] + 10, high), ax.transData)
+    for artist in [*ax.collections, *ax.lines]:
+        if artist.get_clip_on():
+            artist.set_clip_box(clip)
+    ticks = [t for t in ax.get_yticks() if low <= t <= high]
+    ax.set_ylim(low, high + 0.45 * (high - low))
+    ax.set_yticks(ticks)
+    ax.axhline(high, color="grey", lw=0.6, ls=":")
+    ax.legend(fontsize=SMALL, frameon=False, loc="upper left", ncols=2, handlelength=1.2, columnspacing=0.8)
+
+
+def plot_outlier_weights(ax, data):
+    """How much each point pulls the Student-t-likelihood GP's mean, against a Gaussian likelihood's pull (1).
+
+    ``data["weights"]`` are ``(nu + 1) s^2 / (nu s^2 + r^2)`` at the
+    posterior mode: an outlier's falls towards 0.
+    """
+    xs, weights, outliers = data["X"], data["weights"], data["outliers"]
+    ax.vlines(xs[~outliers], 0, weights[~outliers], color="black", lw=1.2, label="data")
+    ax.vlines(xs[outliers], 0, weights[outliers], color=COLOURS["unsafe"], lw=2.5, label="outliers")
+    ax.scatter(xs[outliers], weights[outliers], s=30, marker="x", color=COLOURS["unsafe"], zorder=3)
+    ax.axhline(1.0, color="grey", lw=0.8, ls="--", label="Gaussian (1)")
+    top = max(1.6, float(weights.max()) * 1.15)
+    ax.set_ylim(0, top)
+    ax.set_xlabel("x")
+    ax.set_ylabel("pull on the mean")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=SMALL, frameon=False, loc="upper left", ncols=3, handlelength=1.2, columnspacing=0.8)
+

@@ -20,6 +20,7 @@ COLOURS = {
     "path": "#17becf",
     "gp": "#ff7f0e",
     "tp": "#1f77b4",
+    "robust": "#2ca02c",
     "grid": "#c8c8c8",
 }
 

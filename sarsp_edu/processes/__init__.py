@@ -39,7 +39,10 @@ How to read it, one module per job:
   factorisations and solves are in :mod:`sarsp_edu.linalg`, the optimisers
   in :mod:`sarsp_edu.optimizers`);
 - :mod:`~sarsp_edu.processes.gp` and :mod:`~sarsp_edu.processes.tp`: the two
-  models, mostly their documentation.
+  models, mostly their documentation;
+- :mod:`~sarsp_edu.processes.robust`: for contrast, a GP with a Student-t
+  *likelihood* (Laplace approximation), a model whose mean does discount
+  outliers, which neither of the two above does.
 """
 
 from .equations import (
@@ -53,10 +56,11 @@ from .equations import (
 from .gp import GaussianProcess
 from .objective import ConvergenceWarning
 from .regressor import NotFittedError
+from .robust import StudentTLikelihoodGP, student_t_log_likelihood
 from .tp import StudentTProcess
 
 __all__ = [
-    "ConvergenceWarning", "GaussianProcess", "NotFittedError", "StudentTProcess", "gp_log_marginal_likelihood",
+    "ConvergenceWarning", "GaussianProcess", "NotFittedError", "StudentTLikelihoodGP", "StudentTProcess", "gp_log_marginal_likelihood",
     "tp_likelihood_weight", "tp_log_marginal_likelihood", "tp_log_marginal_likelihood_dnu",
-    "tp_predictive_variance", "tp_variance_factor",
+    "student_t_log_likelihood", "tp_predictive_variance", "tp_variance_factor",
 ]

@@ -1,0 +1,135 @@
+"""The GP with a Student-t likelihood (Laplace approximation), against independent computations."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import integrate, optimize, stats
+
+from sarsp_edu import RBF, GaussianProcess, StudentTLikelihoodGP, StudentTProcess
+
+KERNEL = RBF(1.2, 0.8)
+#: a length scale near the inputs' spacing keeps K well conditioned, so that K^-1 written out is accurate
+WELL_CONDITIONED = RBF(1.2, 0.3)
+
+
+def wave_with_outliers(n=40, seed=0, n_out=4, size=6.0):
+    rng = np.random.default_rng(seed)
+    X = np.sort(rng.uniform(0, 8, n))[:, None]
+    clean = np.sin(X[:, 0])
+    y = clean + 0.1 * rng.standard_normal(n)
+    out = rng.choice(n, n_out, replace=False)
+    y[out] += rng.choice([-1.0, 1.0], n_out) * size
+    return X, y, clean, out
+
+
+def test_the_mode_is_the_maximum_a_generic_optimiser_finds_on_the_exact_log_posterior():
+    X, y, _, _ = wave_with_outliers(30)
+    model = StudentTLikelihoodGP(WELL_CONDITIONED, nu=4.0, scale=0.3, optimizer=None).fit(X, y)
+    K = WELL_CONDITIONED(X) + 1e-10 * np.eye(len(y))
+    K_inv = np.linalg.inv(K)
+
+    def negative_log_posterior(f):  # scipy's own Student-t density, nothing of the package's
+        return -(stats.t(df=4.0, loc=f, scale=0.3).logpdf(y).sum() - 0.5 * f @ K_inv @ f)
+
+    # a maximum: a generic optimiser started there stays there ...
+    polished = optimize.minimize(negative_log_posterior, model.f_hat_, method="BFGS", options={"gtol": 1e-9})
+    np.testing.assert_allclose(polished.x, model.f_hat_, atol=1e-6)
+    assert -polished.fun <= -negative_log_posterior(model.f_hat_) + 1e-8
+    # ... and started from f = 0 it finds no higher point (the posterior can have several maxima)
+    found = optimize.minimize(negative_log_posterior, np.zeros(len(y)), method="BFGS", options={"gtol": 1e-9})
+    assert -found.fun <= -negative_log_posterior(model.f_hat_) + 1e-8
+
+
+def test_the_predictive_mean_and_variance_equal_the_dense_laplace_formulas():
+    X, y, _, _ = wave_with_outliers(25, seed=1)
+    model = StudentTLikelihoodGP(WELL_CONDITIONED, nu=3.0, scale=0.4, optimizer=None).fit(X, y)
+    assert np.any(model.W_ < 0)  # outliers: W negative, where the textbook algorithm would not apply
+    K = WELL_CONDITIONED(X)
+    K_inv = np.linalg.inv(K)
+    posterior = np.linalg.inv(K_inv + np.diag(model.W_))  # the Laplace covariance of f, written out
+    X_star = np.linspace(-1, 9, 7)[:, None]
+    k_star = WELL_CONDITIONED(X_star, X)
+    mean = k_star @ K_inv @ model.f_hat_
+    var = WELL_CONDITIONED.diag(X_star) - np.einsum("ij,jk,ik->i", k_star, K_inv, k_star) + \
+        np.einsum("ij,jk,ik->i", k_star @ K_inv, posterior, k_star @ K_inv)
+    got_mean, got_var = model.predict(X_star, return_var=True)
+    np.testing.assert_allclose(got_mean, mean, rtol=1e-6, atol=1e-8)
+    np.testing.assert_allclose(got_var, var, rtol=1e-5, atol=1e-8)
+    _, std = model.predict(X_star, return_std=True)
+    np.testing.assert_allclose(std, np.sqrt(got_var))
+
+
+def test_the_predictive_density_against_brute_force_quadrature_in_one_dimension():
+    X, y, _, _ = wave_with_outliers(20, seed=2)
+    model = StudentTLikelihoodGP(KERNEL, nu=5.0, scale=0.3, optimizer=None).fit(X, y)
+    x_star = np.array([[2.5]])
+    mean, var = model.predict(x_star, return_var=True)
+    values = np.array([-1.0, 0.2, 0.6, 1.5])
+    density = model.predictive_density(x_star, values)[0]
+    noise = stats.t(df=5.0, scale=0.3)
+    for value, got in zip(values, density):
+        exact, _ = integrate.quad(lambda f: noise.pdf(value - f) * stats.norm(mean[0], np.sqrt(var[0])).pdf(f),
+                                  -np.inf, np.inf, epsabs=1e-13)
+        assert got == pytest.approx(exact, rel=1e-6)
+    total, _ = integrate.quad(lambda v: model.predictive_density(x_star, [v])[0, 0], -np.inf, np.inf)
+    assert total == pytest.approx(1.0, abs=1e-6)
+    _, noisy = model.predict(x_star, return_var=True, include_noise=True)
+    assert noisy[0] == pytest.approx(var[0] + 0.3**2 * 5.0 / 3.0)
+
+
+def test_with_a_huge_nu_it_is_the_gp_with_noise_variance_scale_squared():
+    X, y, _, _ = wave_with_outliers(30, seed=3)
+    robust = StudentTLikelihoodGP(KERNEL, nu=1e9, scale=0.5, optimizer=None).fit(X, y)
+    gp = GaussianProcess(KERNEL, noise_variance=0.25, optimizer=None).fit(X, y)
+    X_star = np.linspace(0, 8, 9)[:, None]
+    r_mean, r_var = robust.predict(X_star, return_var=True)
+    g_mean, g_var = gp.predict(X_star, return_var=True)
+    np.testing.assert_allclose(r_mean, g_mean, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(r_var, g_var, rtol=1e-5, atol=1e-8)
+    # for a Gaussian likelihood the Laplace approximation is exact
+    assert robust.log_marginal_likelihood_value_ == pytest.approx(gp.log_marginal_likelihood_value_, rel=1e-6)
+
+
+def test_it_discounts_the_outliers_that_pull_the_gp_and_the_tp():
+    X, y, clean, out = wave_with_outliers(60, seed=0, n_out=6)
+    robust = StudentTLikelihoodGP().fit(X, y)  # hyperparameters fitted too
+    errors = {"t likelihood": np.abs(robust.predict(X) - clean).max()}
+    for model in (GaussianProcess(optimizer="lbfgs"), StudentTProcess(optimizer="lbfgs")):
+        errors[type(model).__name__] = np.abs(model.fit(X, y).predict(X) - clean).max()
+    assert errors["t likelihood"] < 0.3
+    assert errors["GaussianProcess"] > 3 * errors["t likelihood"] and errors["StudentTProcess"] > 3 * errors["t likelihood"]
+    weights = robust.outlier_weights()
+    assert weights[out].max() < 0.05 and np.median(np.delete(weights, out)) > 0.8
+    assert np.all(robust.W_[out] < 0)  # each outlier beyond sqrt(nu) s of the function
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(nu=0.0), "nu"), (dict(scale=-1.0), "scale"), (dict(optimizer="adam"), "optimizer"),
+    (dict(max_newton=0), "max_newton"), (dict(kernel="rbf"), "kernel"),
+])
+def test_bad_arguments_are_named_at_fit(kwargs, match):
+    model = StudentTLikelihoodGP(**kwargs)  # stored as given, scikit-learn's convention
+    with pytest.raises(ValueError, match=match):
+        model.fit(np.zeros((3, 1)), np.zeros(3))
+
+
+def test_unfitted_and_infinite_noise_variance_say_so():
+    from sklearn.base import clone
+    from sklearn.exceptions import NotFittedError
+
+    with pytest.raises(NotFittedError, match="not fitted yet"):
+        StudentTLikelihoodGP().predict(np.zeros((1, 1)))
+    X, y, _, _ = wave_with_outliers(15)
+    model = StudentTLikelihoodGP(KERNEL, nu=2.0, optimizer=None).fit(X, y)
+    with pytest.raises(ValueError, match="no finite variance with nu=2.0"):
+        model.predict(X, return_var=True, include_noise=True)
+    assert clone(model).get_params() == model.get_params() and model.score(X, y) < 1.0
+
+
+def test_scikit_learns_estimator_checks_pass():
+    from sklearn.utils.estimator_checks import check_estimator
+
+    # with the given hyperparameters: the L-BFGS search passes them too (measured) but takes two minutes
+    results = check_estimator(StudentTLikelihoodGP(optimizer=None), on_fail=None)
+    assert [(r["check_name"], str(r["exception"])[:200]) for r in results if r["status"] == "failed"] == []
