@@ -173,10 +173,14 @@ def plot_robust(ax, data, *, ylim=None):
     low, high = ax.get_ylim()
     ys, xs = data["y"], data["X"]
     inside = data["outliers"] & (ys >= low) & (ys <= high)
-    ax.scatter(xs[inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4, label="outliers")
+    if inside.any():
+        ax.scatter(xs[inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4, label="outliers")
+    label = "outliers off scale"
     for mask, edge, marker in ((data["outliers"] & (ys > high), high, "^"), (data["outliers"] & (ys < low), low, "v")):
-        ax.scatter(xs[mask], np.full(mask.sum(), edge), s=60, marker=marker, color=COLOURS["unsafe"], zorder=5,
-                   clip_on=False)
+        if mask.any():
+            ax.scatter(xs[mask], np.full(mask.sum(), edge), s=60, marker=marker, color=COLOURS["unsafe"], zorder=5,
+                       clip_on=False, label=label)
+            label = None
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.grid(alpha=0.3)
