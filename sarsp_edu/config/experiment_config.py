@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass, fields
 
 from .._validation import check_choice, check_switch_states
@@ -22,7 +23,6 @@ from .settings import (
     DataSettings,
     ModelSettings,
     WorldSettings,
-    _GROUPS,
     _Settings,
     _field,
 )
@@ -107,37 +107,37 @@ class ExperimentConfig(_Settings):
     def __post_init__(self):
         self._make_plain()
         CHECKS["model"](self.model)
-        for name in _GROUPS:  # each group checks its own settings as it is made
-            getattr(self, name)
+        for name in ("world_settings", "data_settings", "model_settings", "agent_settings"):
+            getattr(self, name)  # each group checks its own settings as it is made
         for name in ("episodes", "seed"):
             CHECKS[name](getattr(self, name))
         check_switch_states(self.n_switch_states, self.n_unsafe)
 
-    def _group(self, name: str):
-        group = _GROUPS[name]
-        made = group(**{f.name: getattr(self, f.name) for f in fields(group)})
-        self.__dict__[name] = made  # kept: the config is frozen, so its groups never change
-        return made
+    def _group(self, group):
+        """The settings of ``group`` that this config holds (checked as they are made)."""
+        return group(**{f.name: getattr(self, f.name) for f in fields(group)})
 
-    @property
+    # each made once: the config is frozen, so its groups never change (cached_property writes the
+    # instance's __dict__ directly, which a frozen dataclass allows)
+    @functools.cached_property
     def world_settings(self) -> WorldSettings:
         """The world's settings: grid size, unsafe states, d, T_max, placement."""
-        return self.__dict__.get("world_settings") or self._group("world_settings")
+        return self._group(WorldSettings)
 
-    @property
+    @functools.cached_property
     def data_settings(self) -> DataSettings:
         """The offline data's settings and its outliers' (m, p and which models get them)."""
-        return self.__dict__.get("data_settings") or self._group("data_settings")
+        return self._group(DataSettings)
 
-    @property
+    @functools.cached_property
     def model_settings(self) -> ModelSettings:
         """The regression model (TP or GP, nu, the noise convention) and its hyperparameter fit."""
-        return self.__dict__.get("model_settings") or self._group("model_settings")
+        return self._group(ModelSettings)
 
-    @property
+    @functools.cached_property
     def agent_settings(self) -> AgentSettings:
         """Algorithm 1's settings (d, sigma*^2, k, n, the prior draw, predictions, fits, retraining)."""
-        return self.__dict__.get("agent_settings") or self._group("agent_settings")
+        return self._group(AgentSettings)
 
     @classmethod
     def from_preset(cls, name: str = "default", **changes) -> "ExperimentConfig":

@@ -201,7 +201,3 @@ class AgentSettings(_Settings):
     cost_fit_points: int | None = COST_FIT_POINTS
     reward_fit_points: int | None = REWARD_FIT_POINTS
     retrain: str = "if_changed"
-
-
-_GROUPS = {"world_settings": WorldSettings, "data_settings": DataSettings, "model_settings": ModelSettings,
-           "agent_settings": AgentSettings}
