@@ -280,7 +280,8 @@ def _three_digits(value: float) -> str:
     return f"{value:.{max(0, 2 - math.floor(math.log10(abs(value))))}f}"
 
 
-def beside_paper(ours: pd.DataFrame, published: dict, levels: pd.DataFrame | None = None) -> pd.DataFrame:
+def beside_paper(ours: pd.DataFrame, published: dict, levels: pd.DataFrame | None = None,
+                 percents: dict | None = None) -> pd.DataFrame:
     """Our Table 2, 3 or 4 beside the paper's, one row per metric.
 
     Parameters
@@ -292,6 +293,10 @@ def beside_paper(ours: pd.DataFrame, published: dict, levels: pd.DataFrame | Non
     levels : DataFrame, optional
         ``summary_tables(...)["levels"]``, with ``ours`` the ``"mean"``
         table: adds each model's 95% bootstrap interval beside its mean.
+    percents : dict, optional
+        The paper's printed "%" column (e.g. ``sarsp_edu.paper.TABLE2_PERCENT``),
+        which it computed from unrounded values; without it the column is
+        recomputed from ``published``'s rounded values.
 
     Returns
     -------
@@ -309,7 +314,8 @@ def beside_paper(ours: pd.DataFrame, published: dict, levels: pd.DataFrame | Non
                 low, high = (levels.loc[metric, f"{model} 95% CI {end}"] for end in ("low", "high"))
                 row[f"{model} 95% CI"] = f"[{_three_digits(low)}, {_three_digits(high)}]"
         rows.append({**row, "ours %": ours.loc[metric, "% change"], "paper TP": paper_tp, "paper GP": paper_gp,
-                     "paper %": percent_difference(paper_tp, paper_gp)})
+                     "paper %": (percent_difference(paper_tp, paper_gp) if percents is None
+                                 else percents[metric])})
     return pd.DataFrame(rows).set_index("metric")
 
 

@@ -436,3 +436,21 @@ def test_load_one_seed_of_a_sweep(sweep_dir):
     first = SweepResults.load(folder, seeds=[0])
     assert len(first) == 4 and {key[3] for key in first.comparisons} == {0}
     assert not first.missing
+
+
+def test_the_paper_percent_column_can_be_the_papers_printed_one():
+    from sarsp_edu import paper
+    from sarsp_edu.metrics import percent_difference
+    from sarsp_edu.tables import beside_paper
+
+    for table, printed in ((paper.TABLE2, paper.TABLE2_PERCENT), (paper.TABLE3, paper.TABLE3_PERCENT),
+                           (paper.TABLE4, paper.TABLE4_PERCENT)):
+        assert set(printed) == set(table)
+        for metric, (tp, gp) in table.items():  # the printed sign and size, up to the table's rounding
+            assert np.sign(printed[metric]) == np.sign(percent_difference(tp, gp))
+            assert abs(printed[metric] - percent_difference(tp, gp)) < 0.6
+    ours = pd.DataFrame({"TP": [1.0] * 6, "GP": [2.0] * 6, "% change": [-50.0] * 6}, index=list(paper.TABLE2))
+    printed = beside_paper(ours, paper.TABLE2, percents=paper.TABLE2_PERCENT)["paper %"]
+    recomputed = beside_paper(ours, paper.TABLE2)["paper %"]
+    assert (printed["mean_cost"], printed["cost_rate"]) == (-39.93, -16.32)  # the paper's text and table
+    assert round(recomputed["mean_cost"], 1) == -39.7 and round(recomputed["cost_rate"], 1) == -16.7

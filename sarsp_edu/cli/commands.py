@@ -196,7 +196,7 @@ def _beside_paper_sections(tables: dict) -> list:
     over = (f"all {total} configurations" if n == total
             else f"the {n} configurations stored (the paper's: all {total})")
     sections = [(f"beside the paper's Table 2: mean over {over}, with each model's 95% bootstrap interval",
-                 beside_paper(tables["mean"], paper.TABLE2, levels=tables["levels"]))]
+                 beside_paper(tables["mean"], paper.TABLE2, levels=tables["levels"], percents=paper.TABLE2_PERCENT))]
     rows = table1_beside_paper(tables["table1"], paper.TABLE1)
     if len(rows):
         shown = rows.index.droplevel("metric").nunique()
