@@ -112,8 +112,8 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         f = np.zeros(n)
         a = np.zeros(n)
         psi = self._psi(a, f, y, scale)
+        log_lik, g, W = student_t_log_likelihood(y - f, self.nu, scale)
         for step in range(1, self.max_newton + 1):
-            _, g, W = student_t_log_likelihood(y - f, self.nu, scale)
             w = np.sqrt(np.maximum(W, 0.0))  # Newton with max(W, 0): an ascent direction every step
             B = np.eye(n) + w[:, None] * K * w[None, :]
             C = sla.cholesky(B, lower=True)
@@ -132,14 +132,13 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             a, f, psi = a_try, f_try, psi_try
             # at the mode the log posterior's gradient g - K^-1 f = g - a vanishes; a full Newton step that
             # raises it by rounding only, or a step the line search cannot make rise, is there too
-            gradient = student_t_log_likelihood(y - f, self.nu, scale)[1]
-            if (np.max(np.abs(gradient - a)) <= 1e-9 * (1.0 + np.max(np.abs(gradient)))
+            log_lik, g, W = student_t_log_likelihood(y - f, self.nu, scale)  # the next step's too
+            if (np.max(np.abs(g - a)) <= 1e-9 * (1.0 + np.max(np.abs(g)))
                     or (t == 1.0 and rise <= 1e-13 * max(1.0, abs(psi))) or t < 1e-10):
                 break
         else:
             raise RuntimeError(f"{type(self).__name__}: the posterior mode was not found in max_newton="
                                f"{self.max_newton} Newton steps; raise max_newton or scale")
-        log_lik, _, W = student_t_log_likelihood(y - f, self.nu, scale)
         B = np.eye(n) + L.T @ (W[:, None] * L)  # K^-1 + W = L^-T B L^-1
         try:
             C = sla.cholesky(B, lower=True)
