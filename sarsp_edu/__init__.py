@@ -24,6 +24,7 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``tables``: the paper's Tables 1-4 and their statistics.
 - ``ablation``: the comparison under several settings.
 - ``paper``: the paper's published numbers, for comparison only.
+- ``authors``: the authors' own per-episode records of the paper's runs, and ours beside them.
 - ``demos``: the tutorials' computations (GP and TP on 1-D data, the world
   and its data as an experiment prepares them).
 - ``plotting``: matplotlib drawings, ``plot_*(ax, data)``, no state; a package of

@@ -166,7 +166,7 @@ def _tables(args, parser) -> int:
         if key == "seeds":
             continue
         print(f"\n{key}\n{_format_table(frame)}")
-    sections = _beside_paper_sections(tables)
+    sections = _beside_paper_sections(tables) + _beside_authors_sections(tables, results.base.episodes)
     for title, frame in sections:
         print(f"\n{title}\n{_format_table(frame)}")
     if args.markdown:
@@ -203,6 +203,37 @@ def _beside_paper_sections(tables: dict) -> list:
         sections.append((f"beside the paper's Table 1: {shown} of its {len(paper.TABLE1)} configurations stored",
                          rows))
     return sections
+
+
+def _beside_authors_sections(tables: dict, episodes: int) -> list:
+    """(title, frame) pairs: Tables 2 and 3 and Definition 4 per configuration, computed from the authors' runs.
+
+    Their per-episode records give what the paper's tables do not: every
+    configuration's cost rate, hence its verdict, and medians computed as ours.
+    """
+    from ..authors import AUTHORS_EPISODES, AuthorsRuns, tables_beside_authors, verdicts_beside_authors
+    from ..tables import summary_tables
+
+    configurations = {(row.m, row.p, row.nss) for row in tables["table1"].itertuples(index=False)}
+    authors = AuthorsRuns(episode=min(episodes, AUTHORS_EPISODES)).only(configurations)
+    if not len(authors):
+        return []
+    over = (f"the {len(authors)} configurations stored" if len(authors) < 45 else "all 45 configurations")
+    at = ("" if episodes == 250 else f", at episode {episodes} of their 250 (our runs' length)" if episodes < 250
+          else f", at their last episode (250; ours run to {episodes})")
+    authors_tables = summary_tables(authors)
+    verdicts = verdicts_beside_authors(tables, authors_tables)
+    same = int((verdicts["ours verdict"] == verdicts["authors verdict"]).sum())
+    for column in [c for c in verdicts.columns if "p_c" in c]:  # four decimals: the verdicts turn on the third
+        verdicts[column] = verdicts[column].map(lambda v: "n/a" if v != v else f"{v:.4f}")
+    return [
+        (f"beside the authors' own runs: Table 2 (mean over {over}) computed from their per-episode records{at}",
+         tables_beside_authors(tables, authors_tables, "mean")),
+        ("beside the authors' own runs: Table 3 (median), computed the same way",
+         tables_beside_authors(tables, authors_tables, "median")),
+        (f"Definition 4 per configuration, cost rates and verdicts, ours beside the authors' runs{at} "
+         f"(the same verdict in {same} of {len(verdicts)})", verdicts),
+    ]
 
 
 def _describe(config) -> str:

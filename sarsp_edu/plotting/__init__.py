@@ -5,7 +5,7 @@ One module per subject, all re-exported here (``sarsp_edu.plotting.plot_*``):
 - ``style``: the shared colours, log axes with plain labels, the usual finish;
 - ``models``: densities and tail ratios (tutorial 1), GP and TP posteriors (tutorial 2);
 - ``world``: the gridworld and the cost model's data (tutorials 3 and 4);
-- ``results``: the paper's Figures 2-9 and the live dashboard's curves (tutorials 4 and 5).
+- ``results``: the paper's Figures 2-9, the live dashboard's curves and ours beside the authors' runs (tutorials 4 and 5).
 """
 
 from __future__ import annotations
@@ -23,7 +23,9 @@ from .models import (
 from .results import (
     METRIC_LABELS,
     plot_ablation_runs,
+    plot_beside_authors,
     plot_curves_by_model,
+    plot_learning_curves_beside_authors,
     plot_live_metrics,
     plot_macro,
     plot_metric_curves,
@@ -37,10 +39,12 @@ __all__ = [
     "PlainLogFormatter",
     "log_scale",
     "plot_ablation_runs",
+    "plot_beside_authors",
     "plot_curves_by_model",
     "plot_densities",
     "plot_gaussian_ratio",
     "plot_gridworld",
+    "plot_learning_curves_beside_authors",
     "plot_live_metrics",
     "plot_macro",
     "plot_metric_curves",

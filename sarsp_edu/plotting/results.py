@@ -9,7 +9,9 @@ from .style import COLOURS, SMALL
 __all__ = [
     "METRIC_LABELS",
     "plot_ablation_runs",
+    "plot_beside_authors",
     "plot_curves_by_model",
+    "plot_learning_curves_beside_authors",
     "plot_live_metrics",
     "plot_macro",
     "plot_metric_curves",
@@ -199,4 +201,69 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
     ax.grid(alpha=0.3, axis="y")
     if title:
         ax.set_title(title)
+    return ax
+
+
+def plot_beside_authors(ax, table, *, metric: str, label: str = "ours"):
+    """Per configuration, our value against the authors': a dot per configuration and model, the diagonal.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    table : pandas.DataFrame
+        :func:`sarsp_edu.authors.beside_authors` (columns ``ours TP``,
+        ``authors TP``, ``ours GP``, ``authors GP``).
+    metric : str
+        For the axis labels.
+    label : str, default "ours"
+        What our runs are, for the y axis (e.g. "ours, reference preset").
+    """
+    values = [table[f"{who} {model}"].to_numpy(dtype=float) for who in ("ours", "authors") for model in ("TP", "GP")]
+    low, high = float(np.nanmin(values)), float(np.nanmax(values))
+    pad = 0.05 * (high - low) if high > low else 1.0
+    ax.plot([low - pad, high + pad], [low - pad, high + pad], color="#888888", lw=1, zorder=1,
+            label="ours = the authors'")
+    for model in ("TP", "GP"):
+        ax.scatter(table[f"authors {model}"], table[f"ours {model}"], s=22, alpha=0.8,
+                   color=COLOURS[model.lower()], label=model, zorder=3)
+    ax.set_xlim(low - pad, high + pad)
+    ax.set_ylim(low - pad, high + pad)
+    ax.set_aspect("equal")
+    name = METRIC_LABELS.get(metric, metric)
+    ax.set_xlabel(f"the authors' run: {name}")
+    ax.set_ylabel(f"{label}: {name}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=SMALL, frameon=False)
+    return ax
+
+
+def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str = "ours", settle: int = 0):
+    """A running metric per episode, mean over configurations: ours (band over seeds) beside the authors'.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    curves : pandas.DataFrame
+        :func:`sarsp_edu.authors.learning_curves`.
+    metric : str
+        For the y label.
+    label : str, default "ours"
+        What our runs are, for the legend.
+    settle : int, default 0
+        As in :func:`plot_metric_curves`.
+    """
+    for model in ("TP", "GP"):
+        colour = COLOURS[model.lower()]
+        ax.plot(curves.index, curves[f"authors {model}"], color=colour, lw=1.6, ls="--",
+                label=f"{model}, the authors' runs")
+        ax.plot(curves.index, curves[f"ours {model}"], color=colour, lw=2, label=f"{model}, {label}")
+        if not np.allclose(curves[f"ours {model} low"], curves[f"ours {model} high"], equal_nan=True):
+            ax.fill_between(curves.index, curves[f"ours {model} low"], curves[f"ours {model} high"], color=colour,
+                            alpha=0.2, lw=0)
+    if settle:
+        _settled_ylim([ax], [curves], settle)
+    ax.set_xlabel("episode")
+    ax.set_ylabel(METRIC_LABELS.get(metric, metric))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=SMALL, frameon=False)
     return ax
