@@ -35,7 +35,7 @@ import pandas as pd
 
 from .metrics import DEFINITION_4_A, SUMMARY_METRICS, better_of, running_metrics
 
-__all__ = ["AUTHORS_EPISODES", "AUTHORS_RUNS_FILE", "AuthorsRuns", "agreement", "beside_authors", "learning_curves",
+__all__ = ["AUTHORS_EPISODES", "AUTHORS_RUNS_FILE", "AuthorsRuns", "agreement", "agreement_share", "beside_authors", "learning_curves",
            "load_authors_runs", "tables_beside_authors", "verdicts_beside_authors"]
 
 #: the file, inside the package's data, of the authors' per-episode records
@@ -197,6 +197,36 @@ def beside_authors(results, metric: str, authors: AuthorsRuns | None = None) -> 
     return table
 
 
+def agreement_share(tp_1, gp_1, tp_2, gp_2) -> float:
+    """The share (%) of configurations in which two runs name the same model better.
+
+    Parameters
+    ----------
+    tp_1, gp_1, tp_2, gp_2 : array-like of shape (n,)
+        One metric per configuration: the first run's TP and GP values and
+        the second run's, in the same order of configurations.
+
+    Returns
+    -------
+    float
+        100 x (configurations where TP - GP has the same sign, not 0, in
+        both runs) / n.  A tie in either run counts as a disagreement: it
+        names no better model.  The metric's direction does not matter: both
+        runs are read the same way.
+
+    Examples
+    --------
+    >>> round(agreement_share([90, 80, 70], [85, 85, 70], [95, 70, 60], [80, 75, 65]), 1)  # the tie disagrees
+    66.7
+    """
+    tp_1, gp_1, tp_2, gp_2 = (np.asarray(v, dtype=float) for v in (tp_1, gp_1, tp_2, gp_2))
+    if not tp_1.shape == gp_1.shape == tp_2.shape == gp_2.shape or tp_1.ndim != 1 or not len(tp_1):
+        raise ValueError(f"tp_1, gp_1, tp_2 and gp_2 must be 1-D arrays of one length n >= 1, got shapes "
+                         f"{tp_1.shape}, {gp_1.shape}, {tp_2.shape}, {gp_2.shape}")
+    first, second = np.sign(tp_1 - gp_1), np.sign(tp_2 - gp_2)
+    return float(100.0 * np.mean((first == second) & (first != 0)))
+
+
 def agreement(results, metric: str, authors: AuthorsRuns | None = None) -> pd.DataFrame:
     """How often two sets of runs name the same model better in ``metric``, configuration by configuration.
 
@@ -215,25 +245,23 @@ def agreement(results, metric: str, authors: AuthorsRuns | None = None) -> pd.Da
     """
     authors = AuthorsRuns() if authors is None else authors
     table = beside_authors(results, metric, authors)
-    theirs = table["authors better"]
-    rows = [("ours (mean over seeds) vs the authors", table["ours better"], theirs)]
+    theirs = table[["authors TP", "authors GP"]].set_axis(["TP", "GP"], axis=1)
+    rows = [("ours (mean over seeds) vs the authors",
+             table[["ours TP", "ours GP"]].set_axis(["TP", "GP"], axis=1), theirs)]
     frame = results.frame()
     wide = frame.pivot_table(index=["m", "p", "nss"], columns=["seed", "model"], values=metric)
     seeds = sorted(frame["seed"].unique())
-    better = {}
-    for seed in seeds:
-        column = wide[seed].dropna()
-        better[seed] = pd.Series([better_of(metric, t, g) for t, g in zip(column["TP"], column["GP"])],
-                                 index=column.index)
     if len(seeds) > 1:
-        rows += [(f"our seed {seed} vs the authors", better[seed], theirs) for seed in seeds]
-        rows += [(f"our seed {a} vs our seed {b}", better[a], better[b]) for a, b in itertools.combinations(seeds, 2)]
+        runs = {seed: wide[seed].dropna() for seed in seeds}
+        rows += [(f"our seed {seed} vs the authors", runs[seed], theirs) for seed in seeds]
+        rows += [(f"our seed {a} vs our seed {b}", runs[a], runs[b]) for a, b in itertools.combinations(seeds, 2)]
     out = []
     for name, first, second in rows:
         common = first.index.intersection(second.index)
-        same = (first.loc[common] == second.loc[common]) & (first.loc[common] != "tie")
-        out.append({"comparison": name, "configurations": len(common), "agree": int(same.sum()),
-                    "share": 100.0 * same.mean() if len(common) else math.nan})
+        first, second = first.loc[common], second.loc[common]
+        share = agreement_share(first["TP"], first["GP"], second["TP"], second["GP"]) if len(common) else math.nan
+        out.append({"comparison": name, "configurations": len(common),
+                    "agree": int(round(share * len(common) / 100)), "share": share})
     return pd.DataFrame(out).set_index("comparison")
 
 

@@ -31,7 +31,8 @@ if TYPE_CHECKING:
     from .sweep import SweepResults
 
 __all__ = [
-    "beside_paper", "bootstrap_ci", "frame_to_markdown", "paired", "paper_mode", "per_configuration", "summary_tables",
+    "beside_paper", "bootstrap_ci", "frame_to_markdown", "paired", "paper_mode", "per_configuration", "sign_test",
+    "summary_tables",
     "table1_beside_paper", "tables_markdown",
 ]
 
@@ -54,6 +55,31 @@ def paired(frame: pd.DataFrame, metric: str):
     """``metric``'s TP and GP values, as two arrays in the same order of configurations (m, p, nss)."""
     wide = frame.pivot_table(index=["m", "p", "nss"], columns="model", values=metric)
     return wide["TP"].to_numpy(), wide["GP"].to_numpy()
+
+
+def sign_test(tp, gp) -> float:
+    """The two-sided p-value of the sign test of paired values: does either model win more often than chance?
+
+    Counts the configurations where ``tp > gp`` among those where they
+    differ (ties carry no sign and are dropped) and returns the exact
+    binomial p-value of that count under "each sign has probability 1/2";
+    1.0 when every pair is a tie.  Unlike the Wilcoxon signed-rank test it
+    ignores how large each difference is, and assumes nothing about their
+    distribution.
+
+    Examples
+    --------
+    >>> round(sign_test([3, 4, 5, 6, 7, 8], [1, 1, 1, 1, 1, 1]), 4)  # 6 wins of 6: 2 x (1/2)^6
+    0.0312
+    """
+    tp, gp = np.asarray(tp, dtype=float), np.asarray(gp, dtype=float)
+    if tp.shape != gp.shape or tp.ndim != 1:
+        raise ValueError(f"tp and gp must be 1-D arrays of one length, got shapes {tp.shape} and {gp.shape}")
+    differ = tp != gp
+    n = int(differ.sum())
+    if n == 0:
+        return 1.0
+    return float(stats.binomtest(int((tp > gp).sum()), n, 0.5).pvalue)
 
 
 def bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):

@@ -103,6 +103,21 @@ def symmetric_percent_difference(a, b):
     return 0.0 if a == b else abs(a - b) / ((a + b) / 2) * 100
 
 
+def agreement_share(tp_1, gp_1, tp_2, gp_2):
+    same = [(t1 > g1 and t2 > g2) or (t1 < g1 and t2 < g2) for t1, g1, t2, g2 in zip(tp_1, gp_1, tp_2, gp_2)]
+    return 100.0 * sum(same) / len(same)
+
+
+def sign_test(tp, gp):
+    """By hand: twice the smaller binomial tail of the win count, at most 1."""
+    wins = sum(t > g for t, g in zip(tp, gp))
+    n = sum(t != g for t, g in zip(tp, gp))
+    if n == 0:
+        return 1.0
+    tail = sum(math.comb(n, i) for i in range(0, min(wins, n - wins) + 1)) / 2 ** n
+    return min(1.0, 2 * tail)
+
+
 def tsr_and_cost_rate(episode_cost, episode_steps, task_completed):
     clean = sum(s for c, s, done in zip(episode_cost, episode_steps, task_completed) if done and c == 0)
     total = sum(episode_cost)
@@ -119,7 +134,8 @@ def prefers(summary_1, summary_2, a):
 RIGHT = {"1.1": student_t_logpdf, "1.2": tail_ratio, "1.3": outlier_costs, "2.1": rbf, "2.2": gp_posterior,
          "2.3": tp_variance_factor, "2.4": tp_log_marginal_likelihood, "2.7": student_t_pull, "3.1": cap_duplicates,
          "3.2": distance_to_unsafe, "3.3": move, "4.1": safe_actions, "4.2": choose, "4.3": corrects,
-         "5.1": symmetric_percent_difference, "6.1": tsr_and_cost_rate, "6.2": prefers}
+         "5.1": symmetric_percent_difference, "5.2": agreement_share, "5.3": sign_test,
+         "6.1": tsr_and_cost_rate, "6.2": prefers}
 
 
 # -- two usual wrong answers of each, with the diagnosis they must get -------------------------------
@@ -179,6 +195,12 @@ WRONG = {
              "taken as the backup")],
     "5.1": [(lambda a, b: (a - b) / b * 100, "Table 2's convention"),
             (lambda a, b: abs(a - b) / max(a, b) * 100, "not the larger")],
+    "5.2": [(lambda t1, g1, t2, g2: 100.0 * np.mean(np.sign(t1 - g1) == np.sign(t2 - g2)), "A tie names no better"),
+            (lambda t1, g1, t2, g2: agreement_share(t1, g1, t2, g2) / 100, "in %")],
+    "5.3": [(lambda tp, gp: 1.0 if not np.any(tp != gp) else stats.binomtest(int(np.sum(tp > gp)), len(tp)).pvalue,
+             "drop the tied pairs"),
+            (lambda tp, gp: 1.0 if not np.any(tp != gp) else stats.binomtest(
+                int(np.sum(tp > gp)), int(np.sum(tp != gp)), alternative="greater").pvalue, "two-sided")],
     "6.1": [(lambda c, s, done: (np.mean(done), tsr_and_cost_rate(c, s, done)[1]), "in %"),
             (lambda c, s, done: (tsr_and_cost_rate(c, s, done)[0], sum(c) / sum(s) if sum(c) else 0.0),
              "not of all episodes")],
@@ -190,9 +212,9 @@ WRONG = {
 }
 
 
-def test_there_are_at_least_twelve_coding_exercises_two_or_more_in_tutorials_1_to_4_and_6():
+def test_there_are_at_least_twelve_coding_exercises_two_or_more_in_each_tutorial():
     assert len(CODING) >= 12 and set(RIGHT) == set(CODING) == set(WRONG)
-    for tutorial in "12346":
+    for tutorial in "123456":
         assert sum(name.startswith(tutorial + ".") for name in CODING) >= 2
 
 

@@ -30,6 +30,7 @@ Exercise 3.4: right. 50, one colour of the chessboard; the package promises fewe
 from __future__ import annotations
 
 from .agent import AGENT_EXERCISES
+from .evidence import EVIDENCE_EXERCISES
 from .grading import CodingExercise, Mistake, grade, same
 from .lookups import LOOKUPS, Exercise
 from .models import MODEL_EXERCISES
@@ -37,7 +38,7 @@ from .models import MODEL_EXERCISES
 __all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
 
 #: the exercises in which the student writes a function, by "tutorial.number"
-CODING: dict[str, CodingExercise] = {**MODEL_EXERCISES, **AGENT_EXERCISES}
+CODING: dict[str, CodingExercise] = {**MODEL_EXERCISES, **AGENT_EXERCISES, **EVIDENCE_EXERCISES}
 #: every exercise, by "tutorial.number": the coding ones and the short answers
 EXERCISES: dict = dict(sorted({**CODING, **LOOKUPS}.items(), key=lambda item: tuple(map(int, item[0].split(".")))))
 
