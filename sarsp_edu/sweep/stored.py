@@ -140,10 +140,13 @@ class SweepResults:
         results.missing = sorted(expected - set(results.comparisons))
         if results.missing and not allow_partial:
             first = ", ".join(f"{n}={v:g}" for n, v in zip(_KEY, results.missing[0]))
+            complete = sorted({key[3] for key in expected} - {key[3] for key in results.missing})
+            whole = (f", read only its complete seed{'s' if len(complete) > 1 else ''} "
+                     f"(seeds={complete}, or --seeds {' '.join(map(str, complete))})" if complete else "")
             raise ValueError(
                 f"{results_dir} holds a partial sweep: {len(results.missing)} of {len(expected)} cells are "
-                f"missing (the first: {first}); rerun its sweep command to finish it, or allow a partial sweep "
-                "(allow_partial=True, or --allow-partial)"
+                f"missing (the first: {first}); rerun its sweep command to finish it{whole}, or allow a partial "
+                "sweep (allow_partial=True, or --allow-partial)"
             )
         return results
 
