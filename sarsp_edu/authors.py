@@ -162,6 +162,25 @@ class AuthorsRuns:
             ["m", "p", "nss", "model"], ascending=[True, True, True, False]).reset_index(drop=True)
 
 
+    def curves(self, metric: str, model: str, m: float, p: float) -> pd.DataFrame:
+        """Per-episode values of ``metric`` for one (m, p), one column per nss: the paper's Figures 2-7.
+
+        The same frame as :meth:`sarsp_edu.sweep.SweepResults.curves` (index
+        episode, a column per nss), from the authors' one run per configuration.
+        """
+        if metric not in SUMMARY_METRICS:
+            raise ValueError(f"metric must be one of {SUMMARY_METRICS}, got metric={metric!r}")
+        if model.upper() not in ("TP", "GP"):
+            raise ValueError(f"model must be 'TP' or 'GP', got model={model!r}")
+        runs = self.records[(self.records["model"] == model.upper()) & np.isclose(self.records["m"], m)
+                            & np.isclose(self.records["p"], p)]
+        if runs.empty:
+            raise ValueError(f"the authors' runs hold no configuration with m={m}, p={p}")
+        table = runs.pivot_table(index="episode", columns="nss", values=metric)
+        table.columns = [int(nss) for nss in table.columns]
+        return table
+
+
 def beside_authors(results, metric: str, authors: AuthorsRuns | None = None) -> pd.DataFrame:
     """Per configuration, ``metric`` of our runs (mean over seeds) beside the authors' run.
 

@@ -189,3 +189,43 @@ def test_sarsp_edu_tables_sets_a_stored_sweep_beside_the_authors_runs(capsys):
     # the authors' verdict at (80, 0.4, 10): their TP's cost rate is the higher one
     row = verdicts.set_index(["m", "p", "nss"]).loc[(80.0, 0.4, 10)]
     assert row["result"] == "neither"
+
+
+def test_the_paper_figures_configurations_are_the_authors_runs_ending_as_the_paper_says(runs):
+    """Figures 2-7 as the authors' records draw them: a column per nss, ending at the per-run values."""
+    authors = AuthorsRuns(runs)
+    last = authors.frame().set_index(["m", "p", "nss", "model"])
+    for figure, (metric, m, p) in paper.FIGURES.items():
+        for model in ("TP", "GP"):
+            curves = authors.curves(metric, model, m, p)
+            assert list(curves.columns) == [2, 4, 6, 8, 10] and list(curves.index) == list(range(1, 251))
+            for nss in curves.columns:
+                assert curves[nss].iloc[-1] == last.loc[(m, p, nss, model), metric]
+    # what the paper's text reads off two of them
+    assert authors.curves("total_cost", "GP", 80, 0.4).iloc[-1].idxmax() == 8  # Figure 4(b): "~65 at nss = 8"
+    assert authors.curves("total_cost", "TP", 80, 0.4).iloc[-1].max() < 40  # Figure 4(a): "remains < 40"
+    assert authors.curves("task_success_rate", "TP", 40, 0.3).iloc[-1][4] == pytest.approx(81.2)  # Figure 6
+    with pytest.raises(ValueError, match="no configuration with m=50"):
+        authors.curves("total_cost", "TP", 50, 0.2)
+    with pytest.raises(ValueError, match="model must be"):
+        authors.curves("total_cost", "SVM", 40, 0.2)
+
+
+def test_a_paper_figure_redrawn_puts_ours_over_seeds_above_the_authors_on_one_range():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from sarsp_edu import stored_results
+    from sarsp_edu.plotting import plot_paper_figure
+
+    default = SweepResults.load(stored_results("sweep-default"))
+    axes = Figure().subplots(2, 2)
+    plot_paper_figure(axes, 4, default)
+    ranges = {ax.get_ylim() for row in axes for ax in row}
+    assert len(ranges) == 1
+    assert "3 seeds" in axes[0][0].get_title() and "authors" in axes[1][1].get_title()
+    assert len(axes[0][0].collections) == 5  # a band per nss
+    with pytest.raises(ValueError, match="figure must be one of the paper's Figures 2-7, got figure=8"):
+        plot_paper_figure(Figure().subplots(2, 2), 8, default)

@@ -291,6 +291,10 @@ def test_curves_and_macro(sweep_dir):
     assert macro.loc[1, "TP"] == pytest.approx(expected)
     with pytest.raises(ValueError, match="no cell with m=60"):
         results.curves("total_cost", "tp", 60, 0.2)
+    low, high = (results.curves("total_cost", "TP", 40, 0.2, over_seeds=how) for how in ("min", "max"))
+    assert (low <= curves).all().all() and (curves <= high).all().all()
+    with pytest.raises(ValueError, match="over_seeds must be"):
+        results.curves("total_cost", "TP", 40, 0.2, over_seeds="median")
     with pytest.raises(ValueError, match="metric must be one of"):
         results.macro("speed")
 

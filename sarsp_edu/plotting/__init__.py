@@ -29,6 +29,7 @@ from .results import (
     plot_live_metrics,
     plot_macro,
     plot_metric_curves,
+    plot_paper_figure,
 )
 from .style import COLOURS, PlainLogFormatter, log_scale
 from .world import plot_gridworld, plot_outlier_scatter
@@ -49,6 +50,7 @@ __all__ = [
     "plot_macro",
     "plot_metric_curves",
     "plot_outlier_scatter",
+    "plot_paper_figure",
     "plot_outlier_weights",
     "plot_robust",
     "plot_posterior",

@@ -15,6 +15,7 @@ __all__ = [
     "plot_live_metrics",
     "plot_macro",
     "plot_metric_curves",
+    "plot_paper_figure",
 ]
 
 #: axis labels of the summary metrics, in the paper's symbols
@@ -29,7 +30,7 @@ METRIC_LABELS = {
 
 
 def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, legend: bool = True,
-                       settle: int = 0):
+                       settle: int = 0, band=None):
     """Per-episode values of a metric, one line per number of switch states (Figures 2-7).
 
     Parameters
@@ -44,6 +45,9 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
         swings widely over its first few episodes, and a range set by those
         swings flattens the rest.  The early curve is still drawn (clipped),
         and the Axes says so.
+    band : (DataFrame, DataFrame), optional
+        The lowest and highest value at each episode (``SweepResults.curves``
+        with ``over_seeds="min"`` and ``"max"``), shaded around each line.
     """
     from matplotlib import colormaps
 
@@ -52,8 +56,10 @@ def plot_metric_curves(ax, curves, *, metric: str, title: str | None = None, leg
     for i, column in enumerate(columns):
         colour = cmap(i / max(len(columns) - 1, 1) * 0.9)
         ax.plot(curves.index, curves[column], color=colour, lw=1.6, label=f"nss = {column}")
+        if band is not None:
+            ax.fill_between(curves.index, band[0][column], band[1][column], color=colour, alpha=0.15, lw=0)
     if settle:
-        _settled_ylim([ax], [curves], settle)
+        _settled_ylim([ax], [curves] if band is None else [curves, *band], settle)
     ax.set_xlabel("episode")
     ax.set_ylabel(METRIC_LABELS.get(metric, metric))
     ax.grid(alpha=0.3)
@@ -124,6 +130,61 @@ def plot_curves_by_model(axes, curves, *, metric: str, settle: int = 0):
         plot_metric_curves(ax, curves[model], metric=metric, title=model, legend=(model == "GP"))
     if settle:
         _settled_ylim(axes, [curves["TP"], curves["GP"]], settle)
+    return axes
+
+
+def plot_paper_figure(axes, figure: int, results, authors=None, *, settle: int = 10):
+    """One of the paper's Figures 2-7 redrawn: ours over seeds (mean and band) above the authors' one run.
+
+    Parameters
+    ----------
+    axes : 2 x 2 array of matplotlib Axes
+        Top row: our runs, the TP (a) and the GP (b), a line per nss at the
+        mean over the sweep's seeds and a band from its lowest to its highest
+        seed.  Bottom row: the authors' one run per configuration, from which
+        the paper drew the figure.  All four share one y range.
+    figure : int
+        2 to 7: the metric and (m, p) of ``sarsp_edu.paper.FIGURES``.
+    results : SweepResults
+        A sweep holding the figure's (m, p).
+    authors : AuthorsRuns, optional
+        By default the package's copy of the authors' runs.
+    settle : int, default 10
+        As in :func:`plot_metric_curves`, over all four panels.
+    """
+    from .. import paper
+    from ..authors import AuthorsRuns
+
+    if figure not in paper.FIGURES:
+        raise ValueError(f"figure must be one of the paper's Figures {min(paper.FIGURES)}-{max(paper.FIGURES)}, "
+                         f"got figure={figure!r}")
+    metric, m, p = paper.FIGURES[figure]
+    authors = AuthorsRuns() if authors is None else authors
+    seeds = sorted({key[3] for key in results.comparisons})
+    frames = []
+    for column, model in enumerate(("TP", "GP")):
+        mean = results.curves(metric, model, m, p)
+        band = None
+        if len(seeds) > 1:
+            band = (results.curves(metric, model, m, p, over_seeds="min"),
+                    results.curves(metric, model, m, p, over_seeds="max"))
+        theirs = authors.curves(metric, model, m, p)
+        letter = "ab"[column]
+        plot_metric_curves(axes[0][column], mean, metric=metric, band=band, legend=(model == "GP"),
+                           title=f"({letter}) {model}, ours: mean of {len(seeds)} seed{'s' * (len(seeds) > 1)}"
+                                 + (", band from lowest to highest" if band else ""))
+        plot_metric_curves(axes[1][column], theirs, metric=metric, legend=False,
+                           title=f"({letter}) {model}, the authors' one run (the paper's figure)")
+        frames += [mean, theirs] + (list(band) if band else [])
+    flat = [axes[row][column] for row in (0, 1) for column in (0, 1)]
+    if settle:
+        _settled_ylim(flat, frames, settle)
+    else:
+        low = min(ax.get_ylim()[0] for ax in flat)
+        high = max(ax.get_ylim()[1] for ax in flat)
+        for ax in flat:
+            ax.set_ylim(low, high)
+    axes[0][0].figure.suptitle(f"Figure {figure}: m = {m:g}, p = {p:g}, nss = 2-10")
     return axes
 
 

@@ -61,13 +61,18 @@ class SweepResults:
         columns = _KEY + ["model", *SUMMARY_METRICS]
         return pd.DataFrame(rows, columns=columns)
 
-    def curves(self, metric: str, model: str, m: float, p: float, seed: int | None = None) -> pd.DataFrame:
+    def curves(self, metric: str, model: str, m: float, p: float, seed: int | None = None,
+               over_seeds: str = "mean") -> pd.DataFrame:
         """Per-episode values of ``metric`` for one (m, p), one column per nss (Figures 2-7).
 
-        With several seeds, the mean over seeds (or one seed if given).
+        With several seeds, the mean over seeds (or one seed if given);
+        ``over_seeds="min"`` or ``"max"`` gives the lowest or highest seed's
+        value at each episode instead: the band over seeds.
         """
         if metric not in self._record_columns():
             raise ValueError(f"metric must be a records column such as {SUMMARY_METRICS}, got metric={metric!r}")
+        if over_seeds not in ("mean", "min", "max"):
+            raise ValueError(f"over_seeds must be 'mean', 'min' or 'max', got over_seeds={over_seeds!r}")
         model = model.lower()
         columns = {}
         for (cm, cp, nss, cs), comparison in sorted(self.comparisons.items()):
@@ -77,7 +82,8 @@ class SweepResults:
             columns.setdefault(nss, []).append(records.set_index("episode")[metric])
         if not columns:
             raise ValueError(f"the sweep holds no cell with m={m}, p={p}")
-        return pd.DataFrame({nss: pd.concat(series, axis=1).mean(axis=1) for nss, series in columns.items()})
+        return pd.DataFrame({nss: getattr(pd.concat(series, axis=1), over_seeds)(axis=1)
+                             for nss, series in columns.items()})
 
     def macro(self, metric: str) -> pd.DataFrame:
         """``metric`` averaged over every (m, p, seed), against nss: columns TP and GP (Figures 8-9)."""
