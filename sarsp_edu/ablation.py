@@ -16,6 +16,7 @@ ablation resumes where it stopped.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -37,6 +38,7 @@ __all__ = [
     "ABLATION_SETTINGS",
     "PRIOR_AND_FITS",
     "AblationResults",
+    "cost_fit_length_scales",
     "run_ablation",
     "setting_config",
     "setting_folder",
@@ -82,6 +84,55 @@ PRIOR_AND_FITS = {
     ("per step", "default fits"): "per step, k=100, default fits",
     ("per action", "default fits"): "default (per action, k=100, whole cost fit, 1,000-row reward fit)",
 }
+
+
+def cost_fit_length_scales(config: ExperimentConfig | None = None, rows: int = 500, seed: int = 0) -> pd.DataFrame:
+    """Why fits on a few hundred random rows flatten the cost model: one buffer, four subsets, one fit each.
+
+    The TP cost model (the config's settings, ``model="tp"``) is fitted on
+    ``rows`` random rows of the offline cost buffer, on as many random rows
+    with no outlier, on one row per distinct input, and on every row; each
+    row of the result gives the subset's size, its distinct inputs and
+    outlier rows, the fitted length scale and the kernel's correlation
+    between inputs one and two grid steps apart.  ``REPRODUCTION.md``
+    ("Why 500-row fits flatten the cost model") reads it.
+
+    Parameters
+    ----------
+    config : ExperimentConfig, optional
+        The world and offline data: by default the ablation's first cell,
+        (m, p, nss) = (40, 0.2, 2), seed 0.
+    rows : int, default 500
+        The random subsets' size (the package's first release fitted on 500).
+    seed : int, default 0
+        Seeds the random subsets.
+    """
+    from .experiment import make_model
+    from .preparation import prepare
+
+    if config is None:
+        m, p, nss = ABLATION_CELLS[0]
+        config = ExperimentConfig(outlier_magnitude=m, outlier_proportion=p, n_switch_states=nss, seed=0)
+    data = prepare(config).data
+    cost, outliers = data.cost, np.asarray(data.outlier_indices)
+    clean = np.setdiff1d(np.arange(len(cost)), outliers)
+    if not (isinstance(rows, (int, np.integer)) and 1 <= rows <= len(clean)):
+        raise ValueError(f"rows must be a whole number in [1, {len(clean)}] (the buffer's clean rows), "
+                         f"got rows={rows!r}")
+    rng = np.random.default_rng(seed)
+    subsets = {f"{rows} random rows": rng.choice(len(cost), rows, replace=False),
+               f"{rows} random rows, no outlier": rng.choice(clean, rows, replace=False),
+               "one row per distinct input": np.unique(cost.X, axis=0, return_index=True)[1],
+               f"all {len(cost)} rows": np.arange(len(cost))}
+    tp = dataclasses.replace(config, model="tp")
+    table = []
+    for label, idx in subsets.items():
+        scale = float(make_model(tp).fit(cost.X[idx], cost.y[idx]).kernel_.length_scale)
+        table.append({"fitted on": label, "rows": len(idx), "distinct inputs": len(np.unique(cost.X[idx], axis=0)),
+                      "outlier rows": int(np.isin(idx, outliers).sum()), "length scale": scale,
+                      "correlation, 1 step": float(np.exp(-1 / (2 * scale**2))),
+                      "2 steps": float(np.exp(-4 / (2 * scale**2)))})
+    return pd.DataFrame(table).set_index("fitted on")
 
 
 def setting_folder(name: str) -> str:

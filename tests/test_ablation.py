@@ -62,3 +62,22 @@ def test_a_later_call_adds_settings_and_refuses_another_design(tmp_path):
     with pytest.raises(ValueError, match="other changes"):
         run_ablation({"per step": dict(TINY, k_prior=5)}, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1,
                      results_dir=tmp_path)
+
+
+def test_500_random_rows_flatten_the_cost_model_because_of_the_outliers():
+    """REPRODUCTION.md's 'Why 500-row fits flatten the cost model', recomputed: long with outliers seen once, short otherwise."""
+    import pytest
+
+    from sarsp_edu.ablation import cost_fit_length_scales
+
+    table = cost_fit_length_scales()
+    scale = table["length scale"]
+    assert list(table.index) == ["500 random rows", "500 random rows, no outlier", "one row per distinct input",
+                                 "all 4709 rows"]
+    assert table.loc["500 random rows, no outlier", "outlier rows"] == 0
+    assert table.loc["one row per distinct input", "rows"] == table.loc["all 4709 rows", "distinct inputs"]
+    assert scale["500 random rows"] > 10 and scale["one row per distinct input"] > 10  # nearly constant
+    assert scale["500 random rows, no outlier"] < 2 and scale["all 4709 rows"] < 2  # a grid step or less
+    assert table.loc["500 random rows", "correlation, 1 step"] > 0.99
+    with pytest.raises(ValueError, match="rows must be a whole number in \\[1, 3767\\].*got rows=0"):
+        cost_fit_length_scales(rows=0)
