@@ -19,7 +19,7 @@ from scipy.spatial.distance import cdist
 
 from ._validation import check_positive
 
-__all__ = ["RBF", "squared_distances"]
+__all__ = ["RBF", "squared_distances", "whole_distance_bound"]
 
 # the whole-number lookup of RBF.from_squared_distances: used from this many
 # entries on (below, the checks cost more than they save), for squared
@@ -44,6 +44,30 @@ def squared_distances(X: np.ndarray, Y: np.ndarray | None = None) -> np.ndarray:
     ndarray of shape (n, m)
     """
     return cdist(X, X if Y is None else Y, "sqeuclidean")
+
+
+def whole_distance_bound(*arrays: np.ndarray) -> float | None:
+    """An upper bound of the squared distances between the rows of ``arrays`` if every entry is whole, else None.
+
+    Whole-number inputs (the grid world's) have whole-number squared
+    distances, each at most the sum over columns of the squared range of the
+    column: :meth:`RBF.from_squared_distances` then looks the kernel up in a
+    table without checking every distance.
+    """
+    low, high = None, None
+    for X in arrays:
+        X = np.asarray(X, dtype=float)
+        if X.size == 0:
+            continue
+        if not np.array_equal(np.rint(X), X):
+            return None
+        low = X.min(axis=0) if low is None else np.minimum(low, X.min(axis=0))
+        high = X.max(axis=0) if high is None else np.maximum(high, X.max(axis=0))
+    if low is None:
+        return 0.0
+    span = high - low
+    bound = float(span @ span)
+    return bound if bound < 2.0**52 else None
 
 
 class RBF:
@@ -103,7 +127,8 @@ class RBF:
         return RBF(amplitude=a, length_scale=l)
 
     # -- evaluation ---------------------------------------------------------
-    def from_squared_distances(self, D2: np.ndarray, eval_gradient: bool = False, out=None):
+    def from_squared_distances(self, D2: np.ndarray, eval_gradient: bool = False, out=None, *,
+                               whole_bound: float | None = None):
         """Kernel matrix (and gradient) from precomputed squared distances.
 
         The fit evaluates the kernel at many hyperparameters on one training
@@ -118,6 +143,11 @@ class RBF:
             A workspace to write into (``K`` in ``out[0]``, the gradient in
             ``out[1:]``) instead of allocating: a fit reuses one for all its
             steps, which spares the page faults of fresh megabyte arrays.
+        whole_bound : float, optional
+            The caller's guarantee that every entry of ``D2`` is a whole
+            number no larger than this (the squared distances of whole-number
+            inputs, see :func:`whole_distance_bound`): the table lookup then
+            skips checking the entries, which costs as much as the lookup.
 
         Returns
         -------
@@ -127,7 +157,7 @@ class RBF:
         """
         inv_l2 = 1.0 / self.length_scale**2
         if out is None and not eval_gradient and D2.size >= _TABLE_MIN_SIZE:
-            K = self._from_whole_distances(D2)
+            K = self._from_whole_distances(D2, whole_bound)
             if K is not None:
                 return K
         # in place: this runs once per decision of the agent
@@ -144,7 +174,7 @@ class RBF:
         planes[1] *= inv_l2
         return K, np.moveaxis(planes, 0, -1)
 
-    def _from_whole_distances(self, D2: np.ndarray):
+    def _from_whole_distances(self, D2: np.ndarray, whole_bound: float | None = None):
         """``K`` by table lookup when every squared distance is a small whole number, else None.
 
         The grid world's inputs are whole numbers, so are their squared
@@ -155,12 +185,17 @@ class RBF:
         doubles, so the result is bit for bit the same; the lookup is about
         twice as fast as the exponential.
         """
+        if whole_bound is not None and whole_bound >= _TABLE_MAX_SIZE:
+            return None
         index = D2.astype(np.intp)
-        if not np.array_equal(index, D2):
-            return None
-        top = int(index.max())
-        if int(index.min()) < 0 or top >= _TABLE_MAX_SIZE:
-            return None
+        if whole_bound is None:
+            if not np.array_equal(index, D2):
+                return None
+            top = int(index.max())
+            if int(index.min()) < 0 or top >= _TABLE_MAX_SIZE:
+                return None
+        else:
+            top = int(whole_bound)
         key = (self.amplitude, self.length_scale)  # a table is only valid for its hyperparameters
         key_then, table = self.__dict__.get("_table", (None, None))
         if key_then != key or table.shape[0] <= top:

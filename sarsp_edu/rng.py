@@ -11,7 +11,7 @@ import numbers
 
 import numpy as np
 
-__all__ = ["as_generator", "draw_rows", "draw_subset"]
+__all__ = ["as_generator", "draw_rows", "draw_subset", "sorted_unique"]
 
 
 def as_generator(rng) -> np.random.Generator:
@@ -40,10 +40,26 @@ def draw_rows(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
     """
     if k >= n:
         return np.arange(n)
-    rows = np.unique(rng.integers(n, size=k))
+    rows = sorted_unique(rng.integers(n, size=k))
     while rows.shape[0] < k:
-        rows = np.unique(np.concatenate([rows, rng.integers(n, size=k - rows.shape[0])]))
+        rows = sorted_unique(np.concatenate([rows, rng.integers(n, size=k - rows.shape[0])]))
     return rows
+
+
+def sorted_unique(values: np.ndarray) -> np.ndarray:
+    """``np.unique(values)`` of a 1-D integer array: sorted, each value once.
+
+    The same array as ``np.unique``, in a sort and a comparison: on the
+    agent's arrays of about a hundred rows it costs half as much, and the
+    agent calls it twice per action and model at every decision.
+    """
+    values = np.sort(values)
+    if values.shape[0] < 2:
+        return values
+    keep = np.empty(values.shape[0], dtype=bool)
+    keep[0] = True
+    np.not_equal(values[1:], values[:-1], out=keep[1:])
+    return values[keep]
 
 
 def draw_subset(n: int, max_points: int | None, rng) -> np.ndarray:

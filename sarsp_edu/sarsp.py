@@ -35,8 +35,9 @@ import numpy as np
 from ._threads import one_blas_thread
 from ._validation import check_choice
 from .config import AgentSettings  # Algorithm 1's settings, defined once
+from .kernels import whole_distance_bound
 from .offline import OfflineData, cost_inputs, reward_inputs
-from .rng import as_generator, draw_rows, draw_subset
+from .rng import as_generator, draw_rows, draw_subset, sorted_unique
 
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome"]
 
@@ -281,13 +282,13 @@ class SARSPAgent:
             for query in queries:
                 rows = draw_rows(n, self.k_prior, self.rng)
                 if self.n_matching:
-                    rows = np.union1d(rows, self._matches(buffer, query))
+                    rows = sorted_unique(np.concatenate([rows, self._matches(buffer, query)]))  # np.union1d
                 priors.append(rows)
             return priors
         parts = [draw_rows(n, self.k_prior, self.rng)]
         if self.n_matching:
             parts += [self._matches(buffer, query) for query in queries]
-        shared = np.unique(np.concatenate(parts))
+        shared = sorted_unique(np.concatenate(parts))
         return [shared] * len(queries)
 
     def strategic_prior(self, observation, model: str = "cost") -> list:
@@ -323,12 +324,29 @@ class SARSPAgent:
             sets = priors[:1]
             query_sets = queries[None, :, :]  # the four queries share one prior
         mean, var, df = model.predict_batch([X[r] for r in sets], [y[r] for r in sets], query_sets,
-                                            include_noise=True)
+                                            include_noise=True, whole_bound=self._whole_bound(buffer, queries))
         mean, var = mean.reshape(-1), var.reshape(-1)
         df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
         if self.predictive == "sample":
             mean, var = self._sample_moments(mean, var, df)
         return mean, var, np.array([len(r) for r in priors])
+
+    def _whole_bound(self, buffer, queries):
+        """:func:`~sarsp_edu.kernels.whole_distance_bound` of a buffer's inputs and the queries.
+
+        The buffer's part is kept until the buffer grows (rows are only ever
+        added to it; a corrective update changes targets, not inputs).
+        """
+        bounds = self.__dict__.setdefault("_buffer_bounds", {})
+        kept = bounds.get(id(buffer))
+        if kept is None or kept[0] is not buffer or kept[1] != len(buffer):
+            X = buffer.X
+            kept = (buffer, len(buffer), bool(np.array_equal(np.rint(X), X)), X.min(axis=0), X.max(axis=0))
+            bounds[id(buffer)] = kept
+        _, _, whole, low, high = kept
+        if not whole:
+            return None
+        return whole_distance_bound(np.stack([low, high]), queries)
 
     def _sample_moments(self, mean, var, df):
         """Sample mean and variance of ``n_samples`` draws from each predictive distribution.

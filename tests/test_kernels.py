@@ -106,3 +106,39 @@ def test_lookup_falls_back_and_follows_the_hyperparameters():
     second = kernel.from_squared_distances(D2)
     assert not np.array_equal(first, second)
     assert np.allclose(second, 4.0 * np.exp(-D2 / 18.0), rtol=1e-14)
+
+
+def test_a_whole_distance_bound_skips_the_checks_and_changes_no_bit():
+    """predict_batch with the caller's whole-number bound gives the very numbers it gives without."""
+    from sarsp_edu import GaussianProcess, StudentTProcess
+    from sarsp_edu.kernels import whole_distance_bound
+
+    rng = np.random.default_rng(3)
+    X = rng.integers(0, 10, size=(300, 4)).astype(float)
+    X[:30] *= 40.0  # outlier rows far from the grid, as the agent's buffers hold
+    y = rng.normal(size=300)
+    queries = rng.integers(0, 10, size=(5, 2, 4)).astype(float)
+    bound = whole_distance_bound(X, queries.reshape(-1, 4))
+    assert bound == float(np.sum((X.max(0) - X.min(0)) ** 2))
+    assert squared_distances(X).max() <= bound
+    for model in (GaussianProcess(RBF(2.0, 1.5), noise_variance=0.1, optimizer=None),
+                  StudentTProcess(RBF(2.0, 1.5), nu=3.0, noise_variance=0.1, optimizer=None)):
+        model.fit(X[:40], y[:40])
+        sets = [rng.choice(300, 120, replace=False) for _ in range(5)]
+        plain = model.predict_batch([X[s] for s in sets], [y[s] for s in sets], queries, include_noise=True)
+        hinted = model.predict_batch([X[s] for s in sets], [y[s] for s in sets], queries, include_noise=True,
+                                     whole_bound=bound)
+        for a, b in zip(plain, hinted):
+            assert np.array_equal(a, b)
+    assert whole_distance_bound(X + 0.5) is None
+    assert whole_distance_bound(np.empty((0, 3))) == 0.0
+
+
+def test_sorted_unique_is_numpys_unique():
+    from sarsp_edu.rng import sorted_unique
+
+    rng = np.random.default_rng(0)
+    for size in (0, 1, 2, 5, 100, 1000):
+        values = rng.integers(0, max(size // 2, 1), size=size)
+        assert np.array_equal(sorted_unique(values), np.unique(values))
+        assert sorted_unique(values).dtype == np.unique(values).dtype

@@ -218,7 +218,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         other.fit_indices_ = None
         return other
 
-    def predict_batch(self, X, y, X_query, include_noise: bool = False):
+    def predict_batch(self, X, y, X_query, include_noise: bool = False, *, whole_bound: float | None = None):
         """Predict from several training sets at once, with the fitted hyperparameters.
 
         SARSP conditions each model on a fresh *strategic prior* for every
@@ -235,6 +235,13 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             The query points of each set.
         include_noise : bool, default False
             As in :meth:`predict`.
+        whole_bound : float, optional
+            The caller's guarantee that every input is a whole number and
+            every squared distance between them at most this
+            (:func:`~sarsp_edu.kernels.whole_distance_bound` of all the rows
+            the sets are drawn from and the queries): the kernel is then
+            looked up without checking each distance.  The numbers are the
+            same with or without it.
 
         Returns
         -------
@@ -270,7 +277,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             X_b, y_b = X[b], y[b]
             n = y_b.shape[0]
             # one pass for K(X_b, X_b) and K(X*, X_b): the rows of [X_b; X*] against X_b
-            both = kernel.from_squared_distances(squared_distances(np.concatenate([X_b, X_query[b]]), X_b))
+            both = kernel.from_squared_distances(squared_distances(np.concatenate([X_b, X_query[b]]), X_b),
+                                                 whole_bound=whole_bound)
             K, K_star = both[:n], both[n:]  # (n, n) and (q, n)
             K.flat[:: n + 1] += s2
             L = cholesky(K)  # the fast path
