@@ -116,7 +116,7 @@ def cost_fit_length_scales(config: ExperimentConfig | None = None, rows: int = 5
     data = prepare(config).data
     cost, outliers = data.cost, np.asarray(data.outlier_indices)
     clean = np.setdiff1d(np.arange(len(cost)), outliers)
-    if not (isinstance(rows, (int, np.integer)) and 1 <= rows <= len(clean)):
+    if isinstance(rows, bool) or not (isinstance(rows, (int, np.integer)) and 1 <= rows <= len(clean)):
         raise ValueError(f"rows must be a whole number in [1, {len(clean)}] (the buffer's clean rows), "
                          f"got rows={rows!r}")
     rng = np.random.default_rng(seed)

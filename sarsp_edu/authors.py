@@ -170,12 +170,14 @@ class AuthorsRuns:
         """
         if metric not in SUMMARY_METRICS:
             raise ValueError(f"metric must be one of {SUMMARY_METRICS}, got metric={metric!r}")
-        if model.upper() not in ("TP", "GP"):
+        if not isinstance(model, str) or model.upper() not in ("TP", "GP"):
             raise ValueError(f"model must be 'TP' or 'GP', got model={model!r}")
         runs = self.records[(self.records["model"] == model.upper()) & np.isclose(self.records["m"], m)
                             & np.isclose(self.records["p"], p)]
         if runs.empty:
-            raise ValueError(f"the authors' runs hold no configuration with m={m}, p={p}")
+            held = sorted({(float(a), float(b)) for a, b in zip(self.records["m"], self.records["p"])})
+            raise ValueError(f"the authors' runs hold no configuration with m={m}, p={p}; their (m, p) are "
+                             + ", ".join(f"({a:g}, {b:g})" for a, b in held))
         table = runs.pivot_table(index="episode", columns="nss", values=metric)
         table.columns = [int(nss) for nss in table.columns]
         return table

@@ -53,10 +53,23 @@ def whole_distance_bound(*arrays: np.ndarray) -> float | None:
     distances, each at most the sum over columns of the squared range of the
     column: :meth:`RBF.from_squared_distances` then looks the kernel up in a
     table without checking every distance.
+
+    Parameters
+    ----------
+    *arrays : ndarrays of shape (n_i, d)
+        Rows with the same d columns (empty arrays are skipped).
+
+    Returns
+    -------
+    float or None
+        The bound; None when an entry is not a whole number or the bound
+        reaches 2**52, beyond which squared distances are no longer exact.
     """
     low, high = None, None
-    for X in arrays:
+    for i, X in enumerate(arrays):
         X = np.asarray(X, dtype=float)
+        if X.ndim != 2:
+            raise ValueError(f"arrays[{i}] must be 2-D (rows of inputs), got shape {X.shape}")
         if X.size == 0:
             continue
         if not np.array_equal(np.rint(X), X):
@@ -148,6 +161,8 @@ class RBF:
             number no larger than this (the squared distances of whole-number
             inputs, see :func:`whole_distance_bound`): the table lookup then
             skips checking the entries, which costs as much as the lookup.
+            It is not checked: a wrong guarantee gives a wrong matrix.  A
+            bound too large for the table leaves the entries checked.
 
         Returns
         -------
@@ -186,7 +201,7 @@ class RBF:
         twice as fast as the exponential.
         """
         if whole_bound is not None and whole_bound >= _TABLE_MAX_SIZE:
-            return None
+            whole_bound = None  # the bound is too loose to size a table: check the distances themselves
         index = D2.astype(np.intp)
         if whole_bound is None:
             if not np.array_equal(index, D2):

@@ -132,6 +132,17 @@ def test_a_whole_distance_bound_skips_the_checks_and_changes_no_bit():
             assert np.array_equal(a, b)
     assert whole_distance_bound(X + 0.5) is None
     assert whole_distance_bound(np.empty((0, 3))) == 0.0
+    with pytest.raises(ValueError, match=r"arrays\[1\] must be 2-D"):
+        whole_distance_bound(X, queries)
+    # a bound too loose for a table: the distances are checked, and the small ones still looked up
+    kernel = RBF(2.0, 1.5)
+    D2 = squared_distances(X[30:60])
+    loose = kernel.from_squared_distances(D2, whole_bound=2.0**30)
+    assert np.array_equal(loose, kernel.from_squared_distances(D2))
+    assert kernel._table[1].shape[0] > 0  # the lookup ran (a table was built for these hyperparameters)
+    # the hint is taken at its word: a bound below the true distances is the caller's error, not a check
+    with pytest.raises(IndexError):
+        RBF(2.0, 1.5).from_squared_distances(D2 + 2.0**19, whole_bound=10.0)
 
 
 def test_sorted_unique_is_numpys_unique():

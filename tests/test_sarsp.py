@@ -328,3 +328,29 @@ def test_retrain_always_and_never(rule, retrains):
     outcome = violate_right(agent)
     assert outcome.buffer_update == "unchanged" and outcome.retrained == (rule == "always")
     assert agent.corrective_updates == 2 and agent.retrains == retrains
+
+
+@pytest.mark.parametrize("far", [0, 3000])  # without, and with a row that makes the buffer's bound too loose for a table
+def test_the_agents_whole_number_bound_changes_no_prediction(far):
+    """Predictions with the per-buffer distance bound are the bits of those that check every distance."""
+    agent = large_buffer_agent("per_action")
+    if far:
+        agent.cost_data.add([0, far, 0, 0, 0], 1.0)
+        agent.reward_data.add([0, far, 0, 0, 0], -1.0)
+    observation = np.array([3.0, 4.0, 9.0, 9.0, 1.0, 2.0, 0.0, 0.0])
+    bound = agent._whole_bound(agent.cost_data, cost_inputs(observation))
+    assert bound is not None and (bound >= 2**20) == bool(far)
+    runs = []
+    for hinted in (True, False):
+        if not hinted:
+            agent._whole_bound = lambda buffer, queries: None
+        agent.rng = np.random.default_rng(5)
+        runs.append([agent.predict(observation) for _ in range(3)])
+    for with_bound, without in zip(*runs):
+        for a, b in zip(with_bound, without):
+            assert np.array_equal(a, b)
+    agent.cost_data.add([1, 1, 1, 1, 1], 0.5)  # a new input: the kept bound is recomputed
+    del agent._whole_bound
+    kept = agent.__dict__["_buffer_bounds"][id(agent.cost_data)]
+    agent.predict(observation)
+    assert agent.__dict__["_buffer_bounds"][id(agent.cost_data)][1] == kept[1] + 1

@@ -293,6 +293,7 @@ def test_curves_and_macro(sweep_dir):
         results.curves("total_cost", "tp", 60, 0.2)
     low, high = (results.curves("total_cost", "TP", 40, 0.2, over_seeds=how) for how in ("min", "max"))
     assert (low <= curves).all().all() and (curves <= high).all().all()
+    assert (low < high).any().any()  # the two seeds differ somewhere, so the band is not the mean twice
     with pytest.raises(ValueError, match="over_seeds must be"):
         results.curves("total_cost", "TP", 40, 0.2, over_seeds="median")
     with pytest.raises(ValueError, match="metric must be one of"):

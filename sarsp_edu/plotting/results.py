@@ -160,7 +160,7 @@ def plot_paper_figure(axes, figure: int, results, authors=None, *, settle: int =
                          f"got figure={figure!r}")
     metric, m, p = paper.FIGURES[figure]
     authors = AuthorsRuns() if authors is None else authors
-    seeds = sorted({key[3] for key in results.comparisons})
+    seeds = sorted({key[3] for key in results.comparisons if np.isclose(key[0], m) and np.isclose(key[1], p)})
     frames = []
     for column, model in enumerate(("TP", "GP")):
         mean = results.curves(metric, model, m, p)

@@ -241,7 +241,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             (:func:`~sarsp_edu.kernels.whole_distance_bound` of all the rows
             the sets are drawn from and the queries): the kernel is then
             looked up without checking each distance.  The numbers are the
-            same with or without it.
+            same with or without it; it is not checked, so a wrong guarantee
+            gives wrong numbers.
 
         Returns
         -------
