@@ -10,6 +10,26 @@ it a folder of their own.
 """
 
 import os
+from pathlib import Path
 
 os.environ["SARSP_EDU_AUTOPLAY"] = "0"
 os.environ["SARSP_EDU_CACHE"] = "off"
+
+
+# nbval runs the source notebooks with one BLAS thread and the students' copies with BLAS's
+# default; both are compared with the same stored digits (tests/blas_threads.py says why).
+import pytest  # noqa: E402
+from nbval.plugin import IPyNbFile  # noqa: E402
+
+from tests.blas_threads import limit_kernel, runs_with_one_blas_thread  # noqa: E402
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_setup(item):
+    yield  # the notebook's kernel is started by the first cell's setup
+    notebook = item.parent
+    if (isinstance(notebook, IPyNbFile) and notebook.kernel is not None
+            and not getattr(notebook, "_one_blas_thread", False)
+            and runs_with_one_blas_thread(Path(str(notebook.fspath)))):
+        limit_kernel(notebook.kernel)
+        notebook._one_blas_thread = True

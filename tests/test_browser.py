@@ -75,6 +75,17 @@ def serve(command, cwd, url):
     return process
 
 
+def stop(server: subprocess.Popen) -> None:
+    """Stop a Jupyter or Voila server as Ctrl-C would: it shuts its kernels down (a killed server can leave a
+    busy kernel running beside the next tests); killed if it has not ended within 30 s."""
+    server.terminate()
+    try:
+        server.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        server.kill()
+        server.wait()
+
+
 def voila(notebook: Path, port: int):
     binary = shutil.which("voila") or str(Path(sys.prefix, "bin", "voila"))
     return serve([binary, notebook.name, "--no-browser", f"--port={port}", "--Voila.ip=127.0.0.1"],
@@ -124,7 +135,7 @@ def tutorial_in_voila(name: str, tmp_path, browser, width: int, height: int):
         page.goto(f"http://127.0.0.1:{port}/", timeout=180_000)
         yield page
     finally:
-        server.kill()
+        stop(server)
 
 
 def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
@@ -164,7 +175,7 @@ def tutorial_in_jupyterlab(name: str, tmp_path, browser, width: int, height: int
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
         yield page
     finally:
-        server.kill()
+        stop(server)
 
 
 def kernel_idle(page) -> None:
@@ -399,7 +410,7 @@ def test_a_projected_dashboard_is_readable_from_the_back_and_fits(name, tmp_path
         # Times are measurements for the closing note and the benchmarks, not pass/fail criteria.
         (shots / f"projector-{name}.json").write_text(json.dumps(measured, indent=1))
     finally:
-        server.kill()
+        stop(server)
 
 
 #: the times (ms), in the page, at which each of the two worlds changed over ``seconds``, and whether a side
@@ -450,12 +461,16 @@ def test_the_live_agents_start_at_once_and_neither_side_freezes_silently(tmp_pat
             if side["longest_freeze_s"] > 1.0:
                 assert watched["retraining_shown"] and side["other_side_steps_meanwhile"] > 0, (name, sides)
     finally:
-        server.kill()
+        stop(server)
 
 
 def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, browser, shots, monkeypatch):
     """The lecturer's rehearsal and class: Run All with nothing fitted yet, then, in a new kernel, Run All with
-    the fits the rehearsal stored; the time to the first agent step in each, while the later cells still run."""
+    the fits the rehearsal stored; the time to the first agent step in each, while the later cells still run.
+
+    The rehearsal runs every cell in JupyterLab, its agents playing meanwhile; the class run ends once both
+    sides show their loaded fits (its later cells are the rehearsal's, which nbval also checks): the server,
+    stopped, shuts its kernel down."""
     monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))  # the stored sweep its section 6 reads
     monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
     cache = tmp_path / "fits"
@@ -484,6 +499,7 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
         (shots / "jupyterlab-tutorial4.json").write_text(json.dumps(
             {"run_all_to_first_step_s": {"nothing_fitted_yet": rehearsal, "fits_stored_by_a_rehearsal": in_class},
              "later_cells_still_running": busy}, indent=1))
-        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
+        page.locator(loaded).nth(1).wait_for(timeout=60_000)  # both sides loaded their fits
         assert page.locator(loaded).count() == 2
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
+

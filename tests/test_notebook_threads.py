@@ -1,106 +1,76 @@
 """The tutorials' stored outputs hold whatever BLAS does underneath.
 
-A stored output is compared (by nbval) on other machines of the same kind, whose CPUs
-run other BLAS kernels: any printed digit that is rounding noise (an optimiser's end
-point on a flat likelihood, a sum whose order changes) fails CI there. The number of
-BLAS threads changes how OpenBLAS splits and orders its sums much as another CPU does,
-so every source notebook is executed here with one BLAS thread (threadpoolctl, set in a
-first cell, never through environment variables) and each printed output is compared,
-after the same sanitising nbval applies, with the stored one.  The other thread count is
-nbval's own run of the same sources, with BLAS's default of one thread per core (two on
-CI); running them a third time with two threads cost a minute and a half of CI's fifteen.
-
-A number that differs is printed with too many digits: print it to the digits it holds
-(or as a bound), never sanitise a number the prose relies on.
+nbval runs the source notebooks with one BLAS thread and the students' copies with BLAS's
+default (one thread per core), each against the same stored digits: tests/blas_threads.py
+says why, and the root conftest.py applies it.  These tests check that arrangement itself:
+which notebooks get one thread, and that the limit reaches the kernel and stays silent.
 """
 
 from __future__ import annotations
 
-import configparser
-import re
+import ast
+import os
 from pathlib import Path
 
 import nbformat
 import pytest
-from nbclient import NotebookClient
+from nbval.kernel import CURRENT_ENV_KERNEL_NAME, RunningKernel
+
+from tests.blas_threads import limit_kernel, runs_with_one_blas_thread
 
 ROOT = Path(__file__).resolve().parents[1]
-# The sources: the student notebooks run the same numeric cells (theirs differ only in the exercises,
-# whose placeholders print one fixed line), so running both would double the time and test nothing more.
-NOTEBOOKS = sorted((ROOT / "tutorials" / "source").glob("*.ipynb"))
-SANITIZE = ROOT / "tutorials" / "nbval_sanitize.cfg"
-WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+SOURCES = sorted((ROOT / "tutorials" / "source").glob("*.ipynb"))
+STUDENTS = sorted((ROOT / "tutorials").glob("*.ipynb"))
 
-LIMIT_CELL = """\
-from threadpoolctl import threadpool_limits
-_limits = threadpool_limits(limits={threads}, user_api="blas")  # kept for the whole notebook
-"""
+BLAS_THREADS = ("import numpy, scipy.linalg\nfrom threadpoolctl import threadpool_info\n"
+                "print(sorted((i['filepath'].rsplit('/', 1)[-1], i['num_threads'])\n"
+                "             for i in threadpool_info() if i['user_api'] == 'blas'))")
 
 
-def sanitizers() -> list[tuple[re.Pattern, str]]:
-    """The regex/replace pairs of the sanitize file nbval reads (pyproject's addopts)."""
-    parser = configparser.ConfigParser()
-    parser.read(SANITIZE)
-    return [(re.compile(parser[s]["regex"]), parser[s]["replace"]) for s in parser.sections()]
+def test_the_sources_get_one_blas_thread_and_the_students_copies_the_default():
+    assert len(SOURCES) == len(STUDENTS) == 6
+    assert all(runs_with_one_blas_thread(p) for p in SOURCES)
+    assert not any(runs_with_one_blas_thread(p) for p in STUDENTS)
+    # the two copies run the same numeric cells: each source has its student copy
+    assert [p.name for p in SOURCES] == [p.name for p in STUDENTS]
 
 
-def is_skipped(cell) -> bool:
-    return "NBVAL_SKIP" in cell.source or "nbval-skip" in cell.metadata.get("tags", [])
-
-
-def is_checked(cell) -> bool:
-    """Whether nbval compares this cell's outputs."""
-    tags = cell.metadata.get("tags", [])
-    return not ("NBVAL_IGNORE_OUTPUT" in cell.source or "nbval-ignore-output" in tags or is_skipped(cell))
-
-
-def printed(cell, rules) -> list[str]:
-    """The text nbval compares: streams and text/plain, sanitised; widget views and images left out."""
+def run(kernel, code: str) -> list:
+    """The outputs a cell of ``code`` gives in a running nbval kernel (stream text and errors)."""
+    msg_id = kernel.execute_cell_input(code, allow_stdin=False)
+    kernel.await_reply(msg_id, timeout=60)
     texts = []
-    for output in cell.get("outputs", []):
-        kind = output.get("output_type")
-        if kind == "stream":
-            text = output.get("text", "")
-        elif kind in ("execute_result", "display_data"):
-            data = output.get("data", {})
-            if WIDGET_VIEW in data:
-                continue
-            text = data.get("text/plain", "")
-        elif kind == "error":
-            text = f"{output.get('ename')}: {output.get('evalue')}"
-        else:
+    while True:
+        msg = kernel.get_message(stream="iopub", timeout=60)
+        if msg["parent_header"].get("msg_id") != msg_id:
+            texts.append(("other request", msg["msg_type"]))
             continue
-        text = "".join(text)
-        for pattern, replacement in rules:
-            text = pattern.sub(replacement, text)
-        texts.append(text)
-    # nbval joins consecutive stream outputs; so do we
-    return ["".join(texts)] if texts else []
+        if msg["msg_type"] == "status" and msg["content"]["execution_state"] == "idle":
+            return texts
+        if msg["msg_type"] in ("stream", "error", "execute_result", "display_data"):
+            texts.append(msg["content"].get("text") or msg["content"].get("ename") or msg["content"].get("data"))
 
 
-@pytest.mark.parametrize("threads", [1])  # and nbval: the default, all cores
-@pytest.mark.parametrize("notebook", NOTEBOOKS, ids=lambda p: str(p.relative_to(ROOT / "tutorials")))
-def test_printed_outputs_do_not_depend_on_blas_threads(notebook, threads):
-    stored = nbformat.read(notebook, as_version=4)
-    run = nbformat.read(notebook, as_version=4)
-    run.cells = [c for c in run.cells if not (c.cell_type == "code" and is_skipped(c))]
-    run.cells.insert(0, nbformat.v4.new_code_cell(LIMIT_CELL.format(threads=threads)))
-    NotebookClient(run, timeout=600, kernel_name="python3", allow_errors=True,
-                   resources={"metadata": {"path": str(notebook.parent)}}).execute()
-    limit = run.cells.pop(0)
-    assert not [o for o in limit.outputs if o.get("output_type") == "error"], limit.outputs
+def test_the_limit_reaches_the_kernel_silently(tmp_path):
+    kernel = RunningKernel(CURRENT_ENV_KERNEL_NAME, cwd=str(tmp_path))
+    try:
+        before = run(kernel, BLAS_THREADS)
+        limit_kernel(kernel)
+        after = run(kernel, BLAS_THREADS)
+        again = run(kernel, "print(1 + 1)")
+    finally:
+        kernel.stop()
+    libraries = ast.literal_eval(before[0])  # [(library, threads)]: numpy's OpenBLAS and scipy's
+    assert len(libraries) >= 2, before
+    # every BLAS library at one thread, and no message of the limit's own request left over
+    assert after == [repr([(library, 1) for library, _ in libraries]) + "\n"], (before, after)
+    assert again == ["2\n"], again
 
-    rules = sanitizers()
-    stored_code = [c for c in stored.cells if c.cell_type == "code" and not is_skipped(c)]
-    run_code = [c for c in run.cells if c.cell_type == "code"]
-    assert len(stored_code) == len(run_code)
-    differences = []
-    for index, (before, after) in enumerate(zip(stored_code, run_code)):
-        if not is_checked(before):
-            continue
-        if printed(before, rules) != printed(after, rules):
-            differences.append(f"code cell {index} ({before.source.splitlines()[0][:60]!r}):\n"
-                               f"  stored: {printed(before, rules)!r}\n  {threads} thread(s): {printed(after, rules)!r}")
-    assert not differences, (
-        f"{notebook.name}, run with {threads} BLAS thread(s), prints other digits than its stored outputs; "
-        "print these numbers only to the digits they hold:\n" + "\n".join(differences))
+
+@pytest.mark.parametrize("notebook", SOURCES, ids=lambda p: p.name)
+def test_no_notebook_sets_blas_threads_through_the_environment(notebook):
+    """An environment variable would reach every kernel nbval starts and mask the difference."""
+    names = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+    cells = nbformat.read(notebook, as_version=4).cells
+    assert not [c.source for c in cells if c.cell_type == "code" and any(n in c.source for n in names)]
+    assert not any(name in os.environ for name in names), "the test run itself must keep BLAS's default"
