@@ -21,11 +21,14 @@ os.environ["SARSP_EDU_CACHE"] = "off"
 import pytest  # noqa: E402
 from nbval.plugin import IPyNbFile  # noqa: E402
 
+from tests import binder_build  # noqa: E402
 from tests.blas_threads import limit_kernel, runs_with_one_blas_thread  # noqa: E402
 
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_setup(item):
+    if isinstance(item.parent, IPyNbFile) and getattr(item.config, "_binder_test_last", False):
+        binder_build.start()  # once: in a thread, while nbval runs the tutorials
     yield  # the notebook's kernel is started by the first cell's setup
     notebook = item.parent
     if (isinstance(notebook, IPyNbFile) and notebook.kernel is not None
@@ -33,3 +36,20 @@ def pytest_runtest_setup(item):
             and runs_with_one_blas_thread(Path(str(notebook.fspath)))):
         limit_kernel(notebook.kernel)
         notebook._one_blas_thread = True
+
+
+# The Binder test's environment is built in a thread while nbval runs the tutorials, and the test
+# that uses it runs last (tests/binder_build.py says why).
+BINDER_TEST = "test_binder_environment_imports_every_tutorial_and_runs_the_first"
+
+
+@pytest.hookimpl(trylast=True)  # after -k and -m have deselected
+def pytest_collection_modifyitems(config, items):
+    last = [item for item in items if item.name == BINDER_TEST]
+    if last:
+        items[:] = [item for item in items if item.name != BINDER_TEST] + last
+        config._binder_test_last = True
+
+
+def pytest_sessionfinish(session):
+    binder_build.clean_up()

@@ -9,7 +9,9 @@
    bottom with its kernel.
 
 A broken binder/ folder, or a dependency a tutorial needs but pyproject.toml
-does not install, fails this test.  (Every tutorial is executed by nbval in
+does not install, fails this test.  Steps 1-4 are ``tests/binder_build.py``, run in a
+thread while nbval runs the tutorials (the root conftest.py starts it and runs this
+test last).  (Every tutorial is executed by nbval in
 the test environment already; executing all of them again here doubled the
 suite's time without finding anything nbval and the imports do not.)
 """
@@ -17,20 +19,19 @@ suite's time without finding anything nbval and the imports do not.)
 from __future__ import annotations
 
 import os
-import shutil
-import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from tests import binder_build
+from tests.binder_build import run
 
 ROOT = Path(__file__).resolve().parents[1]
 BINDER = ROOT / "binder"
 TUTORIALS = sorted((ROOT / "tutorials").glob("*.ipynb"))
 #: the notebook the README's Binder badge opens
 BADGE_NOTEBOOK = "01_tail_decay.ipynb"
-#: what repo2docker's base environment provides before the repository's own files
-REPO2DOCKER_BASE = ["jupyterlab>=4", "ipywidgets>=8", "ipykernel", "nbclient", "nbformat"]
 
 EXECUTE = r"""
 import sys, nbformat
@@ -43,12 +44,6 @@ errors = [o for c in notebook.cells for o in c.get("outputs", []) if o.get("outp
 print(f"{path}: {len(notebook.cells)} cells executed, {len(errors)} errors")
 sys.exit(1 if errors else 0)
 """
-
-
-def run(command, cwd, env):
-    result = subprocess.run(command, cwd=cwd, env=env, capture_output=True, text=True)
-    assert result.returncode == 0, f"{' '.join(map(str, command))} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}"
-    return result.stdout
 
 
 def test_binder_folder_is_what_repo2docker_reads():
@@ -64,25 +59,11 @@ def test_binder_folder_is_what_repo2docker_reads():
 
 
 def test_binder_environment_imports_every_tutorial_and_runs_the_first(tmp_path):
-    repo = tmp_path / "repo"
-    shutil.copytree(ROOT, repo, ignore=shutil.ignore_patterns(
-        ".git", "__pycache__", "*.egg-info", ".pytest_cache", ".hypothesis", "build", "dist", ".ipynb_checkpoints"))
-    venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
-    bin_dir = venv / "bin"
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
-    env["PATH"] = f"{bin_dir}{os.pathsep}{env.get('PATH', '')}"
-    env["VIRTUAL_ENV"] = str(venv)
-    env["MPLBACKEND"] = "Agg"
-    python = str(bin_dir / "python")
-
-    run([python, "-m", "pip", "install", "--quiet", *REPO2DOCKER_BASE], cwd=repo, env=env)
-    run([python, "-m", "pip", "install", "--quiet", "-r", "binder/requirements.txt"], cwd=repo, env=env)
-    run(["./binder/postBuild"], cwd=repo, env=env)
-    run([python, "-m", "ipykernel", "install", "--sys-prefix", "--name", "python3"], cwd=repo, env=env)
+    built = binder_build.start().result(timeout=1800)  # usually built while nbval ran the tutorials
+    repo, python, env = built.repo, built.python, built.env
     # the package came from the copy, not from this checkout
     where = run([python, "-c", "import sarsp_edu; print(sarsp_edu.__file__)"], cwd=tmp_path, env=env)
-    assert str(venv) in where
+    assert str(built.folder) in where and str(ROOT) not in where
 
     # Voila, which the lecturer's guide recommends for projecting, comes with the lab extra
     assert "voila" in run([python, "-m", "pip", "list"], cwd=repo, env=env).lower()

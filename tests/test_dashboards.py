@@ -512,9 +512,10 @@ def test_a_static_copy_of_a_dashboard_shows_its_pictures(factory):
 def test_the_live_dashboards_static_picture_before_and_after_a_run():
     import base64
 
+    from sarsp_edu import ExperimentConfig
     from sarsp_edu.widgets import agent_dashboard
 
-    dashboard = agent_dashboard(episodes=1)
+    dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL))
     before = base64.b64decode(dashboard._repr_mimebundle_()["image/png"])
     assert before.startswith(b"\x89PNG")
     dashboard.fast_forward(1)
