@@ -258,25 +258,47 @@ def test_undefined_cost_rates_are_left_out_of_the_levels_and_the_wilcoxon_test(s
 #: per-episode diagnostics of the models' predictions: sums of predicted values whose last digits depend on
 #: the BLAS kernels of the processor (a stored cell computed on another machine differs from 1e-14 to 5e-9);
 #: every other column, the agents' steps and everything counted from them, is the same to the last digit
-PREDICTION_DIAGNOSTICS = ("reward_mse", "cost_prediction_error", "safe_action_variance")
-
-
 def test_a_stored_cell_of_the_reduced_sweep_is_what_the_code_computes():
+    """Recomputed on this machine: every column equal, the prediction diagnostics to a relative 1e-7."""
     from pathlib import Path
 
-    from sarsp_edu import compare
-    from sarsp_edu.results import Comparison
-    from sarsp_edu.sweep import cell_config
+    from sarsp_edu.sweep import check_cell
+
+    report = check_cell(Path(__file__).resolve().parents[1] / "results" / "sweep-reduced", "m40_p0.2_nss2_seed0")
+    assert report.identical, str(report)
+    assert report.tp.episodes == report.gp.episodes == 10
+    assert set(report.tp.diagnostics) == {"reward_mse", "cost_prediction_error", "safe_action_variance"}
+
+
+def test_check_cell_names_the_first_episode_and_the_columns_that_differ(sweep, capsys):
+    from sarsp_edu.sweep import check_cell
+
+    same = check_cell(sweep, CELL, n_jobs=1)
+    assert same.identical and same.same_trajectories and "identical" in str(same)
+    tp, gp = (sweep / "cells" / CELL / side / "records.csv" for side in ("tp", "gp"))
+    records = pd.read_csv(tp)
+    records.loc[1, "backup_rate"] += 0.25  # a trajectory that parted at the second episode
+    records.to_csv(tp, index=False)
+    records = pd.read_csv(gp)
+    records.loc[0, "reward_mse"] *= 1 + 1e-4  # a diagnostic's last digits, beyond the tolerance
+    records.to_csv(gp, index=False)
+    report = check_cell(sweep, CELL, n_jobs=1)
+    assert not report.identical and not report.same_trajectories
+    assert report.tp.differing_columns == ("backup_rate",) and report.tp.first_differing_episode == 1
+    assert report.gp.differing_columns == () and report.gp.diagnostics["reward_mse"] > 1e-5
+    assert "TP: first at episode 2 of 3: backup_rate" in str(report)
+    assert main(["check-cell", str(sweep), CELL, "--jobs", "1"]) == 1
+    assert "NOT identical" in capsys.readouterr().out
+    assert check_cell(sweep, CELL, n_jobs=1, rtol=1e-3).gp.diagnostics["reward_mse"] < 1e-3
+
+
+def test_check_cell_names_a_bad_cell():
+    from pathlib import Path
+
+    from sarsp_edu.sweep import check_cell
 
     folder = Path(__file__).resolve().parents[1] / "results" / "sweep-reduced"
-    base = ExperimentConfig.from_dict(json.loads((folder / "sweep.json").read_text())["base_config"])
-    stored = Comparison.load(folder / "cells" / "m40_p0.2_nss2_seed0")
-    again = compare(cell_config(base, 40.0, 0.2, 2, 0))
-    for side in ("tp", "gp"):
-        old, new = getattr(stored, side).records, getattr(again, side).records
-        assert getattr(stored, side).config == getattr(again, side).config
-        exact = [c for c in old.columns if c not in PREDICTION_DIAGNOSTICS]
-        pd.testing.assert_frame_equal(new[exact], old[exact], check_exact=True, check_dtype=False)
-        for column in PREDICTION_DIAGNOSTICS:
-            np.testing.assert_allclose(new[column], old[column], rtol=1e-7, atol=0)
-    assert again.verdict == stored.verdict
+    with pytest.raises(ValueError, match=r"cell='m40_p0.2' is not a cell's name; expected one like"):
+        check_cell(folder, "m40_p0.2")
+    with pytest.raises(ValueError, match=r"cell='m40_p0.2_nss2_seed7': .* holds no such cell \(\d+ stored"):
+        check_cell(folder, "m40_p0.2_nss2_seed7")

@@ -181,6 +181,20 @@ def _tables(args, parser) -> int:
     return 0
 
 
+def _check_cell(args, parser) -> int:
+    from .._io import StoredResultError
+    from ..sweep import check_cell
+
+    try:
+        report = check_cell(args.results_dir, args.cell, n_jobs=args.jobs)
+    except StoredResultError as exc:
+        parser.error(f"{exc}; rerun the sweep's command, which computes a damaged cell again")
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    print(report)
+    return 0 if report.identical else 1
+
+
 def _beside_paper_sections(tables: dict) -> list:
     """(title, frame) pairs: the sweep's mean and Table 1 rows beside the paper's.
 

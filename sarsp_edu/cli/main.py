@@ -8,7 +8,7 @@ import sys
 from .._version import __version__
 
 from .arguments import add_config_arguments
-from .commands import _ablation, _cache, _compare, _course, _info, _run, _sweep, _tables
+from .commands import _ablation, _cache, _check_cell, _compare, _course, _info, _run, _sweep, _tables
 
 def build_parser() -> argparse.ArgumentParser:
     from ..config import (
@@ -108,6 +108,20 @@ def build_parser() -> argparse.ArgumentParser:
     tables.add_argument("--seeds", type=int, nargs="+", metavar="SEED",
                         help="tabulate only these sweep seeds [default: every seed stored]")
     tables.set_defaults(func=_tables, parser=tables)
+
+    check = sub.add_parser(
+        "check-cell",
+        help="recompute one stored cell of a sweep on this machine and compare its records",
+        description="Run one stored cell of a sweep's results folder again with this code on this machine and "
+        "compare the records: every column exactly, the three prediction diagnostics (whose last digits come "
+        "from the processor's BLAS kernels) to a relative 1e-7. Prints the first differing episode, if any; "
+        "exits 0 when the cell is what this machine computes, 1 when it is not.",
+    )
+    check.add_argument("results_dir", metavar="RESULTS_DIR")
+    check.add_argument("cell", metavar="CELL", help="a cell folder's name, such as m40_p0.2_nss2_seed1")
+    check.add_argument("--jobs", type=int, choices=[1, 2], default=None,
+                       help="2 runs the GP in a second process, 1 both here [default: 2 where two cores are free]")
+    check.set_defaults(func=_check_cell, parser=check)
 
     ablation = sub.add_parser(
         "ablation",
