@@ -74,8 +74,8 @@ def _side(old, new) -> SideCheck:
     exact = [c for c in old.columns if c not in PREDICTION_DIAGNOSTICS]
     differing, first = [], None
     for column in exact:
-        a, b = old[column].to_numpy(), new[column].to_numpy()
-        unequal = ~((a == b) | (_isnan(a) & _isnan(b)))
+        a, b = old[column].reset_index(drop=True), new[column].reset_index(drop=True)
+        unequal = ~(a.eq(b) | (a.isna() & b.isna())).to_numpy()
         if unequal.any():
             differing.append(column)
             episode = int(np.argmax(unequal))
@@ -88,13 +88,6 @@ def _side(old, new) -> SideCheck:
             scale = np.maximum(np.abs(a[both]), np.finfo(float).tiny)
             diagnostics[column] = float(np.max(np.abs(a[both] - b[both]) / scale, initial=0.0))
     return SideCheck(len(old), tuple(differing), first, diagnostics)
-
-
-def _isnan(values) -> np.ndarray:
-    try:
-        return np.isnan(values.astype(float))
-    except (TypeError, ValueError):
-        return np.zeros(len(values), dtype=bool)
 
 
 def check_cell(results_dir, cell: str, n_jobs: int | None = None, rtol: float = 1e-7) -> CellCheck:
