@@ -105,6 +105,7 @@ class ObservationBuffer:
         self._y = np.empty(max(int(capacity), 1))
         self._n = 0
         self._rows: dict[bytes, list[int]] = {}
+        self._row_arrays: dict[bytes, np.ndarray] = {}  # rows_of's arrays, dropped when their input gains a row
 
     def __len__(self) -> int:
         return self._n
@@ -130,8 +131,14 @@ class ObservationBuffer:
         return (x + 0.0).tobytes()  # + 0.0 folds -0.0 into 0.0
 
     def rows_of(self, x) -> np.ndarray:
-        """Indices of the rows whose input equals ``x``."""
-        return np.array(self._rows.get(self._key(x), []), dtype=int)
+        """Indices of the rows whose input equals ``x`` (a read-only array, kept until ``x`` gains a row)."""
+        key = self._key(x)
+        rows = self._row_arrays.get(key)
+        if rows is None:  # the agent asks for the same few inputs at every decision
+            rows = np.array(self._rows.get(key, []), dtype=int)
+            rows.flags.writeable = False
+            self._row_arrays[key] = rows
+        return rows
 
     def count(self, x) -> int:
         """How many rows hold input ``x``."""
@@ -156,6 +163,7 @@ class ObservationBuffer:
         self._y[self._n] = float(target)
         rows.append(self._n)
         self._n += 1
+        self._row_arrays.pop(key, None)
         return True
 
     def overwrite(self, x, target: float) -> int:
@@ -210,6 +218,7 @@ class ObservationBuffer:
         rows = np.split(np.argsort(inverse, kind="stable"), np.cumsum(np.bincount(inverse))[:-1])
         # keys in order of first appearance, rows ascending: the same dict a loop over the rows gives
         self._rows = {unique[u].tobytes(): rows[u].tolist() for u in np.argsort(first)}
+        self._row_arrays = {}
 
     def __repr__(self) -> str:
         return f"ObservationBuffer(n={self._n}, n_features={self.n_features}, max_duplicates={self.max_duplicates})"

@@ -145,11 +145,45 @@ def test_a_whole_distance_bound_skips_the_checks_and_changes_no_bit():
         RBF(2.0, 1.5).from_squared_distances(D2 + 2.0**19, whole_bound=10.0)
 
 
-def test_sorted_unique_is_numpys_unique():
-    from sarsp_edu.rng import sorted_unique
+def test_draw_rows_consumes_the_generator_as_a_redraw_of_repeats():
+    """The mask-based draw gives the indices, and leaves the generator, as drawing and redrawing repeats."""
+    from sarsp_edu.rng import draw_row_mask, draw_rows
 
-    rng = np.random.default_rng(0)
-    for size in (0, 1, 2, 5, 100, 1000):
-        values = rng.integers(0, max(size // 2, 1), size=size)
-        assert np.array_equal(sorted_unique(values), np.unique(values))
-        assert sorted_unique(values).dtype == np.unique(values).dtype
+    def by_redraw(n, k, rng):  # the specification, written out: uniform draws, repeats redrawn
+        if k >= n:
+            return np.arange(n)
+        rows = np.unique(rng.integers(n, size=k))
+        while rows.shape[0] < k:
+            rows = np.union1d(rows, rng.integers(n, size=k - rows.shape[0]))
+        return rows
+
+    for n, k in ((50, 10), (120, 100), (4709, 400), (5, 10), (7, 7)):
+        ours, spec = np.random.default_rng(n + k), np.random.default_rng(n + k)
+        for _ in range(20):
+            rows = draw_rows(n, k, ours)
+            assert np.array_equal(rows, by_redraw(n, k, spec))
+            mask = draw_row_mask(n, k, ours)
+            assert mask.dtype == bool and np.array_equal(np.flatnonzero(mask), by_redraw(n, k, spec))
+        assert ours.integers(2**62) == spec.integers(2**62)  # the same numbers were drawn
+
+
+def test_kernel_table_gathers_the_kernels_bits():
+    from sarsp_edu.kernels import KernelTable, whole_distance_bound
+
+    rng = np.random.default_rng(2)
+    X = rng.integers(0, 6, size=(300, 3)).astype(float)  # whole numbers, many repeated rows
+    Q = rng.integers(0, 8, size=(4, 3)).astype(float)
+    kernel = RBF(1.7, 2.3)
+    for bound in (None, whole_distance_bound(X, Q)):
+        table = KernelTable(kernel, X, whole_bound=bound)
+        assert table.X_unique.shape[0] == len(np.unique(X, axis=0)) < len(X)
+        assert np.array_equal(table.X_unique[table.index], X)
+        rows = np.sort(rng.choice(len(X), size=40, replace=False))
+        K, K_star = table.gather(rows, table.cross(Q, whole_bound=bound))
+        assert np.array_equal(K, kernel(X[rows])) and K.flags.c_contiguous
+        assert np.array_equal(K_star, kernel(Q, X[rows]))
+        assert np.array_equal(table.gram(rows), K)
+    assert KernelTable.if_small(kernel, X, max_distinct=10) is None
+    assert KernelTable.if_small(kernel, X, max_distinct=300).K.shape == (table.X_unique.shape[0],) * 2
+    with pytest.raises(ValueError, match="X must be 2-D"):
+        KernelTable(kernel, np.zeros(3))
