@@ -3,7 +3,9 @@
 - A decision (``SARSPAgent.act``: 2 models x 4 actions, a fresh prior each) at
   k = 100 and k = 400, against its floor: ``potrf`` + ``potrs`` on the same 8
   kernel matrices (with the right-hand sides the decision solves).
-  Targets: at most 2.5x at k = 100, 1.5x at k = 400.
+  Targets: at most 2.5x at k = 100, 1.5x at k = 400.  Beside it, the same
+  decision with the cost buffer's kernel table turned off (every prior's
+  kernel built from distances), to show what gathering from the table pays.
 - One Adam step of the exact fit (log marginal likelihood and its gradient),
   against its floor: ``potrf`` + ``potri`` at the same size, at n = ~800
   distinct inputs (the cost model's grouped whole-buffer fit) and n = ~4,900
@@ -57,6 +59,20 @@ def decision_floor(agent, observation, repeats):
     return median_seconds(floor, repeats), [K.shape[0] for K, _ in systems]
 
 
+def act_without_kernel_table(agent, observation, repeats):
+    """``act``'s median time with every prior's kernel built from distances (no table gathered)."""
+    import sarsp_edu.sarsp as sarsp_module
+
+    limit = sarsp_module.KERNEL_TABLE_MAX_DISTINCT
+    sarsp_module.KERNEL_TABLE_MAX_DISTINCT = 0
+    agent.__dict__.pop("_kernel_tables", None)
+    try:
+        return median_seconds(lambda: agent.act(observation), repeats)
+    finally:
+        sarsp_module.KERNEL_TABLE_MAX_DISTINCT = limit
+        agent.__dict__.pop("_kernel_tables", None)
+
+
 def step_and_floor(model, buffer, rows, repeats):
     data = group_rows(buffer.X[rows], buffer.y[rows])
     D2 = squared_distances(data.X)
@@ -86,10 +102,12 @@ def main(argv=None):
         agent, env = experiment.agent, experiment.env
         observation, _ = env.reset(seed=1)
         act = median_seconds(lambda: agent.act(observation), args.repeats)
+        untabled = act_without_kernel_table(agent, observation, args.repeats)
         floor, sizes = decision_floor(agent, observation, args.repeats)
         target = 2.5 if k == 100 else 1.5
         print(f"  k = {k:3d} (priors of {min(sizes)}-{max(sizes)} rows): act {act * 1e3:6.2f} ms, floor "
-              f"{floor * 1e3:6.2f} ms, ratio {act / floor:4.2f}x (target <= {target}x)")
+              f"{floor * 1e3:6.2f} ms, ratio {act / floor:4.2f}x (target <= {target}x); without the kernel "
+              f"table {untabled * 1e3:6.2f} ms ({untabled / floor:4.2f}x)")
 
     config = ExperimentConfig(seed=0)
     data = prepare(config).data

@@ -19,7 +19,7 @@ from scipy.spatial.distance import cdist
 
 from ._validation import check_positive
 
-__all__ = ["RBF", "squared_distances", "whole_distance_bound"]
+__all__ = ["KernelTable", "RBF", "squared_distances", "whole_distance_bound"]
 
 # the whole-number lookup of RBF.from_squared_distances: used from this many
 # entries on (below, the checks cost more than they save), for squared
@@ -263,3 +263,92 @@ class RBF:
             and self.amplitude == other.amplitude
             and self.length_scale == other.length_scale
         )
+
+
+class KernelTable:
+    """A kernel's values among the distinct rows of an input array, to gather sub-matrices from.
+
+    SARSP builds eight kernel matrices per decision from rows of the same
+    buffer.  The cost buffer holds about 800 distinct inputs among its
+    ~4,700 rows (the grid is small): the kernel among the distinct inputs,
+    computed once, holds every entry of every prior's matrix, and gathering
+    ``K(X[rows], X[rows])`` from it costs less than computing the distances
+    and looking the kernel up again.  The entries are the very numbers
+    :meth:`RBF.from_squared_distances` gives (the same squared distances,
+    the same evaluation), so predictions are bit for bit unchanged.
+
+    Parameters
+    ----------
+    kernel : RBF
+        The kernel, with its fitted hyperparameters (the table is only valid
+        for them).
+    X : ndarray of shape (n, d)
+        The rows the prior sets are drawn from.
+    whole_bound : float, optional
+        As in :meth:`RBF.from_squared_distances`, for the distinct rows.
+
+    Attributes
+    ----------
+    X_unique : ndarray of shape (G, d)
+        The distinct rows of ``X``.
+    index : ndarray of shape (n,)
+        For each row of ``X``, its row of ``X_unique``.
+    K : ndarray of shape (G, G)
+        ``kernel(X_unique)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sarsp_edu.kernels import RBF, KernelTable
+    >>> X = np.array([[0.0], [1.0], [0.0], [3.0]])
+    >>> kernel = RBF(length_scale=2.0)
+    >>> table = KernelTable(kernel, X)
+    >>> table.X_unique.shape
+    (3, 1)
+    >>> rows = np.array([0, 2, 3])
+    >>> bool(np.array_equal(table.gram(rows), kernel(X[rows])))
+    True
+    """
+
+    def __init__(self, kernel: RBF, X: np.ndarray, whole_bound: float | None = None):
+        self._build(kernel, *self._distinct(X), whole_bound)
+
+    @classmethod
+    def if_small(cls, kernel: RBF, X: np.ndarray, max_distinct: int, whole_bound: float | None = None):
+        """A table if ``X`` has at most ``max_distinct`` distinct rows, else None.
+
+        The table takes ``8 G**2`` bytes: the reward buffer's ~5,000 rows are
+        all distinct (200 MB), the cost buffer's ~800 distinct rows take 5 MB.
+        """
+        unique, index = cls._distinct(X)
+        if unique.shape[0] > max_distinct:
+            return None
+        table = cls.__new__(cls)
+        table._build(kernel, unique, index, whole_bound)
+        return table
+
+    @staticmethod
+    def _distinct(X):
+        X = np.asarray(X, dtype=float)
+        if X.ndim != 2:
+            raise ValueError(f"X must be 2-D (rows of inputs), got shape {X.shape}")
+        unique, index = np.unique(X, axis=0, return_inverse=True)
+        return unique, index.reshape(-1)
+
+    def _build(self, kernel, unique, index, whole_bound):
+        self.kernel, self.X_unique, self.index = kernel, unique, index
+        self.K = kernel.from_squared_distances(squared_distances(unique), whole_bound=whole_bound)
+
+    def cross(self, X_query: np.ndarray, whole_bound: float | None = None) -> np.ndarray:
+        """``kernel(X_query, X_unique)``, of shape (q, G): gather its columns with :meth:`gather`."""
+        return self.kernel.from_squared_distances(squared_distances(X_query, self.X_unique), whole_bound=whole_bound)
+
+    def gram(self, rows: np.ndarray) -> np.ndarray:
+        """``kernel(X[rows])``: a new C-ordered array of shape (len(rows), len(rows))."""
+        at = self.index[rows]
+        return self.K.take(at, axis=0).take(at, axis=1)
+
+    def gather(self, rows: np.ndarray, cross: np.ndarray):
+        """``kernel(X[rows])`` and the columns ``rows`` of a :meth:`cross` result: ``(K, K_star)``."""
+        at = self.index[rows]
+        return self.K.take(at, axis=0).take(at, axis=1), cross.take(at, axis=1)

@@ -35,11 +35,15 @@ import numpy as np
 from ._threads import one_blas_thread
 from ._validation import check_choice
 from .config import AgentSettings  # Algorithm 1's settings, defined once
-from .kernels import whole_distance_bound
+from .kernels import KernelTable, whole_distance_bound
 from .offline import OfflineData, cost_inputs, reward_inputs
-from .rng import as_generator, draw_rows, draw_subset, sorted_unique
+from .rng import as_generator, draw_row_mask, draw_subset
+
+#: the most distinct inputs a buffer may have for the agent to keep its kernel table (8 G**2 bytes: 32 MB)
+KERNEL_TABLE_MAX_DISTINCT = 2048
 
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome"]
+
 
 @dataclass
 class Decision:
@@ -280,16 +284,16 @@ class SARSPAgent:
         if self.prior_draw == "per_action":
             priors = []
             for query in queries:
-                rows = draw_rows(n, self.k_prior, self.rng)
+                rows = draw_row_mask(n, self.k_prior, self.rng)
                 if self.n_matching:
-                    rows = sorted_unique(np.concatenate([rows, self._matches(buffer, query)]))  # np.union1d
-                priors.append(rows)
+                    rows[self._matches(buffer, query)] = True  # the union (np.union1d) in the mask
+                priors.append(np.flatnonzero(rows))
             return priors
-        parts = [draw_rows(n, self.k_prior, self.rng)]
+        rows = draw_row_mask(n, self.k_prior, self.rng)
         if self.n_matching:
-            parts += [self._matches(buffer, query) for query in queries]
-        shared = sorted_unique(np.concatenate(parts))
-        return [shared] * len(queries)
+            for query in queries:
+                rows[self._matches(buffer, query)] = True
+        return [np.flatnonzero(rows)] * len(queries)
 
     def strategic_prior(self, observation, model: str = "cost") -> list:
         """Rows of one model's training set that a decision would condition on (a fresh draw).
@@ -323,8 +327,15 @@ class SARSPAgent:
         else:
             sets = priors[:1]
             query_sets = queries[None, :, :]  # the four queries share one prior
+        bound = self._whole_bound(buffer, queries)
+        table = self._kernel_table(model, buffer, bound)
+        kernels = None
+        if table is not None:  # the matrices gathered from the buffer's kernel table: the same numbers, sooner
+            cross = table.cross(queries, whole_bound=bound)
+            per_action = self.prior_draw == "per_action"  # one query per set, or the four sharing one
+            kernels = [table.gather(r, cross[a: a + 1] if per_action else cross) for a, r in enumerate(sets)]
         mean, var, df = model.predict_batch([X[r] for r in sets], [y[r] for r in sets], query_sets,
-                                            include_noise=True, whole_bound=self._whole_bound(buffer, queries))
+                                            include_noise=True, whole_bound=bound, kernels=kernels)
         mean, var = mean.reshape(-1), var.reshape(-1)
         df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
         if self.predictive == "sample":
@@ -347,6 +358,25 @@ class SARSPAgent:
         if not whole:
             return None
         return whole_distance_bound(np.stack([low, high]), queries)
+
+    def _kernel_table(self, model, buffer, whole_bound):
+        """The :class:`~sarsp_edu.kernels.KernelTable` of a buffer's inputs under a model's kernel, or None.
+
+        Built for whole-number inputs with at most ``KERNEL_TABLE_MAX_DISTINCT``
+        distinct rows (the cost buffer; the reward buffer's rows are all
+        distinct), and kept until the buffer grows or a refit changes the
+        kernel.
+        """
+        if whole_bound is None:
+            return None
+        tables = self.__dict__.setdefault("_kernel_tables", {})
+        kept = tables.get(id(buffer))
+        params = model.kernel_.get_params()
+        if kept is None or kept[0] is not buffer or kept[1] != len(buffer) or kept[2] != params:
+            table = KernelTable.if_small(model.kernel_, buffer.X, KERNEL_TABLE_MAX_DISTINCT, whole_bound=whole_bound)
+            kept = (buffer, len(buffer), params, table)
+            tables[id(buffer)] = kept
+        return kept[3]
 
     def _sample_moments(self, mean, var, df):
         """Sample mean and variance of ``n_samples`` draws from each predictive distribution.

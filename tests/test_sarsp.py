@@ -354,3 +354,29 @@ def test_the_agents_whole_number_bound_changes_no_prediction(far):
     kept = agent.__dict__["_buffer_bounds"][id(agent.cost_data)]
     agent.predict(observation)
     assert agent.__dict__["_buffer_bounds"][id(agent.cost_data)][1] == kept[1] + 1
+
+
+@pytest.mark.parametrize("prior_draw", ["per_action", "per_step"])
+def test_kernels_gathered_from_the_buffers_table_change_no_prediction(monkeypatch, prior_draw):
+    """Priors' kernel matrices gathered from a buffer's table are the bits of those built from
+    distances, also after the buffer gains an input and after the kernel changes (each rebuilds it)."""
+    import sarsp_edu.sarsp as sarsp_module
+
+    observation = np.array([3.0, 4.0, 9.0, 9.0, 1.0, 2.0, 0.0, 0.0])
+    runs, tabled = [], []
+    for limit in (sarsp_module.KERNEL_TABLE_MAX_DISTINCT, 0):  # with the tables, then without any
+        monkeypatch.setattr(sarsp_module, "KERNEL_TABLE_MAX_DISTINCT", limit)
+        agent = large_buffer_agent(prior_draw)
+        predictions = [agent.predict(observation)]
+        agent.cost_data.add([2, 7, 7, 7, 7], 0.25)
+        predictions.append(agent.predict(observation))
+        agent.cost_model.kernel_ = RBF(1.5, 2.0)
+        predictions.append(agent.predict(observation))
+        runs.append(predictions)
+        tables = agent.__dict__["_kernel_tables"][id(agent.cost_data)]
+        tabled.append(tables[3] is not None and tables[1] == len(agent.cost_data)
+                      and tables[3].kernel == RBF(1.5, 2.0))
+    assert tabled == [True, False]
+    for with_table, without in zip(*runs):
+        for a, b in zip(with_table, without):
+            assert np.array_equal(a, b)

@@ -218,7 +218,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         other.fit_indices_ = None
         return other
 
-    def predict_batch(self, X, y, X_query, include_noise: bool = False, *, whole_bound: float | None = None):
+    def predict_batch(self, X, y, X_query, include_noise: bool = False, *, whole_bound: float | None = None,
+                      kernels=None):
         """Predict from several training sets at once, with the fitted hyperparameters.
 
         SARSP conditions each model on a fresh *strategic prior* for every
@@ -243,6 +244,12 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             looked up without checking each distance.  The numbers are the
             same with or without it; it is not checked, so a wrong guarantee
             gives wrong numbers.
+        kernels : sequence of B pairs ``(K, K_star)``, optional
+            The kernel matrices of each set, ``kernel_(X_b)`` of shape
+            (n_b, n_b) and ``kernel_(X_query[b], X_b)`` of shape (q, n_b),
+            gathered by the caller (from a :class:`~sarsp_edu.kernels.KernelTable`)
+            instead of built here.  Each ``K`` must be a C-ordered array of
+            its own: it is overwritten by its Cholesky factor.
 
         Returns
         -------
@@ -275,17 +282,23 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         mean, var, df = np.empty((B, q)), np.empty((B, q)), np.empty(B)
         prior_var = kernel.amplitude**2  # k(x, x) of the RBF
         for b in range(B):
-            X_b, y_b = X[b], y[b]
+            y_b = y[b]
             n = y_b.shape[0]
-            # one pass for K(X_b, X_b) and K(X*, X_b): the rows of [X_b; X*] against X_b
-            both = kernel.from_squared_distances(squared_distances(np.concatenate([X_b, X_query[b]]), X_b),
-                                                 whole_bound=whole_bound)
-            K, K_star = both[:n], both[n:]  # (n, n) and (q, n)
+            if kernels is None:
+                # one pass for K(X_b, X_b) and K(X*, X_b): the rows of [X_b; X*] against X_b
+                both = kernel.from_squared_distances(squared_distances(np.concatenate([X[b], X_query[b]]), X[b]),
+                                                     whole_bound=whole_bound)
+                K, K_star = both[:n], both[n:]  # (n, n) and (q, n)
+            else:
+                K, K_star = kernels[b]
             K.flat[:: n + 1] += s2
-            L = cholesky(K)  # the fast path
-            if L is None:
+            # factorised in K's own memory (K is symmetric, so its transpose is K in LAPACK's order)
+            L = cholesky(K, overwrite=True)  # the fast path
+            if L is None:  # K is lost: rebuild it for the jitter's tries
+                K = kernel.from_squared_distances(squared_distances(X[b]))
+                K.flat[:: n + 1] += s2
                 L, _ = cholesky_with_jitter(K)
-            rhs = np.empty((n, q + 1))
+            rhs = np.empty((n, q + 1))  # C order: BLAS sums the products below in the order the stored runs used
             rhs[:, 0] = y_b
             rhs[:, 1:] = K_star.T
             solved = solve_cholesky(L, rhs)  # K^-1 [y, k*]
