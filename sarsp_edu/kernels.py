@@ -350,5 +350,4 @@ class KernelTable:
 
     def gather(self, rows: np.ndarray, cross: np.ndarray):
         """``kernel(X[rows])`` and the columns ``rows`` of a :meth:`cross` result: ``(K, K_star)``."""
-        at = self.index[rows]
-        return self.K.take(at, axis=0).take(at, axis=1), cross.take(at, axis=1)
+        return self.gram(rows), cross.take(self.index[rows], axis=1)
