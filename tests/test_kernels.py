@@ -93,6 +93,37 @@ def test_whole_number_lookup_is_bit_identical(amplitude, length_scale):
     assert np.array_equal(K, expected)
 
 
+@pytest.mark.parametrize("amplitude, length_scale", [(1.0, 1.0), (67.12, 0.9632), (102.5, 13.21), (1e-3, 500.0)])
+def test_the_kernel_on_distance_levels_is_bit_identical(amplitude, length_scale):
+    # a fit evaluates the kernel on D2's distinct values and gathers: the doubles of every entry's exponential,
+    # the gradient's planes too, into the fit's workspace or a new array
+    from sarsp_edu.kernels import DistanceLevels
+
+    rng = np.random.default_rng(1)
+    X = rng.integers(0, 30, size=(120, 5)).astype(float)
+    X[:7] *= 40.0  # outliers' inputs, far from the rest
+    D2 = squared_distances(X)
+    levels = DistanceLevels.if_few(D2)
+    assert levels is not None and levels.values.size < D2.size / 4
+    assert np.array_equal(levels.values[levels.index], D2)
+    kernel = RBF(amplitude, length_scale)
+    K, dK = kernel.from_squared_distances(D2, eval_gradient=True, out=np.empty((3,) + D2.shape))
+    K_l, dK_l = kernel.from_squared_distances(D2, eval_gradient=True, out=np.empty((3,) + D2.shape), levels=levels)
+    assert np.array_equal(K, K_l) and np.array_equal(dK, dK_l)
+    assert np.array_equal(kernel.from_squared_distances(D2, levels=levels), K)
+
+
+def test_distance_levels_are_kept_only_where_few():
+    from sarsp_edu.kernels import DistanceLevels
+
+    X = np.random.default_rng(2).normal(size=(60, 3))  # real-valued inputs: every distance its own value
+    assert DistanceLevels.if_few(squared_distances(X)) is None
+    whole = np.arange(60.0).reshape(20, 3)
+    assert DistanceLevels.if_few(squared_distances(whole)) is not None
+    assert DistanceLevels.if_few(squared_distances(whole), max_size=399) is None  # 400 entries: too many
+    assert DistanceLevels.if_few(np.empty((0, 0))) is None
+
+
 def test_lookup_falls_back_and_follows_the_hyperparameters():
     kernel = RBF(2.0, 1.5)
     X = np.arange(60.0).reshape(20, 3)

@@ -615,6 +615,27 @@ def test_a_cloned_model_fits_to_the_same_numbers():
     assert np.array_equal(first.theta_, second.theta_)
 
 
+@pytest.mark.parametrize("model_cls", [GaussianProcess, StudentTProcess])
+def test_a_fit_on_distance_levels_is_the_fit_on_every_distance(model_cls, monkeypatch):
+    # whole-number inputs with repeats (the cost buffer's kind): the fit's kernel comes from D2's distinct
+    # values; turned off, every entry is exponentiated: the same steps, to the bit
+    import sarsp_edu.kernels as kernels
+
+    rng = np.random.default_rng(3)
+    X = rng.integers(0, 12, size=(300, 3)).astype(float)
+    y = np.sin(X.sum(axis=1) / 5.0) + 0.1 * rng.normal(size=300)
+    calls = []
+    if_few = kernels.DistanceLevels.if_few.__func__
+    monkeypatch.setattr(kernels.DistanceLevels, "if_few",
+                        classmethod(lambda cls, D2, **kw: calls.append(if_few(cls, D2, **kw)) or calls[-1]))
+    with_levels = model_cls(rng=0, max_iter=15).fit(X, y)
+    assert calls and calls[-1] is not None  # the levels were used
+    monkeypatch.setattr(kernels.DistanceLevels, "if_few", classmethod(lambda cls, D2, **kw: None))
+    without = model_cls(rng=0, max_iter=15).fit(X, y)
+    assert np.array_equal(with_levels.theta_, without.theta_)
+    assert np.array_equal(with_levels.objective_trace_, without.objective_trace_)
+
+
 def test_a_nu_beyond_float64s_reach_is_refused_naming_nu_not_the_targets():
     X = np.linspace(0, 1, 10)[:, None]
     with pytest.raises(ValueError, match=r"nu must be at most 1e\+12 \(beyond it float64 loses"):

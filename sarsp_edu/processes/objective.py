@@ -93,22 +93,23 @@ class Objective:
         grad[:3] = -1.0 - t
         return float(np.sum(-t - 0.5 * t * t - 0.5 * LOG_2PI)), grad
 
-    def _lml_from_distances(self, theta, D2, data: GroupedRows, eval_gradient, work=None):
+    def _lml_from_distances(self, theta, D2, data: GroupedRows, eval_gradient, work=None, levels=None):
         """Log marginal likelihood (and gradient) at ``theta`` of grouped data.
 
         ``D2`` holds the squared distances between the distinct inputs
         ``data.X``; the value is exactly that of all ``data.n`` rows (see
         :func:`~sarsp_edu.linalg.group_rows`).  ``work`` is an optional (3, G, G) workspace reused
         across a fit's steps: the kernel is written into it and factorised
-        in place.
+        in place.  ``levels`` (:class:`~sarsp_edu.kernels.DistanceLevels` of
+        ``D2``, optional) has the kernel evaluated on D2's distinct values.
         """
         kernel, s2, extra = self._unpack(theta)
         G, n = data.counts.shape[0], data.n
         noise = s2 / data.counts  # the diagonal of s2 N^-1
         if eval_gradient:
-            K, dK = kernel.from_squared_distances(D2, eval_gradient=True, out=work)
+            K, dK = kernel.from_squared_distances(D2, eval_gradient=True, out=work, levels=levels)
         else:
-            K = kernel.from_squared_distances(D2, out=work)
+            K = kernel.from_squared_distances(D2, out=work, levels=levels)
         K.flat[:: G + 1] += noise
         # the fast path: factorise K in the workspace, without checks
         L = cholesky(K, overwrite=True) if work is not None else None
@@ -140,8 +141,8 @@ class Objective:
         grad[3:] = extra_grad
         return value, grad
 
-    def _log_joint(self, theta, D2, data, work=None):
-        value, grad = self._lml_from_distances(theta, D2, data, eval_gradient=True, work=work)
+    def _log_joint(self, theta, D2, data, work=None, levels=None):
+        value, grad = self._lml_from_distances(theta, D2, data, eval_gradient=True, work=work, levels=levels)
         prior, prior_grad = self._log_prior(theta)
         return value + prior, grad + prior_grad
 
