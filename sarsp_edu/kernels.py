@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.distance import cdist
 
-from ._validation import check_positive
+from ._validation import check_fraction, check_int, check_positive
 
 __all__ = ["DistanceLevels", "KernelTable", "RBF", "squared_distances", "whole_distance_bound"]
 
@@ -131,6 +131,8 @@ class DistanceLevels:
         index would cost more time and memory than their steps save: the
         ``reference`` preset's whole-buffer reward fit has 24 million).
         """
+        max_fraction = check_fraction("max_fraction", max_fraction)
+        max_size = check_int("max_size", max_size, 0)
         D2 = np.asarray(D2, dtype=float)
         if D2.size == 0 or D2.size > max_size:
             return None

@@ -122,6 +122,10 @@ def test_distance_levels_are_kept_only_where_few():
     assert DistanceLevels.if_few(squared_distances(whole)) is not None
     assert DistanceLevels.if_few(squared_distances(whole), max_size=399) is None  # 400 entries: too many
     assert DistanceLevels.if_few(np.empty((0, 0))) is None
+    with pytest.raises(ValueError, match=r"max_fraction must lie in \[0, 1\], got max_fraction=1.5"):
+        DistanceLevels.if_few(squared_distances(whole), max_fraction=1.5)
+    with pytest.raises(ValueError, match=r"max_size must be an integer >= 0, got max_size=-1"):
+        DistanceLevels.if_few(squared_distances(whole), max_size=-1)
 
 
 def test_lookup_falls_back_and_follows_the_hyperparameters():
