@@ -160,14 +160,19 @@ def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
 
 @contextlib.contextmanager
 def tutorial_in_jupyterlab(name: str, tmp_path, browser, width: int, height: int):
-    """A copy of a tutorial opened in JupyterLab in a page of the given size, its kernel idle; the server stops after."""
+    """A copy of a tutorial opened in JupyterLab in a page of the given size, its kernel idle; the server stops after.
+
+    JupyterLab starts with a workspace and settings of its own in ``tmp_path``: the user's saved workspace
+    (``~/.jupyter/lab/workspaces``, which an earlier run of these tests would otherwise have written) reopens
+    documents of a folder that is gone, and the error dialogs it shows would take the clicks of the test."""
     work = tmp_path / "lab"
     work.mkdir()
     shutil.copy(ROOT / "tutorials" / name, work / name)
     port = free_port()
     command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
                "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
-               f"--ServerApp.root_dir={work}"]
+               f"--ServerApp.root_dir={work}", f"--LabApp.workspaces_dir={tmp_path / 'lab-workspaces'}",
+               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}"]
     server = serve(command, work, f"http://127.0.0.1:{port}/lab")
     try:
         page = browser.new_page(viewport={"width": width, "height": height})
@@ -196,6 +201,11 @@ def run_all(page, until: str) -> float:
     come and go before a test sees it).
     """
     for attempt in range(2):
+        try:  # a dialog closing (the kernel restart's) is given time to go; one that stays is named
+            page.wait_for_selector(".jp-Dialog", state="detached", timeout=10_000)
+        except playwright_api.TimeoutError:
+            raise AssertionError("JupyterLab shows a dialog where Run All is to be clicked: "
+                                 f"{page.locator('.jp-Dialog').first.inner_text()!r}") from None
         page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
         page.locator("li[data-command='runmenu:run-all']").click()
         started = time.time()
