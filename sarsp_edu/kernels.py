@@ -83,6 +83,12 @@ def whole_distance_bound(*arrays: np.ndarray) -> float | None:
     return bound if bound < 2.0**52 else None
 
 
+def _floating(D2) -> np.ndarray:
+    """``D2`` as an array in its own floating dtype (float32 stays float32, as in ``RBF``'s every-entry path), else float64."""
+    D2 = np.asarray(D2)
+    return D2 if np.issubdtype(D2.dtype, np.floating) else D2.astype(float)
+
+
 class DistanceLevels:
     """The distinct values of a squared-distance matrix, and for each entry the index of its value.
 
@@ -96,14 +102,16 @@ class DistanceLevels:
     Parameters
     ----------
     D2 : ndarray
-        Squared distances.
+        Squared distances (kept in their floating dtype; other dtypes as
+        float64, as :meth:`RBF.from_squared_distances` computes on them).
 
     Attributes
     ----------
     values : ndarray of shape (V,)
-        The distinct entries of ``D2``, sorted.
+        The distinct entries of ``D2``, sorted (``np.unique``'s: one 0.0 for
+        0.0 and -0.0, NaNs last).
     index : ndarray of D2's shape, of intp
-        ``values[index]`` equals ``D2``.
+        ``values[index]`` equals ``D2`` (but for NaN entries and the sign of a zero).
 
     Examples
     --------
@@ -119,7 +127,7 @@ class DistanceLevels:
     """
 
     def __init__(self, D2: np.ndarray):
-        D2 = np.asarray(D2, dtype=float)
+        D2 = _floating(D2)
         self.values, index = np.unique(D2, return_inverse=True)
         self.index = index.reshape(D2.shape).astype(np.intp, copy=False)
 
@@ -133,7 +141,7 @@ class DistanceLevels:
         """
         max_fraction = check_fraction("max_fraction", max_fraction)
         max_size = check_int("max_size", max_size, 0)
-        D2 = np.asarray(D2, dtype=float)
+        D2 = _floating(D2)
         if D2.size == 0 or D2.size > max_size:
             return None
         levels = cls(D2)

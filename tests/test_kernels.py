@@ -111,6 +111,13 @@ def test_the_kernel_on_distance_levels_is_bit_identical(amplitude, length_scale)
     K_l, dK_l = kernel.from_squared_distances(D2, eval_gradient=True, out=np.empty((3,) + D2.shape), levels=levels)
     assert np.array_equal(K, K_l) and np.array_equal(dK, dK_l)
     assert np.array_equal(kernel.from_squared_distances(D2, levels=levels), K)
+    # float32 distances stay float32 on both paths, and whole-number integer ones are computed as float64
+    D2_32 = D2.astype(np.float32)
+    K_32 = kernel.from_squared_distances(D2_32)
+    K_32_l = kernel.from_squared_distances(D2_32, levels=DistanceLevels(D2_32))
+    assert K_32.dtype == K_32_l.dtype == np.float32 and np.array_equal(K_32, K_32_l)
+    D2_int = D2.astype(np.int64)
+    assert np.array_equal(kernel.from_squared_distances(D2_int, levels=DistanceLevels(D2_int)), K)
 
 
 def test_distance_levels_are_kept_only_where_few():

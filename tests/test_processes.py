@@ -634,6 +634,10 @@ def test_a_fit_on_distance_levels_is_the_fit_on_every_distance(model_cls, monkey
     without = model_cls(rng=0, max_iter=15).fit(X, y)
     assert np.array_equal(with_levels.theta_, without.theta_)
     assert np.array_equal(with_levels.objective_trace_, without.objective_trace_)
+    # real-valued inputs: every distance its own value, so the fit does not sort them to find out
+    monkeypatch.setattr(kernels.DistanceLevels, "if_few",
+                        classmethod(lambda cls, D2, **kw: pytest.fail("levels sought for real-valued inputs")))
+    model_cls(rng=0, max_iter=3).fit(X + rng.uniform(0.1, 0.9, size=X.shape), y)
 
 
 def test_a_nu_beyond_float64s_reach_is_refused_naming_nu_not_the_targets():

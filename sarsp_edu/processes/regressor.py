@@ -18,7 +18,7 @@ from sklearn.utils.validation import validate_data
 
 from .._validation import check_choice, check_int, check_positive, check_training, check_X
 from ..config import ADAM_STEPS, LEARNING_RATE, OPTIMIZERS, PRIORS
-from ..kernels import RBF, DistanceLevels, squared_distances
+from ..kernels import RBF, DistanceLevels, squared_distances, whole_distance_bound
 from ..linalg import cholesky, cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
 from ..optimizers import adam, lbfgs
 from ..rng import as_generator, draw_subset
@@ -137,7 +137,10 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             data = group_rows(X[idx], y[idx])  # repeated inputs folded, exactly
             D2 = squared_distances(data.X)
             work = np.empty((3,) + D2.shape)  # one workspace for every step of this fit
-            levels = DistanceLevels.if_few(D2)  # the kernel on D2's distinct values at each step: the same bits
+            # the kernel on D2's distinct values at each step, the same bits; only for whole-number inputs (the
+            # grid world's), whose distances repeat: real-valued ones have as many values as entries, and sorting
+            # them to find out would cost a fit up to a second
+            levels = DistanceLevels.if_few(D2) if whole_distance_bound(data.X) is not None else None
 
             def negative(theta):
                 value, grad = self._log_joint(theta, D2, data, work, levels)
