@@ -440,6 +440,38 @@ def test_live_dashboard_async_run_and_stop(live):
     assert "Paused" in live.status.value or "Stopped" in live.status.value or "Finished" in live.status.value
 
 
+def test_stop_pressed_while_a_side_steps_stays_said(live):
+    # Stop while the slower side is inside a step (a retrain takes seconds): when that step ends and its frame
+    # is drawn, the status line must still say the run stopped, not "Running: 10 steps shown"
+    import threading
+    import time
+
+    live.prepare()
+    entered, release, calls = threading.Event(), threading.Event(), []
+    step = live.experiments["gp"].step
+
+    def slow_tenth_step():
+        calls.append(1)
+        if len(calls) == 10:  # the frame that makes 10 steps shown on both sides
+            entered.set()
+            release.wait(60)
+        return step()
+
+    live.experiments["gp"].step = slow_tenth_step
+    live.speed.value = 60
+    thread = live.play_in_background()
+    assert entered.wait(60)
+    deadline = time.time() + 60
+    while len(live._frame_times["tp"]) < 10 and time.time() < deadline:  # the other side reaches 10 too
+        time.sleep(0.01)
+    assert len(live._frame_times["tp"]) >= 10
+    live.stop()
+    release.set()
+    thread.join(60)
+    assert live.frames == 10 and not live.running
+    assert live.status.value.startswith("Stopped."), live.status.value
+
+
 def test_svg_and_table_drawings():
     from sarsp_edu import SafeGridWorld
     from sarsp_edu.sarsp import Decision

@@ -110,9 +110,10 @@ class Animation:
         return thread
 
     def stop(self) -> None:
-        self._running = False
-        if self.experiments is not None:
-            self.status.value = "Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders."
+        with self._draw_lock:  # a side ending its step after this finds the run stopped, and says nothing more
+            self._running = False
+            if self.experiments is not None:
+                self.status.value = "Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders."
 
     def reset(self) -> None:
         with self._draw_lock:
@@ -254,7 +255,7 @@ class Animation:
                 steps = min(len(t) for t in self._frame_times.values())
                 if steps > self.frames:
                     self.frames = steps
-                    if steps % 10 == 0:
+                    if steps % 10 == 0 and self._running:  # not over "Stopped" when Stop came mid-step
                         self.status.value = (f"Running: {steps} steps shown, "
                                              f"{self.displayed_steps_per_second:.1f} steps per second.")
                 self._draw_metrics_if_new_episode(throttle=True)
