@@ -36,7 +36,7 @@ from _timing import median_seconds, one_core  # noqa: E402
 from sarsp_edu import ExperimentConfig  # noqa: E402
 from sarsp_edu.experiment import Experiment, make_model  # noqa: E402
 from sarsp_edu.preparation import prepare  # noqa: E402
-from sarsp_edu.kernels import DistanceLevels, squared_distances  # noqa: E402
+from sarsp_edu.kernels import squared_distances  # noqa: E402
 from sarsp_edu.linalg import group_rows  # noqa: E402
 from sarsp_edu.offline import cost_inputs, reward_inputs  # noqa: E402
 
@@ -80,7 +80,7 @@ def step_and_floor(model, buffer, rows, repeats):
     D2 = squared_distances(data.X)
     work = np.empty((3,) + D2.shape)
     theta = model._initial_theta()
-    levels = DistanceLevels.if_few(D2)  # as the fit does: None for the reward buffer's 24 million distances
+    levels = model._distance_levels(data.X, D2)  # as the fit: None for the reward buffer's 24 million distances
     step = median_seconds(lambda: model._log_joint(theta, D2, data, work, levels), repeats, warmup=1)
     every = median_seconds(lambda: model._log_joint(theta, D2, data, work), repeats, warmup=1) \
         if levels is not None else step

@@ -244,15 +244,15 @@ class RBF:
             K = self._from_whole_distances(D2, whole_bound)
             if K is not None:
                 return K
-        if levels is not None:  # the same three operations on the distinct values, then gathered
-            K = levels.values * (-0.5 * inv_l2)
-            np.exp(K, out=K)
-            K *= self.amplitude**2
-            K = K.take(levels.index, out=None if out is None else out[0])
-        else:  # in place: this runs once per decision of the agent
-            K = np.multiply(D2, -0.5 * inv_l2, out=None if out is None else out[0])
-            np.exp(K, out=K)
-            K *= self.amplitude**2
+        # the same three operations on every entry (in place: this runs once per decision of the agent) or on
+        # the distinct values, then gathered
+        target = None if out is None else out[0]
+        K = np.multiply(D2 if levels is None else levels.values, -0.5 * inv_l2,
+                        out=target if levels is None else None)
+        np.exp(K, out=K)
+        K *= self.amplitude**2
+        if levels is not None:
+            K = K.take(levels.index, out=target)
         if not eval_gradient:
             return K
         # Two contiguous planes seen as (n, m, 2): writing and contracting

@@ -137,10 +137,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             data = group_rows(X[idx], y[idx])  # repeated inputs folded, exactly
             D2 = squared_distances(data.X)
             work = np.empty((3,) + D2.shape)  # one workspace for every step of this fit
-            # the kernel on D2's distinct values at each step, the same bits; only for whole-number inputs (the
-            # grid world's), whose distances repeat: real-valued ones have as many values as entries, and sorting
-            # them to find out would cost a fit up to a second
-            levels = DistanceLevels.if_few(D2) if whole_distance_bound(data.X) is not None else None
+            levels = self._distance_levels(data.X, D2)
 
             def negative(theta):
                 value, grad = self._log_joint(theta, D2, data, work, levels)
@@ -162,6 +159,16 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         self.objective_trace_ = np.asarray(trace, dtype=float)
         self._condition_on(X, y)
         return self
+
+    @staticmethod
+    def _distance_levels(X, D2) -> DistanceLevels | None:
+        """The levels a fit evaluates its kernel on (the same bits as every entry), or None.
+
+        Only for whole-number inputs (the grid world's), whose distances
+        repeat: real-valued ones have as many values as entries, and sorting
+        them to find out would cost a fit up to a second.
+        """
+        return DistanceLevels.if_few(D2) if whole_distance_bound(X) is not None else None
 
     def _condition_on(self, X, y):
         """Cholesky factor and weights for the current hyperparameters.
