@@ -71,6 +71,20 @@ def plot_gaussian_ratio(ax, data, *, title: str | None = None):
     return ax
 
 
+def _clip_at_top(ax, low: float, high: float) -> None:
+    """Clip the axes' curves and bands to y in [low, high] within the axes' x-limits.
+
+    The legend then sits in a strip above ``high`` with nothing under it.  The
+    box spans exactly the axes' x-limits: a wider one would count in the axes'
+    extent, and a constrained layout would shrink the axes to make room for it.
+    """
+    x_low, x_high = ax.get_xlim()
+    clip = TransformedBbox(Bbox.from_extents(x_low, low, x_high, high), ax.transData)
+    for artist in [*ax.collections, *ax.lines]:
+        if artist.get_clip_on():
+            artist.set_clip_box(clip)
+
+
 def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None):
     """Posterior mean, latent 2-sd band and the wider band of a new observation, outliers marked.
 
@@ -115,11 +129,7 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     ax.set_ylabel("y")
     ax.grid(alpha=0.3)
     # headroom: the legend above the plotted range (whose top edge holds the off-scale outliers), not over the data
-    span = float(x[-1] - x[0]) or 1.0
-    clip = TransformedBbox(Bbox.from_extents(x[0] - span, low, x[-1] + span, high), ax.transData)
-    for artist in [*ax.collections, *ax.lines]:
-        if artist.get_clip_on():
-            artist.set_clip_box(clip)
+    _clip_at_top(ax, low, high)
     ticks = [t for t in ax.get_yticks() if low <= t <= high]  # no tick where nothing is drawn
     ax.set_ylim(low, high + 0.55 * (high - low))
     ax.set_yticks(ticks)
@@ -186,10 +196,7 @@ def plot_robust(ax, data, *, ylim=None):
     ax.grid(alpha=0.3)
     # the legend in a strip above the plotted range (whose top edge holds the off-scale outliers), as in
     # plot_posterior: the curves are clipped at that edge, so nothing runs under the legend
-    clip = TransformedBbox(Bbox.from_extents(x[0] - 10, low, x[-1] + 10, high), ax.transData)
-    for artist in [*ax.collections, *ax.lines]:
-        if artist.get_clip_on():
-            artist.set_clip_box(clip)
+    _clip_at_top(ax, low, high)
     ticks = [t for t in ax.get_yticks() if low <= t <= high]
     ax.set_ylim(low, high + 0.45 * (high - low))
     ax.set_yticks(ticks)
