@@ -11,6 +11,8 @@ import pytest
 from scipy import linalg as sla
 from scipy import special, stats
 
+from sarsp_edu import StudentTProcess
+from sarsp_edu.demos import regression_data
 from sarsp_edu.exercises import CODING, EXERCISES, check, grade, is_right, same
 from sarsp_edu.sarsp import Decision
 
@@ -224,7 +226,8 @@ def test_a_right_function_passes_on_fresh_inputs(name, capsys):
         right, message = grade(name, CODING[name], RIGHT[name], rng=seed)
         assert right, message
     check(name, RIGHT[name])
-    assert capsys.readouterr().out.startswith(f"Exercise {name}: right.")
+    out = capsys.readouterr().out
+    assert out.startswith(f"Exercise {name}: right.") and "<function" not in out  # a computed reply, said as text
 
 
 @pytest.mark.parametrize("name", sorted(CODING))
@@ -285,6 +288,19 @@ def test_short_answers_right_wrong_and_missing(capsys):
     check("3.4", 25)
     out = capsys.readouterr().out
     assert out.startswith("Exercise 3.4: not yet.") and "50" not in out
+
+
+def test_the_replies_that_hold_numbers_compute_them(capsys):
+    check("1.3", RIGHT["1.3"])
+    out = capsys.readouterr().out
+    residuals_of_one = stats.norm.logpdf(40.0) / stats.norm.logpdf(1.0)  # costs are minus these
+    assert f"as much as about {residuals_of_one:.0f} residuals of 1" in out and "not 1,600" in out
+    check("2.5", "below")
+    out = capsys.readouterr().out
+    X, y, _ = regression_data(n=40, magnitude=10.0, proportion=0.0, seed=0)
+    clean = StudentTProcess(nu=3.0).fit(X, y)
+    assert clean.variance_scale_ < 1 and f"a factor of {clean.variance_scale_:.2f}" in out
+    assert f"beta / n = {clean.beta_ / len(y):.2f}" in out
 
 
 def test_exercise_4_4_reads_the_notebooks_decision():

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from .agent import AGENT_EXERCISES
 from .evidence import EVIDENCE_EXERCISES
-from .grading import CodingExercise, Mistake, grade, same
+from .grading import CodingExercise, Mistake, explained, grade, same
 from .lookups import LOOKUPS, Exercise
 from .models import MODEL_EXERCISES
 
@@ -57,7 +57,7 @@ def _verdict(exercise: str, answer, **context) -> tuple[bool, str]:
         except NotImplementedError:
             return False, "Not written yet; replace the line raise NotImplementedError(...) with your answer."
     if item.is_right(answer, **context):
-        return True, item.explanation() if callable(item.explanation) else item.explanation
+        return True, explained(item.explanation)
     return False, item.hint
 
 

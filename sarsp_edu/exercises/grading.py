@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["CodingExercise", "Mistake", "grade", "same"]
+__all__ = ["CodingExercise", "Mistake", "explained", "grade", "same"]
 
 #: relative tolerance of a right answer; the absolute one is this times the quantity's own scale
 RTOL = 1e-6
@@ -56,8 +56,9 @@ class CodingExercise:
         Tried in order when an answer is wrong.
     hint : str
         For a wrong answer that matches no listed mistake.
-    explanation : str
-        Said with a right answer: what it shows.
+    explanation : str or callable
+        Said with a right answer: what it shows (a callable computes it, so
+        that its numbers come from the package, never typed in).
     timing : callable, optional
         ``timing(rng) -> dict``: one large input on which a right answer
         should not be much slower than the package (a loop that refactorises
@@ -70,8 +71,13 @@ class CodingExercise:
     cases: Callable[[np.random.Generator], list]
     mistakes: tuple = field(default_factory=tuple)
     hint: str = ""
-    explanation: str = ""
+    explanation: str | Callable[[], str] = ""
     timing: Callable | None = None
+
+
+def explained(explanation) -> str:
+    """An exercise's explanation as said: a callable's text (computed now) or the text itself."""
+    return explanation() if callable(explanation) else explanation
 
 
 def _several(value) -> bool:
@@ -185,7 +191,7 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
         if problem:
             return False, f"{problem[0].upper()}{problem[1:]} (On {_describe(case)}.)"
         return False, f"On {_describe(case)} it gives other values than the package. {exercise.hint}".strip()
-    message = exercise.explanation
+    message = explained(exercise.explanation)
     if exercise.timing is not None:
         slow = _slowness(exercise, function, rng)
         if slow:

@@ -57,6 +57,17 @@ def _outlier_costs(residual, nu):
     return -stats.norm.logpdf(residual), -stats.t.logpdf(residual, nu)
 
 
+def _outlier_costs_explained() -> str:
+    """Exercise 1.3's reply: how many residuals of 1 one residual of 40 costs, computed."""
+    one, forty = (float(_outlier_costs(r, 3.0)[0]) for r in (1.0, 40.0))
+    constant = 0.5 * np.log(2 * np.pi)
+    return (f"The Gaussian's cost grows like r^2, the Student-t's like log r: one outlier cannot dominate a "
+            f"Student-t fit. Under the Gaussian one residual of 40 costs {forty:.1f}, as much as about "
+            f"{forty / one:.0f} residuals of 1 ({one:.2f} each), not 1,600: every point also pays the "
+            f"normalising constant log(2 pi)/2 = {constant:.2f}, which is most of a small residual's cost "
+            f"({one - constant:.2f} is its r^2/2).")
+
+
 # -- Tutorial 2: the kernel, the GP posterior, the TP's factor and likelihood ----------------------
 def _rbf(X, Y, amplitude, length_scale):
     from ..kernels import RBF
@@ -192,8 +203,7 @@ MODEL_EXERCISES = {
                     "Check the sign: a cost is minus the log density, so it grows with the residual."),
         ),
         hint="Use your student_t_logpdf (or scipy.stats) and the Gaussian's -log f(r) = r^2/2 + log(2 pi)/2.",
-        explanation="The Gaussian's cost grows like r^2, the Student-t's like log r: one outlier cannot dominate "
-                    "a Student-t fit.",
+        explanation=_outlier_costs_explained,
     ),
     "2.1": CodingExercise(
         question="the RBF kernel matrix k(x, x') = amplitude^2 exp(-|x - x'|^2 / (2 length_scale^2))",
