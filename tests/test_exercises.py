@@ -168,7 +168,7 @@ WRONG = {
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)), "GP's"),
             (lambda K, y, noise_variance, nu: tp_log_marginal_likelihood(K * nu / (nu - 2), y,
                                                                          noise_variance * nu / (nu - 2), nu),
-             "Shah et al.'s TP takes the shape")],
+             "as multivariate_t's shape matrix")],
     "3.1": [(lambda X, y, cap: (lambda rows: (rows[:, :-1], rows[:, -1]))(
                 cap_duplicates(np.column_stack([X, y]), y, cap)[0]), "Count copies of the input x alone"),
             (lambda X, y, cap: tuple(part[::-1] for part in cap_duplicates(X[::-1], y[::-1], cap)),
@@ -212,6 +212,61 @@ WRONG = {
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]),
              "third branch is missing")],
 }
+
+# -- the slips a student's attempt at every exercise made, each with the reply that names it -----------
+SLIPS = {
+    "1.1": [(lambda x, nu: student_t_logpdf(x, nu) + np.log(np.pi) / 2, "off by the same amount at every x")],
+    "2.2": [(lambda K, K_star, k_star_star, y, noise_variance: gp_posterior(K, K_star, k_star_star, y,
+                                                                            np.sqrt(noise_variance)),
+             "not its square root")],
+    "2.3": [(lambda K, y, noise_variance, nu: (nu + y @ np.linalg.solve(K + noise_variance * np.eye(len(y)), y))
+             / (nu + len(y)), "lose 2")],
+    "2.7": [(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
+             "enters squared")],
+    "3.1": [(lambda X, y, cap: cap_duplicates(X, y, cap + 1), "one copy too many")],
+    "3.3": [(lambda position, action, size: move(position, action, size + 1), "clip to size - 1")],
+    "4.2": [(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
+                choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
+                if any(safe_actions(mu_cost, var_cost, known_unsafe, d, variance_threshold))
+                else (int(np.argmax(mu_reward)), True)), "passes over the actions known unsafe"),
+            (lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
+                3 - choose(mu_cost[::-1], var_cost[::-1], mu_reward[::-1], known_unsafe[::-1], d,
+                           variance_threshold)[0],
+                choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[1]), "lowest action number"),
+            (lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
+                choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[0],
+                not choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[1]), "upside down")],
+    "4.3": [(lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] > d or (
+                var_cost[action] <= min(var_cost) and not was_backup)), "exactly d"),
+            (lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d or (
+                action == int(np.argmin(var_cost)) and not was_backup)), "tie for the lowest variance")],
+    "5.1": [(lambda a, b: abs(a - b) / (a + b) * 100, "not by their sum"),
+            (lambda a, b: abs(a - b) / ((a + b) / 2), "times 100")],
+    "5.2": [(lambda t1, g1, t2, g2: agreement_share(t1, g1, t2, g2) * len(t1) / 100, "the count")],
+    "5.3": [(lambda tp, gp: float("nan") if not np.any(np.asarray(tp) != np.asarray(gp)) else sign_test(tp, gp),
+             "the p-value is 1")],
+    "6.1": [(lambda c, s, done: (float(np.sum(done)), tsr_and_cost_rate(c, s, done)[1]), "not their count")],
+    "6.2": [(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] > s2["mean_reward"] or s1["task_success_rate"] > s2["task_success_rate"]
+                or s1["task_success_rate"] >= a), "equal to agent 2's is enough")],
+}
+
+
+@pytest.mark.parametrize("name", sorted(SLIPS))
+def test_a_students_slips_are_caught_and_named(name):
+    for slip, diagnosis in SLIPS[name]:
+        right, message = grade(name, CODING[name], slip)
+        assert not right and diagnosis in message, message
+
+
+def test_a_missing_return_a_failing_factorisation_and_one_wrong_result_of_two_are_said():
+    right, message = grade("4.1", CODING["4.1"], lambda mu_cost, var_cost, known_unsafe, d, variance_threshold: None)
+    assert not right and "returned None" in message
+    no_noise = lambda K, y, noise_variance, nu: float(y @ np.linalg.cholesky(K)[:, 0])  # noqa: E731
+    right, message = grade("2.3", CODING["2.3"], no_noise)
+    assert not right and "LinAlgError" in message and "K + s^2 I" in message
+    right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (tsr_and_cost_rate(c, s, done)[0], -1.0))
+    assert not right and "its result number 2 (of 2) differs" in message
 
 
 def test_there_are_at_least_twelve_coding_exercises_two_or_more_in_each_tutorial():
@@ -295,12 +350,12 @@ def test_the_replies_that_hold_numbers_compute_them(capsys):
     out = capsys.readouterr().out
     residuals_of_one = stats.norm.logpdf(40.0) / stats.norm.logpdf(1.0)  # costs are minus these
     assert f"as much as about {residuals_of_one:.0f} residuals of 1" in out and "not 1,600" in out
-    check("2.5", "below")
-    out = capsys.readouterr().out
     X, y, _ = regression_data(n=40, magnitude=10.0, proportion=0.0, seed=0)
     clean = StudentTProcess(nu=3.0).fit(X, y)
-    assert clean.variance_scale_ < 1 and f"a factor of {clean.variance_scale_:.2f}" in out
-    assert f"beta / n = {clean.beta_ / len(y):.2f}" in out
+    assert clean.variance_scale_ < 1 and is_right("2.5", "below")
+    check("2.5", "below")
+    out = capsys.readouterr().out  # the numbers the student is to print are not given away
+    assert "beta / n = 0.33 at nu = 3" in out and f"{clean.variance_scale_:.2f}" not in out
 
 
 def test_exercise_4_4_reads_the_notebooks_decision():
@@ -322,6 +377,8 @@ def test_an_unknown_exercise_names_the_known_ones():
     (1.0 + 1e-9, 1.0, True), (1.01, 1.0, False), (np.array([1e6, 1.0]), np.array([1e6, 1.0 + 1e-3]), True),
     (np.array([np.inf, 1.0]), np.array([np.inf, 1.0]), True), (np.array([-np.inf]), np.array([np.inf]), False),
     ([True, False], np.array([True, False]), True), (np.int64(3), 3, True), (3.0, 3, True), (2.5, 3, False),
+    (np.nan, np.nan, True), (np.array([np.nan, 2.0]), np.array([np.nan, 2.0]), True), (np.nan, 1.0, False),
+    (1.0, np.nan, False),
 ])
 def test_same_uses_the_quantitys_own_scale(got, expected, equal):
     assert same(got, expected) is equal

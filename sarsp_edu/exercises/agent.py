@@ -94,12 +94,24 @@ def _decision_cases(rng):
         {"mu_cost": np.array([2.0, 1.5, 3.0, 1.2]), "var_cost": np.array([4.2, 4.1, 4.3, 4.0]),
          "known_unsafe": np.zeros(4, bool), "d": d, "variance_threshold": threshold},
     ]
+    cases += [
+        # two safe actions tie on the best reward: the lower action number wins
+        {"mu_cost": np.array([2.0, 1.5, 0.5, 3.0]), "var_cost": np.array([0.2, 0.3, 0.1, 0.4]),
+         "known_unsafe": np.zeros(4, bool), "d": d, "variance_threshold": threshold},
+        # nothing safe, and the known-unsafe action has the best reward: the backup passes it over
+        {"mu_cost": np.array([0.2, 0.5, 0.9, 0.1]), "var_cost": np.array([0.1, 0.2, 0.3, 0.05]),
+         "known_unsafe": np.array([False, False, True, False]), "d": d, "variance_threshold": threshold},
+        # every action known unsafe: every reward is -inf, and the backup takes action 0
+        {"mu_cost": np.array([2.0, 2.0, 2.0, 2.0]), "var_cost": np.array([0.1, 0.1, 0.1, 0.1]),
+         "known_unsafe": np.ones(4, bool), "d": d, "variance_threshold": threshold},
+    ]
     for _ in range(5):
         cases.append({"mu_cost": rng.uniform(0, 3, 4), "var_cost": rng.uniform(0, 1.5, 4),
                       "known_unsafe": rng.random(4) < 0.2, "d": float(rng.uniform(0.5, 2)),
                       "variance_threshold": float(rng.uniform(0.3, 1.2))})
     rewards = [np.array([-3.0, -1.0, -2.0, -0.5]), np.array([-2.0, -2.0, -4.0, -1.0]),
-               np.array([-1.0, -3.0, -2.0, -0.5])]
+               np.array([-1.0, -3.0, -2.0, -0.5]), np.array([-1.0, -1.0, -2.0, -3.0]),
+               np.array([-3.0, -2.0, -0.5, -1.0]), np.array([-1.0, -2.0, -3.0, -4.0])]
     ordered = []  # in the order of the signature: mu_cost, var_cost, mu_reward, known_unsafe, d, threshold
     for i, case in enumerate(cases):
         reward = rewards[i] if i < len(rewards) else -rng.uniform(0, 5, 4)
@@ -149,6 +161,10 @@ def _correction_cases(rng):
          "d": 1.0, "was_backup": True},    # the same, but taken as the backup
         {"mu_cost": np.array([0.5, 0.2, 0.3, 0.4]), "var_cost": np.array([0.5, 0.1, 0.2, 0.3]), "action": 0,
          "d": 1.0, "was_backup": False},   # neither
+        {"mu_cost": np.array([1.0, 0.2, 0.3, 0.4]), "var_cost": np.array([0.5, 0.1, 0.2, 0.3]), "action": 0,
+         "d": 1.0, "was_backup": False},   # a distance of exactly d: the model called it safe
+        {"mu_cost": np.array([0.5, 0.2, 0.3, 0.4]), "var_cost": np.array([0.1, 0.1, 0.2, 0.3]), "action": 1,
+         "d": 1.0, "was_backup": False},   # tied for the lowest variance: each tied action is the most certain
     ]
     for _ in range(6):
         cases.append({"mu_cost": rng.uniform(0, 2, 4), "var_cost": rng.uniform(0, 1, 4),
@@ -218,6 +234,8 @@ def _summaries_cases(rng):
         {"summary_1": summary(-100, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 80.0},   # TSR = a exactly
         {"summary_1": summary(-80, 0.02, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # equal p_c
         {"summary_1": summary(-80, 0.01, 95), "summary_2": summary(-90, 0.005, 90), "a": 100.0},  # higher p_c
+        {"summary_1": summary(-90, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # equal reward
+        {"summary_1": summary(-100, 0.01, 90), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # equal TSR
     ]
     for _ in range(6):
         cases.append({"summary_1": summary(-rng.uniform(50, 150), rng.uniform(0, 0.03), rng.uniform(50, 100)),
@@ -249,6 +267,8 @@ AGENT_EXERCISES = {
                                 "copy of it."),
             Mistake(lambda X, y, cap: _cap_duplicates(X, y, max(cap - 1, 0)) if cap > 1 else (X[:0], y[:0]),
                     "It keeps one copy too few: up to cap copies stay."),
+            Mistake(lambda X, y, cap: _cap_duplicates(X, y, cap + 1),
+                    "It keeps one copy too many: a row is kept while fewer than cap copies are stored."),
             Mistake(_cap_last, "Keep the first copies, in the order they came, as the buffer does when the data "
                                "arrive one step at a time."),
             Mistake(_cap_sorted, "Keep the rows in the order they came (np.unique sorts them)."),
@@ -289,6 +309,8 @@ AGENT_EXERCISES = {
                     % size, "The grid has walls, not wrap-around edges."),
             Mistake(lambda position, action, size: _move(position, [1, 0, 3, 2][action], size),
                     "Check which action moves along x: RIGHT and LEFT change x, DOWN and UP change y."),
+            Mistake(lambda position, action, size: _move(position, action, size + 1),
+                    "Cells are numbered 0 .. size - 1: clip to size - 1, not size."),
         ),
         hint="Look up the action's (dx, dy) in sarsp_edu.config.ACTION_MOVES, add it, and clip each coordinate.",
         explanation="It matches SafeGridWorld.step on every action, at walls and corners too.",
@@ -332,13 +354,22 @@ AGENT_EXERCISES = {
             Mistake(_backup_by(lambda mu, var, known: np.where(known, -np.inf, mu)),
                     "The backup takes the highest predicted reward, not the largest predicted distance."),
             Mistake(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
+                _choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold) if any(
+                    _safe(mu_cost, var_cost, known_unsafe, d, variance_threshold)) else (int(np.argmax(mu_reward)), True)),
+                    "The backup, too, passes over the actions known unsafe (in S_u): their reward counts as -inf."),
+            Mistake(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
+                _choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[0],
+                not _choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[1]),
+                    "The action is right; the second value is upside down: backup is True when no action was safe."),
+            Mistake(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
                 3 - _choose(mu_cost[::-1], var_cost[::-1], mu_reward[::-1], known_unsafe[::-1], d,
                             variance_threshold)[0], _choose(mu_cost, var_cost, mu_reward, known_unsafe, d,
                                                            variance_threshold)[1]),
                     "On a tie the lowest action number wins (the paper's loop replaces its choice only on a "
                     "strictly higher reward; np.argmax does the same)."),
         ),
-        hint="Use your safe_actions; np.argmax over the rewards with the unsafe ones set to -inf.",
+        hint="Decide first whether any action is safe (your safe_actions); then take the best reward among the "
+             "actions allowed in that case.",
         explanation="It matches sarsp_edu.sarsp.choose_action, ties and the backup included.",
     ),
     "4.3": CodingExercise(
@@ -356,6 +387,13 @@ AGENT_EXERCISES = {
             Mistake(lambda mu_cost, var_cost, action, d, was_backup:
                     bool(mu_cost[action] >= d and var_cost[action] <= var_cost.min() and not was_backup),
                     "Either reason is enough: or, not and."),
+            Mistake(lambda mu_cost, var_cost, action, d, was_backup:
+                    bool(mu_cost[action] > d or (var_cost[action] <= var_cost.min() and not was_backup)),
+                    "A predicted distance of exactly d is one the model called safe: at least d, >=."),
+            Mistake(lambda mu_cost, var_cost, action, d, was_backup:
+                    bool(mu_cost[action] >= d or (action == int(np.argmin(var_cost)) and not was_backup)),
+                    "When several actions tie for the lowest variance, each of them is the most certain "
+                    "(np.argmin names only the first): compare the action's variance with the minimum."),
         ),
         hint="Correct when the model said the action was safe, or when it was the lowest-variance action and "
              "not the backup.",
@@ -371,8 +409,12 @@ AGENT_EXERCISES = {
                                                         "convention); Table 1's has no reference model."),
             Mistake(lambda a, b: (a - b) / ((a + b) / 2) * 100, "It has no sign: take the absolute difference."),
             Mistake(lambda a, b: abs(a - b) / max(a, b) * 100, "Divide by the mean of the two, not the larger."),
+            Mistake(lambda a, b: abs(a - b) / (a + b) * 100 if a + b else 0.0,
+                    "Divide by the mean of the two, (a + b) / 2, not by their sum."),
+            Mistake(lambda a, b: abs(a - b) / ((a + b) / 2) if a + b else 0.0, "It is a percentage: times 100."),
         ),
-        hint="The same number whichever of the two comes first.",
+        hint="Table 1's 69.8% for 28 against 58 is the target: check the numerator, the denominator and the "
+             "factor 100 against it.",
         explanation="For the paper's (40, 0.2, 2) row, 28 against 58 gives the 69.8% it prints.",
     ),
     "6.1": CodingExercise(
@@ -385,6 +427,9 @@ AGENT_EXERCISES = {
                 _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[0] / 100,
                 _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[1]),
                 "The success rate is in %, as the paper prints it."),
+            Mistake(lambda episode_cost, episode_steps, task_completed: (
+                float(np.sum(task_completed)), _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[1]),
+                "The cost rate is right; the success rate is a share of the episodes, in %, not their count."),
             Mistake(_cost_rate_over(lambda c, s, done: s), "Eq. 12 divides by the steps of the successful "
                                                            "episodes without a violation, not of all episodes."),
             Mistake(_cost_rate_over(lambda c, s, done: np.where(done, s, 0)),
@@ -419,6 +464,9 @@ AGENT_EXERCISES = {
             Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
                 or s1["task_success_rate"] > a)), "A success rate equal to a is enough: TSR >= a."),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] > s2["mean_reward"] or s1["task_success_rate"] > s2["task_success_rate"]
+                or s1["task_success_rate"] >= a)), "A reward or a success rate equal to agent 2's is enough: >=."),
             Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] > s2["cost_rate"] and (
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
                 or s1["task_success_rate"] >= a)), "A lower cost rate is better."),

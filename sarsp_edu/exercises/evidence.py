@@ -100,9 +100,11 @@ EVIDENCE_EXERCISES = {
             Mistake(lambda tp_1, gp_1, tp_2, gp_2: 100.0 * float(np.mean(
                 np.sign(np.subtract(tp_1, tp_2)) == np.sign(np.subtract(gp_1, gp_2)))),
                 "Compare TP with GP within each run first; then compare the two runs' answers."),
+            Mistake(lambda tp_1, gp_1, tp_2, gp_2: _agreement(tp_1, gp_1, tp_2, gp_2) * len(tp_1) / 100,
+                    "That is the count of agreeing configurations; the share divides it by all of them, in %."),
         ),
-        hint="In each run the better model is the sign of TP - GP; count the configurations where both signs "
-             "are the same and not 0.",
+        hint="In each run the better model is the sign of TP - GP; a configuration agrees when both runs name "
+             "the same one.",
         explanation="Set beside the agreement between two of our own seeds, it says how much of a "
                     "per-configuration comparison is noise.",
     ),
@@ -117,6 +119,9 @@ EVIDENCE_EXERCISES = {
             Mistake(_one_sided, "The question is whether either model wins more often than chance: two-sided."),
             Mistake(_normal_approximation, "With a few dozen pairs use the exact binomial distribution "
                                            "(scipy.stats.binomtest), not its normal approximation."),
+            Mistake(lambda tp, gp: float("nan") if not np.any(np.asarray(tp) != np.asarray(gp))
+                    else _sign_test(tp, gp),
+                    "With every pair tied there is no evidence either way: the p-value is 1."),
         ),
         hint="Count the pairs where TP > GP among those that differ; under 'no difference' that count is "
              "binomial with p = 1/2.",

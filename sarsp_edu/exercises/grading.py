@@ -59,6 +59,9 @@ class CodingExercise:
     explanation : str or callable
         Said with a right answer: what it shows (a callable computes it, so
         that its numbers come from the package, never typed in).
+    on_linalg_error : str, optional
+        Said after a ``LinAlgError`` the student's code raised (a Cholesky
+        factorisation of a matrix that is not positive definite, say).
     timing : callable, optional
         ``timing(rng) -> dict``: one large input on which a right answer
         should not be much slower than the package (a loop that refactorises
@@ -72,6 +75,7 @@ class CodingExercise:
     mistakes: tuple = field(default_factory=tuple)
     hint: str = ""
     explanation: str | Callable[[], str] = ""
+    on_linalg_error: str = ""
     timing: Callable | None = None
 
 
@@ -116,8 +120,8 @@ def same(got, expected, rtol: float = RTOL) -> bool:
         e = e.astype(float)
         finite = np.isfinite(e)
         scale = float(np.max(np.abs(e[finite]))) if finite.any() else 1.0
-        if not np.array_equal(np.isnan(g), np.isnan(e)) or not np.array_equal(np.isinf(g) * np.sign(g),
-                                                                            np.isinf(e) * np.sign(e)):
+        infinities = [np.where(np.isinf(v), np.sign(v), 0.0) for v in (g, e)]  # NaN's sign is NaN: not used
+        if not np.array_equal(np.isnan(g), np.isnan(e)) or not np.array_equal(*infinities):
             return False
         if not np.allclose(g[finite], e[finite], rtol=rtol, atol=rtol * max(scale, 1e-300)):
             return False
@@ -136,6 +140,16 @@ def _shape_problem(got, expected) -> str | None:
                 return f"{which} should be a single number, but has shape {g.shape}."
             return f"{which} has shape {g.shape} where {e.shape} is expected."
     return None
+
+
+def _which_differ(got, expected) -> str:
+    """'it gives other values than the package', naming which results differ where there are several."""
+    if not _several(expected):
+        return "it gives other values than the package"
+    parts = list(zip(_parts(got, True), _parts(expected, True)))
+    wrong = [i + 1 for i, (g, e) in enumerate(parts) if not same(g, e)]
+    named = " and ".join(f"number {i}" for i in wrong)
+    return f"its result {named} (of {len(parts)}) differs from the package's; the others are right"
 
 
 def _describe(case: dict) -> str:
@@ -178,7 +192,10 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
         except NotImplementedError:
             return False, "Not written yet; replace the line raise NotImplementedError(...) with your code."
         except Exception as exc:  # the student's code may raise anything: say what and where
-            return False, f"Your function raised {type(exc).__name__}: {exc} (on {_describe(case)})."
+            said = f"Your function raised {type(exc).__name__}: {exc} (on {_describe(case)})."
+            if isinstance(exc, np.linalg.LinAlgError) and exercise.on_linalg_error:
+                said = f"{said} {exercise.on_linalg_error}"
+            return False, said
         answers.append(got)
         if failed is None and not same(got, expected):
             failed = (case, got, expected)
@@ -187,10 +204,12 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
             if _reproduces(mistake, cases, answers):
                 return False, mistake.diagnosis
         case, got, expected = failed
+        if got is None and expected is not None:
+            return False, f"Your function returned None (is its return statement missing?) on {_describe(case)}."
         problem = _shape_problem(got, expected)
         if problem:
             return False, f"{problem[0].upper()}{problem[1:]} (On {_describe(case)}.)"
-        return False, f"On {_describe(case)} it gives other values than the package. {exercise.hint}".strip()
+        return False, f"On {_describe(case)} {_which_differ(got, expected)}. {exercise.hint}".strip()
     message = explained(exercise.explanation)
     if exercise.timing is not None:
         slow = _slowness(exercise, function, rng)

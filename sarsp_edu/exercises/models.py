@@ -60,12 +60,10 @@ def _outlier_costs(residual, nu):
 def _outlier_costs_explained() -> str:
     """Exercise 1.3's reply: how many residuals of 1 one residual of 40 costs, computed."""
     one, forty = (float(_outlier_costs(r, 3.0)[0]) for r in (1.0, 40.0))
-    constant = 0.5 * np.log(2 * np.pi)
     return (f"The Gaussian's cost grows like r^2, the Student-t's like log r: one outlier cannot dominate a "
             f"Student-t fit. Under the Gaussian one residual of 40 costs {forty:.1f}, as much as about "
-            f"{forty / one:.0f} residuals of 1 ({one:.2f} each), not 1,600: every point also pays the "
-            f"normalising constant log(2 pi)/2 = {constant:.2f}, which is most of a small residual's cost "
-            f"({one - constant:.2f} is its r^2/2).")
+            f"{forty / one:.0f} residuals of 1 ({one:.2f} each), not 1,600: look at the two terms of your "
+            f"Gaussian cost to say why.")
 
 
 # -- Tutorial 2: the kernel, the GP posterior, the TP's factor and likelihood ----------------------
@@ -166,6 +164,12 @@ MODEL_EXERCISES = {
             Mistake(lambda x, nu: stats.norm.logpdf(x), "This is the Gaussian's log density, whatever nu is."),
             Mistake(lambda x, nu: _t_logpdf(x, nu) + (nu + 1) / 2 * (np.log1p(x**2 / nu) - np.log1p(x**2)),
                     "Inside the logarithm x^2 is divided by nu."),
+            Mistake(lambda x, nu: _t_logpdf(x, nu) + np.log(np.pi) / 2,
+                    "Your values are off by the same amount at every x: a constant term is wrong. Look at the "
+                    "normalising constant's square root of nu pi."),
+            Mistake(lambda x, nu: _t_logpdf(x, nu) - np.log(nu * np.pi) / 2,
+                    "Your values are off by the same amount at every x: a constant term is wrong. Look at the "
+                    "normalising constant's square root of nu pi: its logarithm is halved."),
         ),
         hint="Compare with the density printed at the top of section 1 (sympy's student_t_pdf), term by term.",
         explanation="It matches scipy.stats.t on fresh inputs, from x = 0 to |x| = 1000 and nu from 1 to 30.",
@@ -194,8 +198,7 @@ MODEL_EXERCISES = {
         cases=_cost_cases,
         mistakes=(
             Mistake(lambda residual, nu: (residual**2 / 2, (nu + 1) / 2 * np.log1p(residual**2 / nu)),
-                    "The constants are missing: a cost is all of -log f, and log(2 pi)/2 matters for small "
-                    "residuals (it is why one residual of 40 does not cost as much as 1,600 residuals of 1)."),
+                    "The constants are missing: a cost is all of -log f, constants included."),
             Mistake(lambda residual, nu: _outlier_costs(residual, nu)[::-1], "The two costs are swapped."),
             Mistake(lambda residual, nu: (stats.norm.pdf(residual), stats.t.pdf(residual, nu)),
                     "A cost is minus the log density, not the density."),
@@ -251,14 +254,22 @@ MODEL_EXERCISES = {
                 _gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
                 2 * k_star_star - _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
                 "Check the sign: the data explain part of the prior variance, so it is subtracted."),
+            Mistake(lambda K, K_star, k_star_star, y, noise_variance: _gp_posterior(
+                K, K_star, k_star_star, y, np.sqrt(noise_variance)),
+                "noise_variance is already a variance, s^2: add it to K as it is, not its square root."),
+            Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
+                K_star @ np.linalg.solve(K, y), _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
+                "The variance is right; the mean needs the noise too: (K + s^2 I)^-1 y."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
                 K_star @ ((K + noise_variance * np.eye(len(y))) @ y),
                 _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
                 "The mean multiplies y by the inverse of K + s^2 I (a solve with the Cholesky factor), "
                 "not by the matrix itself."),
         ),
-        hint="L = cholesky(K + s^2 I); alpha = cho_solve((L, True), y); mean = K_star @ alpha; "
-             "V = solve_triangular(L, K_star.T, lower=True); variance = k_star_star - column sums of V**2.",
+        hint="Check each result against its equation: the mean (eq. 4) needs (K + s^2 I)^-1 y, the variance "
+             "(eq. 5) the quadratic form of K_star with (K + s^2 I)^-1; both from one Cholesky factor of "
+             "K + s^2 I (Rasmussen and Williams, Algorithm 2.1).",
+        on_linalg_error="K alone can be numerically singular; the targets' covariance, K + s^2 I, is not.",
         explanation="It matches the package's GaussianProcess on fresh problems (1 to 25 training points).",
         timing=_gp_timing,
     ),
@@ -279,8 +290,17 @@ MODEL_EXERCISES = {
                     "The denominator is nu + n - 2."),
             Mistake(lambda K, y, noise_variance, nu: 1 / _tp_factor(K, y, noise_variance, nu),
                     "The fraction is upside down."),
+            Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance)) / (nu + len(y)),
+                    "Both nu + beta and nu + n lose 2: (nu + beta - 2) / (nu + n - 2)."),
+            Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance) - 2) / (nu + len(y) - 3),
+                    "n is the number of training targets, len(y), not len(y) - 1."),
+            Mistake(lambda K, y, noise_variance, nu: (nu + np.sqrt(_beta(K, y, noise_variance)) - 2)
+                    / (nu + len(y) - 2), "beta is the quadratic form itself, not its square root."),
+            Mistake(lambda K, y, noise_variance, nu: (nu + float(y @ (K + noise_variance * np.eye(len(y))) @ y) - 2)
+                    / (nu + len(y) - 2), "beta uses the inverse of K + s^2 I (a solve), not the matrix itself."),
         ),
         hint="The factor is above 1 when beta > n: the data surprise the model and the TP widens its band.",
+        on_linalg_error="K alone can be numerically singular; beta uses the targets' covariance, K + s^2 I.",
         explanation="The factor depends on the training targets through beta: this is how the TP's variance "
                     "reacts to outliers and the GP's cannot.",
     ),
@@ -292,8 +312,8 @@ MODEL_EXERCISES = {
         mistakes=(
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_t(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y)), df=nu).logpdf(y)),
-                "With shape K + s^2 I the covariance would be nu/(nu - 2) (K + s^2 I); Shah et al.'s TP takes "
-                "the shape (nu - 2)/nu (K + s^2 I), so that K + s^2 I is the covariance."),
+                "You passed K + s^2 I as multivariate_t's shape matrix; the exercise gives it as the covariance. "
+                "How does a multivariate t's covariance follow from its shape and nu?"),
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_normal(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)),
                 "That is the GP's (Gaussian) log marginal likelihood."),
@@ -301,7 +321,9 @@ MODEL_EXERCISES = {
                 np.zeros(len(y)), (nu - 2) / nu * K, df=nu).logpdf(y)),
                 "The noise s^2 I belongs in the covariance."),
         ),
-        hint="scipy.stats.multivariate_t takes a shape matrix, not a covariance: covariance = shape nu/(nu - 2).",
+        hint="scipy.stats.multivariate_t takes a shape matrix, not a covariance; its documentation (or Shah et "
+             "al., 2014, section 2) says how the two differ.",
+        on_linalg_error="K alone can be numerically singular; the covariance is K + s^2 I.",
         explanation="It matches the package's StudentTProcess.log_marginal_likelihood, the quantity Adam climbs.",
     ),
     "2.7": CodingExercise(
@@ -318,6 +340,10 @@ MODEL_EXERCISES = {
                     "The factor nu + 1 from the exponent -(nu + 1)/2 is missing."),
             Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
                     "The scale s is missing: the residual is measured in units of s, nu s^2 + r^2."),
+            Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
+                    "The scale enters squared, as the residual does: nu s^2 + r^2."),
+            Mistake(lambda residual, nu, scale: nu * np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
+                    "The factor in front comes from the exponent -(nu + 1)/2: nu + 1, not nu."),
         ),
         hint="Differentiate -(nu + 1)/2 log(1 + r^2 / (nu s^2)) with r = y - f; d r / d f = -1.",
         explanation="It grows with the residual up to |r| = sqrt(nu) s, then falls towards 0: the farther a point "
