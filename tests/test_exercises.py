@@ -168,7 +168,7 @@ WRONG = {
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)), "GP's"),
             (lambda K, y, noise_variance, nu: tp_log_marginal_likelihood(K * nu / (nu - 2), y,
                                                                          noise_variance * nu / (nu - 2), nu),
-             "as multivariate_t's shape matrix")],
+             "as the multivariate t's shape matrix")],
     "3.1": [(lambda X, y, cap: (lambda rows: (rows[:, :-1], rows[:, -1]))(
                 cap_duplicates(np.column_stack([X, y]), y, cap)[0]), "Count copies of the input x alone"),
             (lambda X, y, cap: tuple(part[::-1] for part in cap_duplicates(X[::-1], y[::-1], cap)),
@@ -266,7 +266,9 @@ def test_a_missing_return_a_failing_factorisation_and_one_wrong_result_of_two_ar
     right, message = grade("2.3", CODING["2.3"], no_noise)
     assert not right and "LinAlgError" in message and "K + s^2 I" in message
     right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (tsr_and_cost_rate(c, s, done)[0], -1.0))
-    assert not right and "its result number 2 (of 2) differs" in message
+    assert not right and "its result number 2 (of 2) differs from the package's; the other is right" in message
+    right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (-1.0, -1.0))
+    assert not right and "all 2 of its results differ" in message and "right" not in message
 
 
 def test_there_are_at_least_twelve_coding_exercises_two_or_more_in_each_tutorial():

@@ -82,42 +82,34 @@ def _move(position, action, size):
 
 # -- Tutorial 4: Algorithm 1's safe set, decision and corrective update ---------------------------
 def _decision_cases(rng):
+    """Inputs in the order of the signature: mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold."""
     d, threshold = 1.0, 0.8
+
+    def case(mu_cost, var_cost, mu_reward, known_unsafe, d=d, variance_threshold=threshold):
+        return {"mu_cost": np.asarray(mu_cost, float), "var_cost": np.asarray(var_cost, float),
+                "mu_reward": np.asarray(mu_reward, float), "known_unsafe": np.asarray(known_unsafe, bool),
+                "d": d, "variance_threshold": variance_threshold}
+
     cases = [
         # the knife edges: a distance of exactly d and a variance of exactly sigma*^2 are safe
-        {"mu_cost": np.array([1.0, 2.0, 0.5, 3.0]), "var_cost": np.array([0.8, 0.9, 0.1, 0.8]),
-         "known_unsafe": np.array([False, False, False, True]), "d": d, "variance_threshold": threshold},
+        case([1.0, 2.0, 0.5, 3.0], [0.8, 0.9, 0.1, 0.8], [-3.0, -1.0, -2.0, -0.5], [False, False, False, True]),
         # nothing safe: the backup decides
-        {"mu_cost": np.array([0.2, 0.5, 0.9, 0.1]), "var_cost": np.array([0.1, 0.2, 0.3, 0.05]),
-         "known_unsafe": np.array([False, True, False, False]), "d": d, "variance_threshold": threshold},
+        case([0.2, 0.5, 0.9, 0.1], [0.1, 0.2, 0.3, 0.05], [-2.0, -2.0, -4.0, -1.0], [False, True, False, False]),
         # every variance too large (a GP with a large fitted noise)
-        {"mu_cost": np.array([2.0, 1.5, 3.0, 1.2]), "var_cost": np.array([4.2, 4.1, 4.3, 4.0]),
-         "known_unsafe": np.zeros(4, bool), "d": d, "variance_threshold": threshold},
-    ]
-    cases += [
-        # two safe actions tie on the best reward: the lower action number wins
-        {"mu_cost": np.array([2.0, 1.5, 0.5, 3.0]), "var_cost": np.array([0.2, 0.3, 0.1, 0.4]),
-         "known_unsafe": np.zeros(4, bool), "d": d, "variance_threshold": threshold},
-        # nothing safe, and the known-unsafe action has the best reward: the backup passes it over
-        {"mu_cost": np.array([0.2, 0.5, 0.9, 0.1]), "var_cost": np.array([0.1, 0.2, 0.3, 0.05]),
-         "known_unsafe": np.array([False, False, True, False]), "d": d, "variance_threshold": threshold},
+        case([2.0, 1.5, 3.0, 1.2], [4.2, 4.1, 4.3, 4.0], [-1.0, -3.0, -2.0, -0.5], [False] * 4),
+        # two safe actions tie on the best reward: the lower action number wins (action 0's variance, 0.7,
+        # passes sigma*^2 = 0.8 but its square root does not)
+        case([2.0, 1.5, 0.5, 3.0], [0.7, 0.3, 0.1, 0.4], [-1.0, -1.0, -2.0, -3.0], [False] * 4),
+        # nothing safe, and the known-unsafe action has the best reward: the backup passes it over; the best
+        # reward allowed (0), the lowest variance (3), the largest distance (1) and S_u forgotten (2) all differ
+        case([0.2, 0.5, 0.9, 0.1], [0.1, 0.2, 0.3, 0.05], [-1.0, -3.0, -0.5, -2.0], [False, False, True, False]),
         # every action known unsafe: every reward is -inf, and the backup takes action 0
-        {"mu_cost": np.array([2.0, 2.0, 2.0, 2.0]), "var_cost": np.array([0.1, 0.1, 0.1, 0.1]),
-         "known_unsafe": np.ones(4, bool), "d": d, "variance_threshold": threshold},
+        case([2.0] * 4, [0.1] * 4, [-1.0, -2.0, -3.0, -4.0], [True] * 4),
     ]
     for _ in range(5):
-        cases.append({"mu_cost": rng.uniform(0, 3, 4), "var_cost": rng.uniform(0, 1.5, 4),
-                      "known_unsafe": rng.random(4) < 0.2, "d": float(rng.uniform(0.5, 2)),
-                      "variance_threshold": float(rng.uniform(0.3, 1.2))})
-    rewards = [np.array([-3.0, -1.0, -2.0, -0.5]), np.array([-2.0, -2.0, -4.0, -1.0]),
-               np.array([-1.0, -3.0, -2.0, -0.5]), np.array([-1.0, -1.0, -2.0, -3.0]),
-               np.array([-3.0, -2.0, -0.5, -1.0]), np.array([-1.0, -2.0, -3.0, -4.0])]
-    ordered = []  # in the order of the signature: mu_cost, var_cost, mu_reward, known_unsafe, d, threshold
-    for i, case in enumerate(cases):
-        reward = rewards[i] if i < len(rewards) else -rng.uniform(0, 5, 4)
-        ordered.append({"mu_cost": case["mu_cost"], "var_cost": case["var_cost"], "mu_reward": reward,
-                        **{k: case[k] for k in ("known_unsafe", "d", "variance_threshold")}})
-    return ordered
+        cases.append(case(rng.uniform(0, 3, 4), rng.uniform(0, 1.5, 4), -rng.uniform(0, 5, 4), rng.random(4) < 0.2,
+                          float(rng.uniform(0.5, 2)), float(rng.uniform(0.3, 1.2))))
+    return cases
 
 
 def _safe(mu_cost, var_cost, known_unsafe, d, variance_threshold, mu_reward=None):

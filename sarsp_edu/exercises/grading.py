@@ -148,8 +148,12 @@ def _which_differ(got, expected) -> str:
         return "it gives other values than the package"
     parts = list(zip(_parts(got, True), _parts(expected, True)))
     wrong = [i + 1 for i, (g, e) in enumerate(parts) if not same(g, e)]
+    if len(wrong) == len(parts):
+        return f"all {len(parts)} of its results differ from the package's"
     named = " and ".join(f"number {i}" for i in wrong)
-    return f"its result {named} (of {len(parts)}) differs from the package's; the others are right"
+    verb = "differs" if len(wrong) == 1 else "differ"
+    rest = "the other is right" if len(parts) - len(wrong) == 1 else "the others are right"
+    return f"its result {named} (of {len(parts)}) {verb} from the package's; {rest}"
 
 
 def _describe(case: dict) -> str:
@@ -204,7 +208,7 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
             if _reproduces(mistake, cases, answers):
                 return False, mistake.diagnosis
         case, got, expected = failed
-        if got is None and expected is not None:
+        if got is None:  # a right result is never None: a return is missing
             return False, f"Your function returned None (is its return statement missing?) on {_describe(case)}."
         problem = _shape_problem(got, expected)
         if problem:

@@ -312,8 +312,8 @@ MODEL_EXERCISES = {
         mistakes=(
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_t(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y)), df=nu).logpdf(y)),
-                "You passed K + s^2 I as multivariate_t's shape matrix; the exercise gives it as the covariance. "
-                "How does a multivariate t's covariance follow from its shape and nu?"),
+                "That takes K + s^2 I as the multivariate t's shape matrix; the exercise gives it as the "
+                "covariance. How does a multivariate t's covariance follow from its shape and nu?"),
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_normal(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)),
                 "That is the GP's (Gaussian) log marginal likelihood."),
