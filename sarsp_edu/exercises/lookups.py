@@ -171,9 +171,10 @@ LOOKUPS: dict[str, Exercise] = {
     "3.4": Exercise(
         "predict, then run: the most unsafe states a 10 x 10 grid can hold with no two 4-adjacent",
         _chessboard,
-        "Think of a chessboard: no two squares of one colour share an edge.",
-        lambda: (f"{_max_unsafe()[0]}, one colour of the chessboard; the package promises fewer "
-                 f"({_max_unsafe()[1]}), the most it can always place and shift apart."),
+        "Answer with a number (an int, not a string). Think of a chessboard: no two squares of one colour "
+        "share an edge.",
+        lambda: (f"{_max_unsafe()[0]}, one colour of the chessboard. The package accepts far fewer "
+                 f"({_max_unsafe()[1]}): the question below asks why."),
     ),
     "4.4": Exercise(
         "predict, then compute: which actions the GP's decision calls safe with sigma*^2 = 10 (a list of action numbers)",
