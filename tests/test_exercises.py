@@ -268,7 +268,17 @@ def test_a_missing_return_a_failing_factorisation_and_one_wrong_result_of_two_ar
     right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (tsr_and_cost_rate(c, s, done)[0], -1.0))
     assert not right and "its result number 2 (of 2) differs from the package's; the other is right" in message
     right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (-1.0, -1.0))
-    assert not right and "all 2 of its results differ" in message and "right" not in message
+    assert not right and "both of its results differ" in message and "right" not in message
+    assert "(yours: (-1, -1))" in message  # a small result is said, so the case can be redone by hand
+
+
+def test_small_inputs_are_said_in_full_large_ones_by_their_shape():
+    right, message = grade("5.1", CODING["5.1"], lambda a, b: 3.0)
+    assert not right and message.startswith("On a = 28, b = 58, it gives other values than the package (yours: 3).")
+    right, message = grade("6.2", CODING["6.2"], lambda s1, s2, a: not prefers(s1, s2, a))
+    assert "summary_1 = {mean_reward: " in message and "task_success_rate: " in message
+    right, message = grade("2.1", CODING["2.1"], lambda X, Y, amplitude, length_scale: np.ones((len(X), len(Y))))
+    assert not right and "X of shape (" in message and "raised" not in message
 
 
 def test_there_are_at_least_twelve_coding_exercises_two_or_more_in_each_tutorial():

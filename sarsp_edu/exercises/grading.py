@@ -149,21 +149,45 @@ def _which_differ(got, expected) -> str:
     parts = list(zip(_parts(got, True), _parts(expected, True)))
     wrong = [i + 1 for i, (g, e) in enumerate(parts) if not same(g, e)]
     if len(wrong) == len(parts):
-        return f"all {len(parts)} of its results differ from the package's"
+        return ("both of its results differ" if len(parts) == 2 else f"all {len(parts)} of its results differ") + \
+            " from the package's"
     named = " and ".join(f"number {i}" for i in wrong)
     verb = "differs" if len(wrong) == 1 else "differ"
     rest = "the other is right" if len(parts) - len(wrong) == 1 else "the others are right"
     return f"its result {named} (of {len(parts)}) {verb} from the package's; {rest}"
 
 
+#: inputs and results with at most this many numbers are said in full, so a student can redo the case by hand
+SMALL = 8
+
+
+def _said(value) -> str | None:
+    """A value in words: small ones in full ('[0.2, 0.5]', 'True', '3.5'), else None."""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, float, np.number)):
+        return f"{value:g}"
+    if isinstance(value, dict):
+        items = [(key, _said(item)) for key, item in value.items()]
+        return "{" + ", ".join(f"{key}: {text}" for key, text in items) + "}" if all(t for _, t in items) else None
+    if isinstance(value, tuple):
+        items = [_said(item) for item in value]
+        return "(" + ", ".join(items) + ")" if all(items) else None
+    array = np.asarray(value)
+    if array.dtype != object and array.ndim == 1 and array.size <= SMALL:
+        return "[" + ", ".join(_said(item.item()) for item in array) + "]"
+    return None
+
+
 def _describe(case: dict) -> str:
-    """The sizes of an input, in words: 'X of shape (7, 2), nu = 3.5'."""
+    """An input in words: small values in full, larger arrays by their shape ('X of shape (7, 2), nu = 3.5')."""
     parts = []
     for name, value in case.items():
-        if isinstance(value, np.ndarray):
+        text = _said(value)
+        if text is not None:
+            parts.append(f"{name} = {text}")
+        elif isinstance(value, np.ndarray):
             parts.append(f"{name} of shape {value.shape}")
-        elif isinstance(value, (int, float, np.number)):
-            parts.append(f"{name} = {value:g}")
     return ", ".join(parts)
 
 
@@ -213,7 +237,9 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
         problem = _shape_problem(got, expected)
         if problem:
             return False, f"{problem[0].upper()}{problem[1:]} (On {_describe(case)}.)"
-        return False, f"On {_describe(case)} {_which_differ(got, expected)}. {exercise.hint}".strip()
+        yours = _said(got)
+        yours = f" (yours: {yours})" if yours is not None else ""
+        return False, f"On {_describe(case)}, {_which_differ(got, expected)}{yours}. {exercise.hint}".strip()
     message = explained(exercise.explanation)
     if exercise.timing is not None:
         slow = _slowness(exercise, function, rng)
