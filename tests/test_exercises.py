@@ -244,7 +244,11 @@ SLIPS = {
             (lambda a, b: abs(a - b) / ((a + b) / 2), "times 100")],
     "5.2": [(lambda t1, g1, t2, g2: agreement_share(t1, g1, t2, g2) * len(t1) / 100, "the count")],
     "5.3": [(lambda tp, gp: float("nan") if not np.any(np.asarray(tp) != np.asarray(gp)) else sign_test(tp, gp),
-             "the p-value is 1")],
+             "the p-value is 1"),
+            (lambda tp, gp: 1.0 if not np.any(tp != gp) else stats.binom.cdf(
+                min(np.sum(tp > gp), np.sum(tp < gp)), np.sum(tp != gp), 0.5), "double it"),
+            (lambda tp, gp: 1.0 if not np.any(tp != gp) else 2 * stats.binom.cdf(
+                min(np.sum(tp > gp), np.sum(tp < gp)), np.sum(tp != gp), 0.5), "at most 1")],
     "6.1": [(lambda c, s, done: (float(np.sum(done)), tsr_and_cost_rate(c, s, done)[1]), "not their count")],
     "6.2": [(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] > s2["mean_reward"] or s1["task_success_rate"] > s2["task_success_rate"]

@@ -76,6 +76,26 @@ def _one_sided(tp, gp):
     return 1.0 if n == 0 else float(stats.binomtest(int((tp > gp).sum()), n, 0.5, alternative="greater").pvalue)
 
 
+def _tails(tp, gp):
+    """(w, u, the smaller tail's probability) of the sign test, or None when every pair ties."""
+    tp, gp = np.asarray(tp, float), np.asarray(gp, float)
+    u = int((tp != gp).sum())
+    if u == 0:
+        return None
+    w = int((tp > gp).sum())
+    return w, u, float(stats.binom.cdf(min(w, u - w), u, 0.5))
+
+
+def _smaller_tail_undoubled(tp, gp):
+    tails = _tails(tp, gp)
+    return 1.0 if tails is None else tails[2]
+
+
+def _doubled_without_cap(tp, gp):
+    tails = _tails(tp, gp)
+    return 1.0 if tails is None else 2 * tails[2]
+
+
 def _normal_approximation(tp, gp):
     tp, gp = np.asarray(tp, float), np.asarray(gp, float)
     n = int((tp != gp).sum())
@@ -117,6 +137,10 @@ EVIDENCE_EXERCISES = {
             Mistake(_sign_with(lambda tp, gp: (int((tp > gp).sum()), len(tp))),
                     "A tie carries no sign: drop the tied pairs before counting."),
             Mistake(_one_sided, "The question is whether either model wins more often than chance: two-sided."),
+            Mistake(_smaller_tail_undoubled, "That is one tail, the smaller; two-sided, both tails count: double it "
+                                             "(at most 1)."),
+            Mistake(_doubled_without_cap, "Doubling the smaller tail can pass 1 when the wins split evenly; a "
+                                          "p-value is at most 1."),
             Mistake(_normal_approximation, "With a few dozen pairs use the exact binomial distribution "
                                            "(scipy.stats.binomtest), not its normal approximation."),
             Mistake(lambda tp, gp: float("nan") if not np.any(np.asarray(tp) != np.asarray(gp))
