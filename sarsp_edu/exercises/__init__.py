@@ -24,7 +24,7 @@ Exercise 2.1: not yet. Not written yet; replace the line raise NotImplementedErr
 >>> check("2.1", rbf)
 Exercise 2.1: not yet. Divide the squared distance by 2 l^2: the length scale is squared too.
 >>> check("3.4", np.int64(50))
-Exercise 3.4: right. 50, one colour of the chessboard; the package promises fewer (19), the most it can always place and shift apart.
+Exercise 3.4: right. 50, one colour of the chessboard. The package accepts far fewer (19): the question below asks why.
 """
 
 from __future__ import annotations
