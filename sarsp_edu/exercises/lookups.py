@@ -90,20 +90,20 @@ def _tutorial2_tp(nu: float):
     return StudentTProcess(RBF(1.5, 0.5), nu=nu, noise_variance=0.5, optimizer=None).fit(X, y)
 
 
-#: exercise 2.5's degrees of freedom (section 3's)
-_CLEAN_FIT_NU = 3.0
+#: the degrees of freedom of Tutorial 2, section 3's fit (exercise 2.5)
+_SECTION_3_NU = 3.0
 
 
 def _factor_without_outliers(answer, **_) -> bool:
     from ..demos import compute_posteriors
 
     side = _word(answer, "above", "below")
-    factor = compute_posteriors(nu=_CLEAN_FIT_NU, magnitude=10.0, proportion=0.0, seed=0)["tp_scale"]
+    factor = compute_posteriors(nu=_SECTION_3_NU, magnitude=10.0, proportion=0.0, seed=0)["tp_scale"]
     return side == ("above" if factor > 1 else "below")
 
 
 def _factor_without_outliers_explained() -> str:
-    nu = _CLEAN_FIT_NU
+    nu = _SECTION_3_NU
     return (f"Below. Now fit it and print beta_ / n and variance_scale_ as the exercise asks: clean targets lie "
             f"within the scale the priors hold, so the fit settles near the likelihood's own beta = n (nu - 2) / nu "
             f"(beta / n = {(nu - 2) / nu:.2f} at nu = {nu:g}), below n; only data spread far beyond that scale, "

@@ -57,6 +57,10 @@ def _outlier_costs(residual, nu):
     return -stats.norm.logpdf(residual), -stats.t.logpdf(residual, nu)
 
 
+#: said where a log density is off by the same amount at every x
+_OFF_BY_A_CONSTANT = "Your values are off by the same amount at every x: a constant term is wrong."
+
+
 def _outlier_costs_explained() -> str:
     """Exercise 1.3's reply: how many residuals of 1 one residual of 40 costs, computed."""
     one, forty = (float(_outlier_costs(r, 3.0)[0]) for r in (1.0, 40.0))
@@ -165,11 +169,10 @@ MODEL_EXERCISES = {
             Mistake(lambda x, nu: _t_logpdf(x, nu) + (nu + 1) / 2 * (np.log1p(x**2 / nu) - np.log1p(x**2)),
                     "Inside the logarithm x^2 is divided by nu."),
             Mistake(lambda x, nu: _t_logpdf(x, nu) + np.log(np.pi) / 2,
-                    "Your values are off by the same amount at every x: a constant term is wrong. Look at the "
-                    "normalising constant's square root of nu pi."),
+                    f"{_OFF_BY_A_CONSTANT} Look at the normalising constant's square root of nu pi."),
             Mistake(lambda x, nu: _t_logpdf(x, nu) - np.log(nu * np.pi) / 2,
-                    "Your values are off by the same amount at every x: a constant term is wrong. Look at the "
-                    "normalising constant's square root of nu pi: its logarithm is halved."),
+                    f"{_OFF_BY_A_CONSTANT} Look at the normalising constant's square root of nu pi: its logarithm "
+                    "is halved."),
         ),
         hint="Compare with the density printed at the top of section 1 (sympy's student_t_pdf), term by term.",
         explanation="It matches scipy.stats.t on fresh inputs, from x = 0 to |x| = 1000 and nu from 1 to 30.",
