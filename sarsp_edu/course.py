@@ -36,6 +36,7 @@ __all__ = [
     "execute",
     "execute_sources",
     "write_student_notebooks",
+    "clear_reveals",
     "write_pages",
     "write_handout",
 ]
@@ -156,12 +157,32 @@ def check_source(source) -> list[str]:
     return problems
 
 
-def sources(tutorials: Path) -> list[Path]:
-    """The source notebooks of a tutorials folder, in order."""
+def sources(tutorials: Path, only=None) -> list[Path]:
+    """The source notebooks of a tutorials folder, in order (``only``: those whose number NN is listed)."""
     found = sorted((Path(tutorials) / "source").glob("[0-9][0-9]_*.ipynb"))
     if not found:
         raise FileNotFoundError(f"{tutorials}/source holds no source notebook (NN_name.ipynb)")
+    if only:
+        wanted = {f"{int(number):02d}" for number in only}
+        numbers = {path.name[:2] for path in found}
+        if wanted - numbers:
+            raise ValueError(f"only must name tutorials among {sorted(numbers)}, got {sorted(wanted - numbers)}")
+        found = [path for path in found if path.name[:2] in wanted]
     return found
+
+
+def clear_reveals(notebook):
+    """Clear the outputs of the cells that reveal a prediction's answer (tagged ``reveal``), in place.
+
+    A student sees the answer when running the cell, after the prediction's
+    check, never in the stored notebook before predicting.
+    """
+    from .prose import REVEAL_TAG
+
+    for cell in notebook.cells:
+        if cell.cell_type == "code" and REVEAL_TAG in cell.metadata.get("tags", []):
+            cell.outputs, cell.execution_count = [], None
+    return notebook
 
 
 def student_path(source: Path) -> Path:
@@ -198,14 +219,17 @@ def execute(notebook, folder, timeout: int = 900):
     return notebook
 
 
-def execute_sources(tutorials="tutorials", timeout: int = 900) -> list[Path]:
-    """Execute the source notebooks in place (their stored outputs are nbval's reference)."""
+def execute_sources(tutorials="tutorials", timeout: int = 900, only=None) -> list[Path]:
+    """Execute the source notebooks in place (their stored outputs are nbval's reference).
+
+    ``only`` lists the tutorials' numbers to run (all by default).
+    """
     import nbformat
 
     from ._io import atomic_write_text
 
     written = []
-    for path in sources(Path(tutorials)):
+    for path in sources(Path(tutorials), only):
         notebook = execute(nbformat.read(path, as_version=4), path.parent, timeout)
         atomic_write_text(path, nbformat.writes(notebook) + "\n")
         written.append(path)
@@ -221,11 +245,13 @@ def _student_notebooks(tutorials: Path) -> list[Path]:
     return notebooks
 
 
-def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900) -> list[Path]:
+def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900, only=None) -> list[Path]:
     """Write (and run, so that their stored outputs are what a student first sees) the student notebooks.
 
     Each is written atomically beside its ``source/`` folder; a source that
-    breaks nbgrader's format is refused before anything is written.
+    breaks nbgrader's format is refused before anything is written.  The
+    cells that reveal a prediction's answer keep no output (:func:`clear_reveals`).
+    ``only`` lists the tutorials' numbers to write (all by default).
     """
     import nbformat
 
@@ -233,7 +259,7 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
 
     tutorials = Path(tutorials)
     notebooks = []
-    for path in sources(tutorials):
+    for path in sources(tutorials, only):
         source = nbformat.read(path, as_version=4)
         problems = check_source(source)
         if problems:
@@ -242,7 +268,7 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
     written = []
     for path, notebook in notebooks:
         if run:
-            execute(notebook, tutorials, timeout)
+            clear_reveals(execute(notebook, tutorials, timeout))
         target = student_path(path)
         atomic_write_text(target, nbformat.writes(notebook) + "\n")
         written.append(target)

@@ -310,9 +310,9 @@ def _course(args, parser) -> int:
     if args.action in ("sources", "student", "pages"):
         try:
             if args.action == "sources":
-                written = execute_sources(args.tutorials)
+                written = execute_sources(args.tutorials, only=args.only)
             elif args.action == "student":
-                written = write_student_notebooks(args.tutorials, run=not args.no_execute)
+                written = write_student_notebooks(args.tutorials, run=not args.no_execute, only=args.only)
             else:
                 if args.out is None:
                     parser.error("pages needs --out DIR")

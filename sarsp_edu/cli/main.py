@@ -157,6 +157,8 @@ def build_parser() -> argparse.ArgumentParser:
     course.add_argument("--tutorials", default="tutorials", metavar="DIR",
                         help="the tutorials folder, holding source/ [default: tutorials]")
     course.add_argument("--no-execute", action="store_true", help="student: write without executing")
+    course.add_argument("--only", nargs="+", type=int, metavar="N",
+                        help="sources, student: only these tutorials (by number, e.g. --only 2 5) [default: all]")
     course.add_argument("--root", default=".", metavar="DIR",
                         help="handout: the repository, holding tutorials/ and results/ [default: .]")
     course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder; pages: the pages' folder")
