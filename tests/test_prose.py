@@ -128,3 +128,25 @@ def test_the_student_command_clears_every_reveal():
     clear_reveals(notebook)
     assert notebook.cells[0].outputs and not notebook.cells[1].outputs
     assert notebook.cells[1].execution_count is None
+
+
+#: the classroom units: at most this much prose, and this many numbers in it, in the student notebook
+CLASS_SIZE = {"05": (1500, 80), "06": (1500, 80)}
+
+
+def prose_size(notebook) -> tuple[int, int]:
+    """Words, and numerals of any kind (section numbers included), in a notebook's Markdown."""
+    import re
+
+    markdown = "\n".join(cell.source for cell in notebook.cells if cell.cell_type == "markdown")
+    return len(markdown.split()), len(re.findall(r"\d+(?:[.,]\d+)*", markdown))
+
+
+@pytest.mark.parametrize("tutorial", sorted(CLASS_SIZE))
+def test_the_forty_minute_tutorials_hold_no_more_prose_than_a_class_reads(tutorial):
+    source = sources(ROOT / "tutorials", [int(tutorial)])[0]
+    words, numbers = prose_size(nbformat.read(student_path(source), as_version=4))
+    most_words, most_numbers = CLASS_SIZE[tutorial]
+    assert words <= most_words and numbers <= most_numbers, (
+        f"{source.name}: {words} words and {numbers} numbers of prose; a 40-minute unit holds at most "
+        f"{most_words} and {most_numbers} (move details to REPRODUCTION.md)")
