@@ -201,18 +201,22 @@ def execute(notebook, folder, timeout: int = 900):
     """
     from nbclient import NotebookClient
 
-    from .live import AUTOPLAY_VARIABLE
+    from .live import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE
 
-    before = os.environ.get(AUTOPLAY_VARIABLE)
-    os.environ[AUTOPLAY_VARIABLE] = "0"  # the kernel inherits it: nobody watches a batch run
+    # the kernel inherits them: nobody watches a batch run, and a live dashboard's stored picture shows its
+    # agents after 10 episodes rather than the world before Run
+    settings = {AUTOPLAY_VARIABLE: "0", SNAPSHOT_VARIABLE: "10"}
+    before = {name: os.environ.get(name) for name in settings}
+    os.environ.update(settings)
     try:
         NotebookClient(notebook, timeout=timeout, kernel_name="python3", store_widget_state=False,
                        resources={"metadata": {"path": str(folder)}}).execute()
     finally:
-        if before is None:
-            os.environ.pop(AUTOPLAY_VARIABLE, None)
-        else:
-            os.environ[AUTOPLAY_VARIABLE] = before
+        for name, value in before.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
     notebook.metadata.pop("widgets", None)
     for cell in notebook.cells:
         cell.metadata.pop("execution", None)

@@ -34,8 +34,8 @@ from ._threads import one_blas_thread
 from ._validation import check_choice, check_int, check_positive, check_range
 from .projector import PROJECTOR_PX_PER_PT, ProjectorMixin, slider_width
 
-__all__ = ["Dashboard", "Panel", "control_row", "fixed_layout_axes", "render_figure", "slider", "stitch_png",
-           "wipe_axes"]
+__all__ = ["Dashboard", "Panel", "control_row", "fixed_layout_axes", "readable_png", "render_figure", "slider",
+           "stitch_png", "wipe_axes"]
 
 
 @dataclass(frozen=True)
@@ -181,9 +181,12 @@ class Dashboard(ProjectorMixin, widgets.VBox):
             width="100%", flex_flow="row wrap" if self.projector else "row",
             max_width="none" if self.projector else f"{total * 72 * self.max_scale:.0f}px")
 
-    def snapshot(self, dpi: int = 72) -> bytes:
-        """The pictures on show, side by side, as one PNG (what a static copy of the notebook shows)."""
-        return stitch_png([render_figure(figure, "png", dpi) for figure in self.figures])
+    def snapshot(self) -> bytes:
+        """The pictures on show, side by side, as one PNG (what a static copy of the notebook shows).
+
+        At least :data:`SNAPSHOT_WIDTH_PX` wide with its text readable at that width (:func:`readable_png`).
+        """
+        return readable_png(self.figures)
 
     def _repr_mimebundle_(self, **kwargs):
         # A live front end (JupyterLab, Voila) renders the widget view; a static
@@ -299,7 +302,36 @@ def stitch_png(images: list) -> bytes:
     return buffer.getvalue()
 
 
-def render_figure(figure: Figure, fmt: str, dpi: int = 72) -> bytes:
+#: a dashboard's stored picture: at least this wide, its text at least SNAPSHOT_TEXT_PT when shown this wide
+SNAPSHOT_WIDTH_PX, SNAPSHOT_TEXT_PT = 1600, 14
+_SCREEN_PX_PER_PT = 96 / 72  # a browser's CSS pixels per point
+
+
+def readable_png(figures) -> bytes:
+    """Figures side by side as one PNG at least SNAPSHOT_WIDTH_PX wide, every text at least SNAPSHOT_TEXT_PT there.
+
+    The figures are rendered at the resolution that makes their row
+    ``SNAPSHOT_WIDTH_PX`` wide; a text smaller than 14 pt would be at that
+    width is enlarged for the picture and given back its size afterwards (the
+    live view is not changed).
+    """
+    from matplotlib.text import Text
+
+    inches = sum(figure.get_figwidth() for figure in figures)
+    dpi = (SNAPSHOT_WIDTH_PX + len(figures)) / inches  # each figure's pixels are rounded down
+    floor = SNAPSHOT_TEXT_PT * _SCREEN_PX_PER_PT * 72 / dpi  # in points of the figure
+    texts = [text for figure in figures for text in figure.findobj(Text) if text.get_text()]
+    sizes = [text.get_fontsize() for text in texts]
+    try:
+        for text, size in zip(texts, sizes):
+            text.set_fontsize(max(size, floor))
+        return stitch_png([render_figure(figure, "png", dpi) for figure in figures])
+    finally:
+        for text, size in zip(texts, sizes):
+            text.set_fontsize(size)
+
+
+def render_figure(figure: Figure, fmt: str, dpi: float = 72) -> bytes:
     """The figure as PNG bytes, or as SVG with its text kept as text (drawn by the browser).
 
     In an SVG, ``dpi`` applies only to the rasterized artists (images, dense

@@ -525,34 +525,82 @@ def test_dashboards_refuse_values_their_sliders_cannot_show(make, kwargs, messag
         getattr(widgets_module, make)(**kwargs)
 
 
+def _png_size(data: bytes) -> tuple[int, int]:
+    """(width, height) of a PNG, from its header."""
+    import struct
+
+    return struct.unpack(">II", data[16:24])
+
+
 @pytest.mark.parametrize("factory", [tail_decay_dashboard, posterior_dashboard, gridworld_dashboard])
-def test_a_static_copy_of_a_dashboard_shows_its_pictures(factory):
-    """GitHub and nbviewer render no widgets: the output also carries the panels as one PNG."""
+def test_a_static_copy_of_a_dashboard_shows_its_pictures_projector_wide(factory):
+    """GitHub and nbviewer render no widgets: the output also carries the panels as one PNG, 1,600 px wide."""
     import base64
 
     import matplotlib.image as mpimg
+    from matplotlib.text import Text
+
+    from sarsp_edu.dashboard import SNAPSHOT_WIDTH_PX
 
     dashboard = factory()
+    sizes = [t.get_fontsize() for f in dashboard.figures for t in f.findobj(Text)]
     bundle = dashboard._repr_mimebundle_()
     assert "application/vnd.jupyter.widget-view+json" in bundle  # live front ends keep the widget
-    image = mpimg.imread(io.BytesIO(base64.b64decode(bundle["image/png"])), format="png")
-    widths = [int(f.get_figwidth() * 72) for f in dashboard.figures]
-    assert image.shape[1] == sum(widths)  # every panel, side by side
+    data = base64.b64decode(bundle["image/png"])
+    image = mpimg.imread(io.BytesIO(data), format="png")
+    width = _png_size(data)[0]
+    assert SNAPSHOT_WIDTH_PX <= width < SNAPSHOT_WIDTH_PX + 10  # every panel, side by side
     assert image[..., :3].std() > 0.05  # not a blank picture
+    assert [t.get_fontsize() for f in dashboard.figures for t in f.findobj(Text)] == sizes  # the live view unchanged
 
 
-def test_the_live_dashboards_static_picture_before_and_after_a_run():
+def test_a_stored_picture_enlarges_small_text_to_14_pt_at_1600_px_and_gives_it_back():
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+
+    from sarsp_edu.dashboard import SNAPSHOT_TEXT_PT, readable_png
+
+    figure = Figure(figsize=(8, 3))
+    ax = figure.subplots()
+    ax.set_title("small", fontsize=6)
+    drawn = []
+    original = Text.draw
+
+    def spy(self, renderer):
+        if self.get_text() == "small":
+            drawn.append(self.get_fontsize() * renderer.dpi / 72)  # its height in pixels as drawn
+        return original(self, renderer)
+
+    Text.draw = spy
+    try:
+        data = readable_png([figure])
+    finally:
+        Text.draw = original
+    assert _png_size(data)[0] >= 1600
+    assert drawn and drawn[0] >= SNAPSHOT_TEXT_PT * 96 / 72 - 1e-9  # 14 pt at a browser's 96 px per inch
+    assert ax.title.get_fontsize() == 6
+
+
+def test_the_live_dashboards_static_picture_before_and_after_a_run(monkeypatch):
     import base64
 
     from sarsp_edu import ExperimentConfig
+    from sarsp_edu.live import SNAPSHOT_VARIABLE
     from sarsp_edu.widgets import agent_dashboard
 
     dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL))
     before = base64.b64decode(dashboard._repr_mimebundle_()["image/png"])
-    assert before.startswith(b"\x89PNG")
+    assert before.startswith(b"\x89PNG") and _png_size(before)[0] >= 1600
+    assert dashboard.experiments is None  # shown outside a course build: nothing ran for the picture
     dashboard.fast_forward(1)
     after = dashboard.snapshot()
-    assert len(after) > len(before)  # the metric curves are added
+    assert _png_size(after)[1] > _png_size(before)[1]  # the metric curves are added below the worlds
+    assert [label for label, _ in dashboard.key_numbers("tp")][:3] == ["episodes done", "reached the goal",
+                                                                        "violations"]
+    monkeypatch.setenv(SNAPSHOT_VARIABLE, "2")  # a course build: the stored picture shows the agents at work
+    built = agent_dashboard(episodes=3, n_switch_states=1, config=ExperimentConfig(**SMALL))
+    built._repr_mimebundle_()
+    assert all(len(e.episodes) == 2 for e in built.experiments.values())
 
 
 # --------------------------------------------------------------------------

@@ -12,6 +12,7 @@ from :mod:`sarsp_edu.plotting` (``plot_live_metrics``) and
 
 from .animation import WAIT_SHOWN_AFTER
 from .background import changed_settings
-from .dashboard import AUTOPLAY_VARIABLE, TP_AND_GP, AgentDashboard, agent_dashboard
+from .dashboard import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE, TP_AND_GP, AgentDashboard, agent_dashboard
 
-__all__ = ["AUTOPLAY_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard", "agent_dashboard", "changed_settings"]
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard",
+           "agent_dashboard", "changed_settings"]

@@ -14,12 +14,12 @@ from matplotlib.figure import Figure
 from .. import markup, plotting
 from .._threads import one_blas_thread
 from ..config import NU, DataSettings
-from ..dashboard import control_row, fixed_layout_axes, render_figure, slider, stitch_png, wipe_axes
+from ..dashboard import SNAPSHOT_WIDTH_PX, control_row, fixed_layout_axes, readable_png, render_figure, slider, wipe_axes
 from ..projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
 from .animation import Animation
 from .background import Preparer, changed_settings
 
-__all__ = ["AUTOPLAY_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
 _LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
 
@@ -32,6 +32,9 @@ TP_AND_GP = {
 #: the environment variable that, set to 0, keeps ``autoplay`` from starting: batch runs of the notebooks
 #: (the test suite, ``sarsp-edu course``), where nobody watches and the agents would only compete for the cores
 AUTOPLAY_VARIABLE = "SARSP_EDU_AUTOPLAY"
+#: the environment variable that, set to N, makes a dashboard shown in a batch run fast-forward N episodes
+#: before its picture is stored (``sarsp-edu course`` sets 10), so that a static copy shows the agents at work
+SNAPSHOT_VARIABLE = "SARSP_EDU_SNAPSHOT_EPISODES"
 
 
 class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
@@ -281,35 +284,57 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self._frame_times = {name: [] for name in self.sides}
         self.longest_wait_seconds = dict.fromkeys(self.sides, 0.0)
 
-    def snapshot(self, dpi: int = 72) -> bytes:
-        """A static picture of the dashboard as one PNG: the world the agents walk, and their metrics once they ran.
+    def snapshot(self) -> bytes:
+        """A static picture of the dashboard as one PNG: each side's world and key numbers, and the metrics.
 
-        Before a run the world is built from the sliders (as ``prepare`` builds
-        it, without fitting the models), so a static copy of the notebook shows
-        where the agents will start.
+        After a run, each agent's path in its current episode, its ``S_u`` and
+        key numbers, and the running metrics; before any run, the world the
+        sliders imply (built as ``prepare`` builds it, without fitting).  Where
+        ``SARSP_EDU_SNAPSHOT_EPISODES`` is set (``sarsp-edu course`` sets 10),
+        a dashboard first shown in a batch run fast-forwards that many episodes
+        first, so that a stored notebook shows the agents at work.  The picture
+        is :data:`~sarsp_edu.dashboard.SNAPSHOT_WIDTH_PX` wide, its text at
+        least 14 pt at that width.
         """
         from ..preparation import prepare
 
-        figure = Figure(figsize=(5.6, 4.4))
-        figure.subplots_adjust(left=0.09, right=1 - 1.8 / 5.6, bottom=0.11, top=0.9)
-        ax = figure.subplots()
-        if not self.experiments:  # no run yet, or its sides still being fitted
-            env = prepare(self.config()).env
-            title = "the world after the shift (press Run)"
-        else:
-            first = next(iter(self.experiments.values()))
-            env = first.env
-            done = len(first.episodes)
-            title = f"after {done} episode{'' if done == 1 else 's'}"
-        plotting.plot_gridworld(ax, env.layout(), title=title)
-        images = [render_figure(figure, "png", dpi)]
-        if self.experiments and self._drawn_episodes > 0:
-            images.append(render_figure(self.metrics_figure, "png", dpi))
-        return stitch_png(images)
+        figure = Figure(figsize=(SNAPSHOT_WIDTH_PX / 100, 9.4 if self.experiments else 5.6), layout="constrained")
+        top, bottom = (figure.subfigures(2, 1, height_ratios=(5.6, 3.8)) if self.experiments else (figure, None))
+        sides = top.subplots(1, 4, width_ratios=(3, 1.9, 3, 1.9))
+        key = ("circle: start, star: goal\nred: unsafe; outlined: moved\nby the shift (dashed: before)"
+               "\nred ticks: moves in S_u\nline: this episode's path")
+        for (name, (label, _)), ax, text in zip(self.sides.items(), sides[0::2], sides[1::2]):
+            text.axis("off")
+            experiment = (self.experiments or {}).get(name)
+            if experiment is None:
+                env = prepare(self.config()).env if not self.experiments else next(iter(self.experiments.values())).env
+                plotting.plot_gridworld(ax, env.layout(), legend=False, title=f"{label}: press Run")
+                numbers = ()
+            else:
+                plotting.plot_gridworld(ax, experiment.env.layout(), trajectory=experiment.trajectory,
+                                        unsafe_pairs=sorted(experiment.agent.unsafe_pairs), legend=False,
+                                        title=f"{label}: episode {len(experiment.episodes)} done")
+                numbers = self.key_numbers(name)
+            text.text(0, 0.97, "\n".join(f"{label_}: {value}" for label_, value in numbers), va="top",
+                      linespacing=1.6, transform=text.transAxes)
+            text.text(0, 0.0, key, va="bottom", linespacing=1.4, color="0.3", transform=text.transAxes)
+        if bottom is not None and self._drawn_episodes > 0:
+            axes = bottom.subplots(1, len(_LIVE_METRICS))
+            plotting.plot_live_metrics(axes, {m: e.records() for m, e in self.experiments.items()},
+                                       _LIVE_METRICS, labels=self._legend_labels())
+        return readable_png([figure])
+
+    def _snapshot_run(self) -> None:
+        """In a batch run that asks for it (SARSP_EDU_SNAPSHOT_EPISODES), run that many episodes for the picture."""
+        episodes = int(os.environ.get(SNAPSHOT_VARIABLE, "0") or 0)
+        if episodes > 0 and self.experiments is None and not self._running:
+            self.prepare()
+            self.fast_forward(min(episodes, self.config().episodes))
 
     def _repr_mimebundle_(self, **kwargs):
         # the widget view for live front ends, a PNG for static ones (GitHub, nbviewer): the world before the run
         bundle = dict(super()._repr_mimebundle_(**kwargs))
+        self._snapshot_run()
         bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
         if self.autoplay and not self._autoplayed and os.environ.get(AUTOPLAY_VARIABLE, "1") != "0":
             self._autoplayed = True
@@ -361,19 +386,24 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         decision = None if record is None else record.decision
         self.decisions[name].value = markup.decision_table_html(
             decision, experiment.config.d, experiment.config.variance_threshold, font_size=self._text_px - 1)
-        records = experiment.episodes
-        numbers = (("episodes done", len(records)),
-                   ("reached the goal", sum(e["task_completed"] for e in records)),
-                   ("violations", sum(e["episode_cost"] for e in records)),
-                   ("|S_u|", len(experiment.agent.unsafe_pairs)),
-                   ("corrective updates", experiment.agent.corrective_updates),
-                   ("offline fit", "loaded, fitted earlier" if experiment.loaded_from_cache
-                    else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
+        numbers = self.key_numbers(name)
         self.summaries[name].value = (
             f"<table style='font-size:{self._text_px}px;border-collapse:collapse;margin-left:8px'>"
             + "".join(f"<tr><td style='padding:1px 8px 1px 0'>{label}</td><td style='text-align:right'>"
                       f"<b>{value}</b></td></tr>" for label, value in numbers)
             + "</table>")
+
+    def key_numbers(self, name) -> tuple:
+        """A side's key numbers, (label, value) pairs: what its run has done so far."""
+        experiment = self.experiments[name]
+        records = experiment.episodes
+        return (("episodes done", len(records)),
+                ("reached the goal", sum(e["task_completed"] for e in records)),
+                ("violations", sum(e["episode_cost"] for e in records)),
+                ("moves known unsafe (S_u)", len(experiment.agent.unsafe_pairs)),
+                ("corrective updates", experiment.agent.corrective_updates),
+                ("offline fit", "loaded, fitted earlier" if experiment.loaded_from_cache
+                 else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
 
     def _draw_metrics_if_new_episode(self, throttle: bool = False) -> None:
         """Redraw the metric curves if an episode ended; while animating, at most every 1.5 s."""
