@@ -198,3 +198,19 @@ def test_a_tutorial_copied_without_its_results_says_what_is_missing_and_how_to_g
     monkeypatch.delenv("SARSP_EDU_RESULTS")
     monkeypatch.chdir(ROOT / "tutorials" / "source")  # a source notebook finds them two folders up
     assert stored_results("ablation").resolve() == (ROOT / "results" / "ablation").resolve()
+
+
+@pytest.mark.parametrize("path", SOURCES + [student_path(p) for p in SOURCES], ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_every_stored_dashboard_picture_is_projector_wide(path):
+    """A dashboard's output carries its picture for readers without a kernel: at least 1,600 px wide."""
+    import base64
+    import struct
+
+    from sarsp_edu.dashboard import SNAPSHOT_WIDTH_PX
+
+    for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
+        for output in cell.get("outputs", []):
+            data = output.get("data", {})
+            if "application/vnd.jupyter.widget-view+json" in data and "image/png" in data:
+                width = struct.unpack(">I", base64.b64decode(data["image/png"])[16:20])[0]
+                assert width >= SNAPSHOT_WIDTH_PX, f"{path.name} cell {index}: a dashboard picture {width} px wide"
