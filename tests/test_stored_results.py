@@ -7,6 +7,7 @@ import json
 import math
 import re
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -302,3 +303,24 @@ def test_check_cell_names_a_bad_cell():
         check_cell(folder, "m40_p0.2")
     with pytest.raises(ValueError, match=r"cell='m40_p0.2_nss2_seed7': .* holds no such cell \(\d+ stored"):
         check_cell(folder, "m40_p0.2_nss2_seed7")
+
+
+RESULTS = Path(__file__).resolve().parents[1] / "results"
+
+
+@pytest.mark.parametrize("folder", sorted(p.name for p in RESULTS.iterdir() if p.is_dir()))
+def test_every_shipped_results_folder_loads_with_tables(folder, capsys):
+    """Every folder under results/ loads: a sweep's tables (older formats read in today's terms), an ablation's table."""
+    assert main(["tables", str(RESULTS / folder)]) == 0
+    out = capsys.readouterr().out
+    assert ("TP" in out and "GP" in out) and "error" not in out.lower()
+
+
+def test_an_older_format_cell_is_compared_in_todays_terms():
+    """paper-sweep's cells say retrain=True (sarsp_edu 0.1): that is today's retrain='always', as sweep.json says."""
+    from sarsp_edu.sweep import stored_sweep
+
+    cell = json.loads(next((RESULTS / "paper-sweep" / "cells").glob("*/tp/result.json")).read_text())
+    assert cell["config"]["retrain"] is True
+    base, _ = stored_sweep(RESULTS / "paper-sweep")
+    assert base.retrain == "always"

@@ -144,6 +144,10 @@ def _tables(args, parser) -> int:
 
     if args.markdown:
         check_file(parser, "--markdown", args.markdown)
+    from pathlib import Path
+
+    if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
+        return _ablation_table(args, parser)
     try:
         stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
     except (FileNotFoundError, ValueError) as exc:
@@ -261,6 +265,23 @@ def _describe(config) -> str:
         changed = [f"{k}={getattr(config, k)!r}" for k in PRESET_FIELDS if getattr(config, k) != PRESETS[closest][k]]
         text += f" ('{closest}' with {', '.join(changed)})"
     return text
+
+
+def _ablation_table(args, parser) -> int:
+    """``tables`` on an ablation's folder: its stored runs' table (``--markdown`` writes it too)."""
+    from .._io import StoredResultError, atomic_write_text
+    from ..ablation import AblationResults
+    from ..tables import frame_to_markdown
+
+    try:
+        table = AblationResults.load(args.results_dir).table()
+    except (StoredResultError, FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    print(f"the ablation stored in {args.results_dir}\n{_format_table(table)}")
+    if args.markdown:
+        atomic_write_text(args.markdown, frame_to_markdown(table.reset_index()) + "\n")
+        print(f"\nMarkdown table written to {args.markdown}")
+    return 0
 
 
 def _ablation(args, parser) -> int:

@@ -202,12 +202,14 @@ def _check_base_against_cells(meta: Path, base: ExperimentConfig) -> None:
             config = read_json(cell / "tp" / "result.json", keys=("config",))["config"]
         except (FileNotFoundError, StoredResultError):
             continue  # a damaged cell is named when it is loaded
-        if not isinstance(config, dict):
-            continue
+        try:  # read as loading reads it: an older format's settings in today's terms
+            ran = _shared_fields(ExperimentConfig.from_dict(config))
+        except (TypeError, ValueError):
+            continue  # a damaged cell is named when it is loaded
         n += 1
         for name, value in ours.items():
-            if config.get(name, value) != value:
-                seen.setdefault(name, set()).add(repr(config.get(name)))
+            if ran.get(name, value) != value:
+                seen.setdefault(name, set()).add(repr(ran.get(name)))
             else:
                 seen.setdefault(name, set()).add(None)
     # with a single cell the two cannot be told apart: load_cell names that cell instead
