@@ -29,6 +29,7 @@ from .metrics import (
     displayed_summary,
     percent_difference,
     prefers,
+    running_metrics,
 )
 
 __all__ = ["ExperimentResult", "Comparison", "StoredResultError", "stored_results"]
@@ -101,6 +102,7 @@ class ExperimentResult:
         records = _read_records(csv_path, config.episodes)
         result = cls(config, records, payload.get("timings", {}), payload.get("code") or {})
         _check_summary(meta_path, payload.get("summary"), result.summary)
+        _check_ranges(csv_path, records, config)
         return result
 
 
@@ -138,8 +140,13 @@ def _read_records(path: Path, episodes: int) -> pd.DataFrame:
     missing = [c for c in RECORD_COLUMNS if c not in records.columns and c not in _LATER_COLUMNS]
     if missing:
         raise bad(f"lacks the columns {missing}")
-    if len(records) != episodes or not np.array_equal(records["episode"], np.arange(1, episodes + 1)):
+    if len(records) != episodes:
         raise bad(f"holds {len(records)} episodes where its config ran {episodes} (was it cut short?)")
+    numbers = pd.to_numeric(records["episode"], errors="coerce").to_numpy()
+    if not np.array_equal(numbers, np.arange(1, episodes + 1)):
+        row = int(np.flatnonzero(numbers != np.arange(1, episodes + 1))[0]) + 1
+        raise bad(f"has episode {records['episode'].iloc[row - 1]} in row {row}, where the episodes run 1 to "
+                  f"{episodes} in order (rows moved, removed or edited)")
     text_columns = ("start", "goal", "task_completed")
     for column in records.columns.intersection(list(RECORD_COLUMNS)):
         if column in text_columns:
@@ -163,6 +170,51 @@ def _read_records(path: Path, episodes: int) -> pd.DataFrame:
             cells.append((int(parts[0]), int(parts[1])))
         records[column] = cells
     return records
+
+
+#: the range of each stored records column, and whether it holds whole numbers
+_RANGES = {"task_success_rate": (0, 100, False), "backup_rate": (0, 1, False), "final_cells": (0, 10, True),
+           "episode_cost": (0, math.inf, True), "episode_steps": (1, math.inf, True), "total_cost": (0, math.inf, True),
+           "corrective_updates": (0, math.inf, True), "retrains": (0, math.inf, True)}
+_NON_NEGATIVE = ("mean_cost", "mean_steps", "cost_rate", "reward_mse", "cost_prediction_error",
+                 "safe_action_variance")
+
+
+def _check_ranges(path: Path, records: pd.DataFrame, config: ExperimentConfig) -> None:
+    """Refuse a row whose value is out of its column's range or disagrees with the running columns it implies."""
+    def where(column: str, mask) -> str:
+        row = int(np.flatnonzero(np.asarray(mask))[0])
+        value = records[column].iloc[row]
+        return f"{path} has {column}={getattr(value, 'item', lambda: value)()!r} in episode {row + 1}"
+
+    for column in records.columns.intersection(list(RECORD_COLUMNS)):
+        if column in ("start", "goal", "task_completed"):
+            continue
+        values = records[column].to_numpy(dtype=float)
+        low, high, whole = _RANGES.get(column, (0 if column in _NON_NEGATIVE else -math.inf, math.inf, False))
+        wrong = ~np.isnan(values) & ((values < low) | (values > high) | np.isinf(values)
+                                     | (whole & (values != np.round(values))))
+        if wrong.any():
+            kind = "a whole number " if whole else ""
+            raise StoredResultError(f"{where(column, wrong)}: it must be {kind}in [{low:g}, {high:g}]")
+    limit = config.max_steps or config.grid_size ** 2
+    if (records["episode_steps"] > limit).any():
+        raise StoredResultError(f"{where('episode_steps', records['episode_steps'] > limit)}: its config stops an "
+                                f"episode after {limit} steps")
+    for column in ("start", "goal"):
+        off = [not (0 <= x < config.grid_size and 0 <= y < config.grid_size) for x, y in records[column]]
+        if any(off):
+            raise StoredResultError(f"{where(column, off)}: off the {config.grid_size} x {config.grid_size} grid")
+    running = running_metrics(records["episode_reward"], records["episode_cost"], records["episode_steps"],
+                              records["task_completed"])
+    for column in SUMMARY_METRICS:
+        stored, implied = records[column].to_numpy(dtype=float), running[column].to_numpy()
+        wrong = ~np.isclose(stored, implied, rtol=1e-9, atol=1e-9)
+        if wrong.any():
+            row = int(np.flatnonzero(wrong)[0])
+            raise StoredResultError(
+                f"{where(column, wrong)}, where the episodes' rewards, costs, steps and successes up to it give "
+                f"{implied[row]!r}: a row was edited")
 
 
 @dataclass
@@ -220,8 +272,17 @@ class Comparison:
 
     @classmethod
     def load(cls, directory, a: float = DEFINITION_4_A) -> "Comparison":
+        """Read ``tp/`` and ``gp/``; refused unless they ran the same world and settings, each with its model."""
         directory = Path(directory)
-        return cls(ExperimentResult.load(directory / "tp"), ExperimentResult.load(directory / "gp"), a)
+        tp, gp = ExperimentResult.load(directory / "tp"), ExperimentResult.load(directory / "gp")
+        ours, theirs = tp.config.to_dict(), gp.config.to_dict()
+        differ = sorted(name for name in ours if name != "model" and ours[name] != theirs[name])
+        if differ or (tp.config.model, gp.config.model) != ("tp", "gp"):
+            details = ", ".join(f"{name} {ours[name]!r} against {theirs[name]!r}" for name in differ) or (
+                f"models {tp.config.model!r} and {gp.config.model!r}")
+            raise StoredResultError(f"{directory}: tp/ and gp/ are not one paired comparison ({details}); "
+                                    "they come from two runs: run 'sarsp-edu compare' again into a new folder")
+        return cls(tp, gp, a)
 
 
 #: an environment variable naming the folder that holds the repository's stored results

@@ -16,7 +16,7 @@ import pytest
 from sarsp_edu import ExperimentConfig, run_experiment, run_sweep
 from sarsp_edu.cli import main
 from sarsp_edu.provenance import code_provenance
-from sarsp_edu.results import ExperimentResult, StoredResultError
+from sarsp_edu.results import Comparison, ExperimentResult, StoredResultError
 from sarsp_edu.sweep import LOCK_NAME, StoredResultWarning, SweepResults
 from sarsp_edu.tables import summary_tables
 
@@ -278,7 +278,7 @@ def test_check_cell_names_the_first_episode_and_the_columns_that_differ(sweep, c
     assert same.identical and same.same_trajectories and "identical" in str(same)
     tp, gp = (sweep / "cells" / CELL / side / "records.csv" for side in ("tp", "gp"))
     records = pd.read_csv(tp)
-    records.loc[1, "backup_rate"] += 0.25  # a trajectory that parted at the second episode
+    records.loc[1, "backup_rate"] = (records.loc[1, "backup_rate"] + 0.25) % 1  # parted at the second episode
     records.to_csv(tp, index=False)
     records = pd.read_csv(gp)
     records.loc[0, "reward_mse"] *= 1 + 1e-4  # a diagnostic's last digits, beyond the tolerance
@@ -324,3 +324,53 @@ def test_an_older_format_cell_is_compared_in_todays_terms():
     assert cell["config"]["retrain"] is True
     base, _ = stored_sweep(RESULTS / "paper-sweep")
     assert base.retrain == "always"
+
+
+def _edit_records(path, change, summary_too=False):
+    """Edit a stored records.csv (and, to hide the edit, its result.json's summary)."""
+    table = pd.read_csv(path)
+    change(table)
+    table.to_csv(path, index=False)
+    if summary_too:
+        last = table.iloc[-1]
+        edit_json(path.parent / "result.json",
+                  lambda p: p["summary"].update({k: float(last[k]) for k in p["summary"]}))
+
+
+@pytest.mark.parametrize("change, summary_too, message", [
+    (lambda t: t.__setitem__("task_success_rate", 150.0), True,
+     r"has task_success_rate=150.0 in episode 1: it must be in \[0, 100\]"),
+    (lambda t: t.loc.__setitem__((1, "episode_cost"), -1), False, r"has episode_cost=-1 in episode 2: it must be a whole"),
+    (lambda t: t.__setitem__("episode_cost", t["episode_cost"].astype(float) + [0, 0.5, 0]), False, r"has episode_cost=0.5 in episode 2: it must be a whole"),
+    (lambda t: t.loc.__setitem__((1, "mean_steps"), math.inf), False, r"has mean_steps=inf in episode 2"),
+    (lambda t: t.loc.__setitem__((0, "safe_action_variance"), -0.3), False,
+     r"has safe_action_variance=-0.3 in episode 1: it must be in \[0, inf\]"),
+    (lambda t: t.loc.__setitem__((0, "start"), "7 2"), False, r"has start=\(7, 2\) in episode 1: off the 5 x 5 grid"),
+    (lambda t: t.loc.__setitem__((0, "goal"), "-1 0"), False, r"has goal=\(-1, 0\) in episode 1: off the 5 x 5 grid"),
+    (lambda t: t.loc.__setitem__((0, "episode_cost"), t.loc[0, "episode_cost"] + 2), False,
+     r"has mean_cost=\S+ in episode 1, where the episodes' rewards, costs, steps and successes up to it give"),
+])
+def test_a_stored_value_out_of_its_range_is_refused_naming_file_row_and_column(sweep, capsys, change, summary_too,
+                                                                                message):
+    records = sweep / "cells" / CELL / "gp" / "records.csv"
+    _edit_records(records, change, summary_too)
+    with pytest.raises(StoredResultError, match=message):
+        ExperimentResult.load(records.parent)
+    assert re.search(message, usage_error(["tables", str(sweep)], capsys))
+
+
+def test_swapped_rows_are_named_as_moved_not_as_a_short_run(sweep):
+    records = sweep / "cells" / CELL / "gp" / "records.csv"
+    _edit_records(records, lambda t: t.__setitem__("episode", t["episode"].to_numpy()[[1, 0, 2]]))
+    with pytest.raises(StoredResultError, match=r"has episode 2 in row 1, where the episodes run 1 to 3 in order"):
+        ExperimentResult.load(records.parent)
+
+
+def test_a_comparison_of_two_runs_is_refused(sweep, tmp_path):
+    other = tmp_path / "other"
+    shutil.copytree(sweep / "cells" / CELL, other)
+    shutil.rmtree(other / "gp")
+    shutil.copytree(sweep / "cells" / "m40_p0.2_nss2_seed0" / "gp", other / "gp")
+    with pytest.raises(StoredResultError, match=r"tp/ and gp/ are not one paired comparison \(n_switch_states 1 "
+                                                r"against 2, seed \d+ against \d+\)"):
+        Comparison.load(other)

@@ -12,7 +12,7 @@ from .._io import StoredResultError, read_json
 from ..config import DEFINITION_4_A, ExperimentConfig
 from ..metrics import SUMMARY_METRICS
 from ..provenance import code_label
-from ..results import Comparison
+from ..results import Comparison, ExperimentResult
 from .cells import _KEY, _as_key, _name_key, _shared_fields, _stored_base, _stored_key, cell_config, describe_cells
 
 
@@ -239,17 +239,17 @@ def load_cell(base: ExperimentConfig, cell: Path, key: tuple, a: float = DEFINIT
     if stored != tuple(key):
         raise StoredResultError(f"{cell} belongs to another cell: its cell.json says "
                                 f"{describe_cells([stored])}, its place {describe_cells([key])}")
-    comparison = Comparison.load(cell, a=a)
+    sides = {model: ExperimentResult.load(cell / model) for model in ("tp", "gp")}
     expected = cell_config(base, *key)
     for model in ("tp", "gp"):
-        ran = getattr(comparison, model).config.to_dict()
+        ran = sides[model].config.to_dict()
         wanted = expected.replace(model=model).to_dict()
         differing = sorted(name for name in wanted if ran[name] != wanted[name])
         if differing:
             details = ", ".join(f"{name}={ran[name]!r} where the sweep gives {wanted[name]!r}" for name in differing)
             raise StoredResultError(f"{cell / model / 'result.json'} is not this sweep's cell "
                                     f"{describe_cells([key])}: it ran {details}")
-    return comparison
+    return Comparison(sides["tp"], sides["gp"], a)
 
 
 #: the lock a running sweep holds on its results folder (a hidden file, kept between runs)
