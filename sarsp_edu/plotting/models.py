@@ -29,10 +29,12 @@ def plot_densities(ax, data, *, log: bool = False):
         ax.set_title("log scale: the tails")
     else:
         ax.set_title("linear scale")
+        # headroom: the legend in a strip above the peak, not across the curves' flanks
+        ax.set_ylim(top=1.4 * max(np.max(data["gaussian"]), np.max(data["student_t"])))
     ax.set_xlabel("x")
     ax.set_ylabel("density f(x)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=SMALL, frameon=False)
+    ax.legend(fontsize=SMALL, frameon=False, loc="best" if log else "upper right")
     return ax
 
 
@@ -59,8 +61,16 @@ def plot_tail_ratio_comparison(ax, data, nu: float):
     plot_tail_ratios(ax, data, title="Karamata ratio f(λx)/f(x)")
     ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, ls=":", label="Gaussian")
     log_scale(ax)
-    ax.set_ylim(max(data["limits"][nu] / 100, 1e-30), 1.5)
-    ax.legend(fontsize=SMALL, frameon=False)
+    low, high = max(data["limits"][nu] / 100, 1e-30), 1.5
+    # headroom: the legend in a strip above the ratios (all at most 1), not over the falling Gaussian curve
+    ax.set_ylim(low, high * (high / low) ** 0.4)
+    for minor in (False, True):  # no ticks in the strip: a ratio above 1 is never drawn
+        locator = ax.yaxis.get_minor_locator() if minor else ax.yaxis.get_major_locator()
+        ax.set_yticks([tick for tick in locator.tick_values(low, 1.0) if low <= tick <= 1.0], minor=minor)
+    # short labels: the long "(limit λ^(-1-ν) = ...)" of plot_tail_ratios runs past the panel's edge
+    handles, labels = ax.get_legend_handles_labels()
+    labels = [label.replace("limit λ^(-1-ν) = ", "limit ") for label in labels]
+    ax.legend(handles, labels, fontsize=SMALL, frameon=False, loc="upper left")
     return ax
 
 
