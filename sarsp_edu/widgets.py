@@ -119,7 +119,7 @@ def posterior_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: flo
                         f"log marginal likelihood {post['log_marginal_likelihood']:.2f}")
         factor = (f"TP variance factor $\\frac{{\\nu + \\beta - 2}}{{\\nu + n - 2}} = "
                   f"\\frac{{{data['nu']:g} + {data['beta']:.4g} - 2}}{{{data['nu']:g} + {data['n']} - 2}} = "
-                  f"{data['tp_scale']:.4g}$, with $\\beta = y^T (K + \\sigma^2 I)^{{-1}} y$")
+                  f"{data['tp_scale']:.4g}$, with $\\beta = y^T K_y^{{-1}} y$, $K_y = K + \\sigma^2 I$")
         return data, "<br>".join([factor, *rows])
 
     def draw_posterior(model):

@@ -152,7 +152,7 @@ WRONG = {
             (lambda residual, nu: outlier_costs(residual, nu)[::-1], "swapped")],
     "2.7": [(lambda residual, nu, scale: np.asarray(residual) / scale**2, "Gaussian likelihood's pull"),
             (lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
-             "scale s is missing")],
+             "scale sigma_t is missing")],
     "2.1": [(lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, length_scale) / amplitude,
              "amplitude enters squared"),
             (lambda X, Y, amplitude, length_scale: rbf(X, Y, amplitude, np.sqrt(length_scale)),
@@ -162,7 +162,7 @@ WRONG = {
             (lambda K, K_star, k_star_star, y, noise_variance: (
                 gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
                 np.sqrt(gp_posterior(K, K_star, k_star_star, y, noise_variance)[1])), "standard deviation")],
-    "2.3": [(lambda K, y, noise_variance, nu: tp_variance_factor(K, y, 0.0, nu), "K + s^2 I"),
+    "2.3": [(lambda K, y, noise_variance, nu: tp_variance_factor(K, y, 0.0, nu), "K_y = K + sigma^2 I"),
             (lambda K, y, noise_variance, nu: nu / (nu - 2), "prior's factor")],
     "2.4": [(lambda K, y, noise_variance, nu: float(stats.multivariate_normal(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)), "GP's"),
@@ -268,7 +268,7 @@ def test_a_missing_return_a_failing_factorisation_and_one_wrong_result_of_two_ar
     assert not right and "returned None" in message
     no_noise = lambda K, y, noise_variance, nu: float(y @ np.linalg.cholesky(K)[:, 0])  # noqa: E731
     right, message = grade("2.3", CODING["2.3"], no_noise)
-    assert not right and "LinAlgError" in message and "K + s^2 I" in message
+    assert not right and "LinAlgError" in message and "K_y = K + sigma^2 I" in message
     right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (tsr_and_cost_rate(c, s, done)[0], -1.0))
     assert not right and "its result number 2 (of 2) differs from the package's; the other is right" in message
     right, message = grade("6.1", CODING["6.1"], lambda c, s, done: (-1.0, -1.0))

@@ -243,7 +243,7 @@ MODEL_EXERCISES = {
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
                 K_star @ np.linalg.solve(K, y),
                 k_star_star - np.einsum("ij,ji->i", K_star, np.linalg.solve(K, K_star.T))),
-                "The noise term is missing: the training covariance is K + s^2 I."),
+                "The noise term is missing: the training covariance is K_y = K + sigma^2 I."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
                 _gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
                 _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1] + noise_variance),
@@ -259,36 +259,37 @@ MODEL_EXERCISES = {
                 "Check the sign: the data explain part of the prior variance, so it is subtracted."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: _gp_posterior(
                 K, K_star, k_star_star, y, np.sqrt(noise_variance)),
-                "noise_variance is already a variance, s^2: add it to K as it is, not its square root."),
+                "noise_variance is already a variance, sigma^2: add it to K as it is, not its square root."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
                 K_star @ np.linalg.solve(K, y), _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
-                "The variance is right; the mean needs the noise too: (K + s^2 I)^-1 y."),
+                "The variance is right; the mean needs the noise too: K_y^-1 y, K_y = K + sigma^2 I."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
                 K_star @ ((K + noise_variance * np.eye(len(y))) @ y),
                 _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
-                "The mean multiplies y by the inverse of K + s^2 I (a solve with the Cholesky factor), "
+                "The mean multiplies y by the inverse of K_y = K + sigma^2 I (a solve with the Cholesky factor), "
                 "not by the matrix itself."),
         ),
-        hint="Check each result against its equation: the mean (eq. 4) needs (K + s^2 I)^-1 y, the variance "
-             "(eq. 5) the quadratic form of K_star with (K + s^2 I)^-1; both from one Cholesky factor of "
-             "K + s^2 I (Rasmussen and Williams, Algorithm 2.1).",
-        on_linalg_error="K alone can be numerically singular; the targets' covariance, K + s^2 I, is not.",
+        hint="Check each result against its equation: the mean (eq. 4) needs K_y^-1 y, the variance (eq. 5) the "
+             "quadratic form of K_star with K_y^-1; both from one Cholesky factor of K_y = K + sigma^2 I "
+             "(Rasmussen and Williams, Algorithm 2.1).",
+        on_linalg_error="K alone can be numerically singular; the targets' covariance, K_y = K + sigma^2 I, is not.",
         explanation="It matches the package's GaussianProcess on fresh problems (1 to 25 training points).",
         timing=_gp_timing,
     ),
     "2.3": CodingExercise(
-        question="the TP's variance factor (nu + beta - 2) / (nu + n - 2), beta = y^T (K + s^2 I)^-1 y (eq. 6, corrected)",
+        question="the TP's variance factor (nu + beta - 2) / (nu + n - 2), beta = y^T K_y^-1 y, K_y = K + sigma^2 I "
+                 "(eq. 6, corrected)",
         signature="tp_variance_factor(K, y, noise_variance, nu) -> float",
         reference=_tp_factor,
         cases=_tp_cases,
         mistakes=(
             Mistake(lambda K, y, noise_variance, nu: (nu + float(y @ np.linalg.solve(K, y)) - 2) / (nu + len(y) - 2),
-                    "beta uses the training covariance with its noise, K + s^2 I."),
+                    "beta uses the training covariance with its noise, K_y = K + sigma^2 I."),
             Mistake(lambda K, y, noise_variance, nu: nu / (nu - 2),
                     "That is the prior's factor nu / (nu - 2), before any data; eq. 6 scales by what the data "
                     "say, through beta."),
             Mistake(lambda K, y, noise_variance, nu: (nu + float(y @ y) - 2) / (nu + len(y) - 2),
-                    "beta is y^T (K + s^2 I)^-1 y, with the inverse covariance between the two y's."),
+                    "beta is y^T K_y^-1 y, with the inverse covariance between the two y's."),
             Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance) - 2) / (nu + len(y)),
                     "The denominator is nu + n - 2."),
             Mistake(lambda K, y, noise_variance, nu: 1 / _tp_factor(K, y, noise_variance, nu),
@@ -300,33 +301,36 @@ MODEL_EXERCISES = {
             Mistake(lambda K, y, noise_variance, nu: (nu + np.sqrt(_beta(K, y, noise_variance)) - 2)
                     / (nu + len(y) - 2), "beta is the quadratic form itself, not its square root."),
             Mistake(lambda K, y, noise_variance, nu: (nu + float(y @ (K + noise_variance * np.eye(len(y))) @ y) - 2)
-                    / (nu + len(y) - 2), "beta uses the inverse of K + s^2 I (a solve), not the matrix itself."),
+                    / (nu + len(y) - 2),
+                    "beta uses the inverse of K_y = K + sigma^2 I (a solve), not the matrix itself."),
         ),
         hint="The factor is above 1 when beta > n: the data surprise the model and the TP widens its band.",
-        on_linalg_error="K alone can be numerically singular; beta uses the targets' covariance, K + s^2 I.",
+        on_linalg_error="K alone can be numerically singular; beta uses the targets' covariance, "
+                        "K_y = K + sigma^2 I.",
         explanation="The factor depends on the training targets through beta: this is how the TP's variance "
                     "reacts to outliers and the GP's cannot.",
     ),
     "2.4": CodingExercise(
-        question="the TP's log marginal likelihood: y ~ multivariate t, covariance K + s^2 I, nu degrees of freedom",
+        question="the TP's log marginal likelihood: y ~ multivariate t, covariance K_y = K + sigma^2 I, "
+                 "nu degrees of freedom",
         signature="tp_log_marginal_likelihood(K, y, noise_variance, nu) -> float",
         reference=_tp_lml,
         cases=_tp_cases,
         mistakes=(
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_t(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y)), df=nu).logpdf(y)),
-                "That takes K + s^2 I as the multivariate t's shape matrix; the exercise gives it as the "
+                "That takes K_y = K + sigma^2 I as the multivariate t's shape matrix; the exercise gives it as the "
                 "covariance. How does a multivariate t's covariance follow from its shape and nu?"),
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_normal(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)),
                 "That is the GP's (Gaussian) log marginal likelihood."),
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_t(
                 np.zeros(len(y)), (nu - 2) / nu * K, df=nu).logpdf(y)),
-                "The noise s^2 I belongs in the covariance."),
+                "The noise sigma^2 I belongs in the covariance: K_y = K + sigma^2 I."),
         ),
         hint="scipy.stats.multivariate_t takes a shape matrix, not a covariance; its documentation (or Shah et "
              "al., 2014, section 2) says how the two differ.",
-        on_linalg_error="K alone can be numerically singular; the covariance is K + s^2 I.",
+        on_linalg_error="K alone can be numerically singular; the covariance is K_y = K + sigma^2 I.",
         explanation="It matches the package's StudentTProcess.log_marginal_likelihood, the quantity Adam climbs.",
     ),
     "2.7": CodingExercise(
@@ -336,21 +340,23 @@ MODEL_EXERCISES = {
         cases=_pull_cases,
         mistakes=(
             Mistake(lambda residual, nu, scale: np.asarray(residual) / scale**2,
-                    "That is a Gaussian likelihood's pull, r / s^2: it grows without end, so an outlier pulls hardest."),
+                    "That is a Gaussian likelihood's pull, r / sigma_t^2: it grows without end, so an outlier "
+                    "pulls hardest."),
             Mistake(lambda residual, nu, scale: -_pull(residual, nu, scale),
                     "The sign: a point above the function (r = y - f > 0) pulls it up."),
             Mistake(lambda residual, nu, scale: np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
                     "The factor nu + 1 from the exponent -(nu + 1)/2 is missing."),
             Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
-                    "The scale s is missing: the residual is measured in units of s, nu s^2 + r^2."),
+                    "The scale sigma_t is missing: the residual is measured in units of sigma_t, "
+                    "nu sigma_t^2 + r^2."),
             Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
-                    "The scale enters squared, as the residual does: nu s^2 + r^2."),
+                    "The scale enters squared, as the residual does: nu sigma_t^2 + r^2."),
             Mistake(lambda residual, nu, scale: nu * np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
                     "The factor in front comes from the exponent -(nu + 1)/2: nu + 1, not nu."),
         ),
-        hint="Differentiate -(nu + 1)/2 log(1 + r^2 / (nu s^2)) with r = y - f; d r / d f = -1.",
-        explanation="It grows with the residual up to |r| = sqrt(nu) s, then falls towards 0: the farther a point "
-                    "lies from the function, the less it pulls. That is how this model discounts outliers, which "
+        hint="Differentiate -(nu + 1)/2 log(1 + r^2 / (nu sigma_t^2)) with r = y - f; d r / d f = -1.",
+        explanation="It grows with the residual up to |r| = sqrt(nu) sigma_t, then falls towards 0: the farther a "
+                    "point lies from the function, the less it pulls. That is how this model discounts outliers, which "
                     "the TP's posterior mean does not.",
     ),
 }
