@@ -13,6 +13,33 @@ def one_line_warning(message, category, *args, **kwargs) -> str:
     return f"warning: {message}\n"
 
 
+def lock_folder(folder, name: str, what: str):
+    """Hold ``folder``'s lock file ``name`` for this process, or say that another ``what`` holds it.
+
+    Returns the open lock file (closing it releases the lock); None where the
+    platform has no ``fcntl`` (Windows), which then runs without one.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not on Linux or macOS
+        return None
+    folder = Path(folder)
+    handle = open(folder / name, "a+")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        handle.seek(0)
+        holder = handle.read().strip()
+        handle.close()
+        raise ValueError(f"another {what} is running in {folder}{f' (process {holder})' if holder else ''}; "
+                         "wait for it to finish, or use another folder") from None
+    handle.seek(0)
+    handle.truncate()
+    handle.write(f"{os.getpid()}\n")
+    handle.flush()
+    return handle
+
+
 class StoredResultError(ValueError):
     """A stored result that cannot be used: the message names the file and what is wrong with it."""
 

@@ -374,3 +374,29 @@ def test_a_comparison_of_two_runs_is_refused(sweep, tmp_path):
     with pytest.raises(StoredResultError, match=r"tp/ and gp/ are not one paired comparison \(n_switch_states 1 "
                                                 r"against 2, seed \d+ against \d+\)"):
         Comparison.load(other)
+
+
+def test_a_run_of_another_model_does_not_replace_a_stored_run(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert main(["run", *SETTINGS, "--out", str(out)]) == 0
+    err = usage_error(["run", *SETTINGS, "--model", "gp", "--out", str(out)], capsys)
+    assert "holds a run of other settings (model: stored 'tp', now 'gp')" in err
+    assert json.loads((out / "result.json").read_text())["config"]["model"] == "tp"
+    assert main(["run", *SETTINGS, "--out", str(out)]) == 0  # the same settings again: replaced, as said
+
+
+@pytest.mark.parametrize("command", ["run", "compare"])
+def test_a_second_command_writing_the_same_out_is_refused_while_the_first_runs(tmp_path, capsys, command):
+    from sarsp_edu._io import lock_folder
+    from sarsp_edu.sweep import LOCK_NAME
+
+    out = tmp_path / "busy"
+    out.mkdir()
+    holder = lock_folder(out, LOCK_NAME, "sweep")  # another process's command, in the middle of its run
+    try:
+        err = usage_error([command, *SETTINGS, "--out", str(out)], capsys)
+    finally:
+        holder.close()
+    assert f"another sarsp-edu command is running in {out} (process " in err
+    assert not (out / "result.json").exists() and not (out / "tp").exists()
+    assert main([command, *SETTINGS, "--out", str(out)]) == 0  # once it is done, the folder is free

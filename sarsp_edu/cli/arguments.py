@@ -161,14 +161,17 @@ def check_out(parser: argparse.ArgumentParser, out, command: str, config=None, o
         parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
                      f"or one holding a {command}'s results")
     if command in ("run", "compare") and config is not None and not overwrite:
-        differing = stored_settings_differ(path / _MARKERS[command], config)
+        differing = stored_settings_differ(path / _MARKERS[command], config, same_model=command == "run")
         if differing:
             parser.error(f"--out {out} holds a {command} of other settings ({differing}); to keep both, give "
                          "another folder; to replace it, add --overwrite")
 
 
-def stored_settings_differ(result_json, config) -> str:
-    """The settings in which a stored run differs from ``config``, in a line ('' when none)."""
+def stored_settings_differ(result_json, config, same_model: bool = True) -> str:
+    """The settings in which a stored run differs from ``config``, in a line ('' when none).
+
+    With ``same_model=False`` (a comparison, whose ``tp/`` is read) the model is not compared.
+    """
     from .._io import StoredResultError, read_json
     from ..config import ExperimentConfig
 
@@ -176,7 +179,7 @@ def stored_settings_differ(result_json, config) -> str:
         stored = read_json(result_json, keys=("config",))["config"]
     except StoredResultError:
         return f"{result_json} cannot be read"
-    ours = config.replace(model=stored.get("model", config.model)).to_dict()
+    ours = (config if same_model else config.replace(model=stored.get("model", config.model))).to_dict()
     known = {f.name for f in dataclasses.fields(ExperimentConfig)}
     fields_ = sorted(k for k in known if stored.get(k, ours[k]) != ours[k] or k not in stored)
     return ", ".join(f"{k}: stored {stored.get(k, 'nothing')!r}, now {ours[k]!r}" for k in fields_)

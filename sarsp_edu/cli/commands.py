@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import os
 import platform
@@ -26,7 +27,10 @@ def _run(args, parser) -> int:
 
     config = config_from_args(parser, args)
     check_out(parser, args.out, "run", config, args.overwrite)
-    result = run_experiment(config, progress=not args.quiet)
+    with _out_lock(parser, args.out, "run"):
+        result = run_experiment(config, progress=not args.quiet)
+        if args.out:
+            saved = result.save(args.out)
     import pandas as pd
 
     table = pd.DataFrame({config.model.upper(): displayed_summary(result.summary)}).loc[list(SUMMARY_METRICS)]
@@ -36,8 +40,32 @@ def _run(args, parser) -> int:
     print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "
           f"decisions with no safe action: {backup_share(records):.0%}")
     if args.out:
-        print(f"saved to {result.save(args.out)}")
+        print(f"saved to {saved}")
     return 0
+
+
+@contextlib.contextmanager
+def _out_lock(parser, out, command: str):
+    """Hold ``--out``'s lock (the one a sweep takes) from the run's start to its save: two commands never
+    write one folder at once."""
+    from pathlib import Path
+
+    from .._io import lock_folder
+    from ..sweep import LOCK_NAME
+
+    if out is None:
+        yield
+        return
+    Path(out).mkdir(parents=True, exist_ok=True)
+    try:
+        lock = lock_folder(out, LOCK_NAME, "sarsp-edu command")
+    except ValueError as exc:
+        parser.error(str(exc))
+    try:
+        yield
+    finally:
+        if lock is not None:
+            lock.close()
 
 
 def _compare(args, parser) -> int:
@@ -45,10 +73,13 @@ def _compare(args, parser) -> int:
 
     config = config_from_args(parser, args)
     check_out(parser, args.out, "compare", config, args.overwrite)
-    try:
-        comparison = compare(config, progress=not args.quiet, a=args.a, n_jobs=args.jobs)
-    except ValueError as exc:
-        parser.error(str(exc))
+    with _out_lock(parser, args.out, "compare"):
+        try:
+            comparison = compare(config, progress=not args.quiet, a=args.a, n_jobs=args.jobs)
+        except ValueError as exc:
+            parser.error(str(exc))
+        if args.out:
+            saved = comparison.save(args.out)
     print(f"TP vs GP, paired: {_describe(config)}")
     print(_format_table(comparison.table()))
     verdict = comparison.verdict
@@ -59,7 +90,7 @@ def _compare(args, parser) -> int:
         print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
               f"GP preferred to TP: {verdict['gp_preferred']}")
     if args.out:
-        print(f"saved to {comparison.save(args.out)}")
+        print(f"saved to {saved}")
     return 0
 
 

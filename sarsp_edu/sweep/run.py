@@ -14,7 +14,7 @@ import signal
 import warnings
 from pathlib import Path
 
-from .._io import StoredResultError, atomic_write_text, one_line_warning, read_json, staging_directory
+from .._io import StoredResultError, atomic_write_text, lock_folder, one_line_warning, read_json, staging_directory
 from .._validation import check_fraction, check_int, check_positive
 from .._version import __version__
 from ..config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES, ExperimentConfig
@@ -27,32 +27,6 @@ from .stored import SweepResults, load_cell, stored_sweep
 
 
 LOCK_NAME = ".sweep.lock"
-
-
-def _lock_folder(results_dir: Path):
-    """Hold ``results_dir``'s lock for this process, or say that another sweep holds it.
-
-    Returns the open lock file (closing it releases the lock); None where the
-    platform has no ``fcntl`` (Windows), which then runs without one.
-    """
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not on Linux or macOS
-        return None
-    handle = open(results_dir / LOCK_NAME, "a+")
-    try:
-        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        handle.seek(0)
-        holder = handle.read().strip()
-        handle.close()
-        raise ValueError(f"another sweep is running in {results_dir}{f' (process {holder})' if holder else ''}; "
-                         "wait for it to finish, or use another folder") from None
-    handle.seek(0)
-    handle.truncate()
-    handle.write(f"{os.getpid()}\n")
-    handle.flush()
-    return handle
 
 
 # --------------------------------------------------------------------------
@@ -216,7 +190,7 @@ def run_sweep(
     try:
         if folder is not None:
             folder.mkdir(parents=True, exist_ok=True)
-            lock = _lock_folder(folder)
+            lock = lock_folder(folder, LOCK_NAME, "sweep")
             _prepare_folder(folder, base, keys)
             for key in keys:
                 cell = folder / "cells" / _cell_name(*key)
