@@ -368,6 +368,9 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
             with open(handle, "wb") as stream, zipfile.ZipFile(stream, "w", zipfile.ZIP_DEFLATED) as archive:
                 for path, name in files:
                     archive.write(path, Path("sarsp-edu-course") / name)
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)  # as any new file, not mkstemp's 0600
             Path(temporary).replace(zip_path)
         except BaseException:
             Path(temporary).unlink(missing_ok=True)

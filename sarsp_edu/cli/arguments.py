@@ -185,11 +185,22 @@ def stored_settings_differ(result_json, config, same_model: bool = True) -> str:
     return ", ".join(f"{k}: stored {stored.get(k, 'nothing')!r}, now {ours[k]!r}" for k in fields_)
 
 
-def check_file(parser: argparse.ArgumentParser, flag: str, name) -> None:
-    """Refuse an output file that could not be written, before any work starts."""
+def check_file(parser: argparse.ArgumentParser, flag: str, name, overwrite: bool | None = None) -> None:
+    """Refuse an output file that could not or should not be written, before any work starts.
+
+    Only a regular file is replaced (a symbolic link, a device or a pipe
+    would be swapped for a file), and with ``overwrite=False`` not even that.
+    """
     from pathlib import Path
 
     path = Path(name)
+    if path.is_symlink():
+        parser.error(f"{flag} {name} is a symbolic link; give the file itself or a new name (writing would replace "
+                     "the link by a file)")
     if path.is_dir():
         parser.error(f"{flag} {name} is a folder; give a file name")
+    if path.exists() and not path.is_file():
+        parser.error(f"{flag} {name} is not a regular file (a device, a pipe or a socket); give a new file name")
+    if path.exists() and overwrite is False:
+        parser.error(f"{flag} {name} exists; add --overwrite to replace it, or give a new name")
     check_writable(parser, flag, name, path.parent)

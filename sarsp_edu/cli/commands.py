@@ -354,6 +354,20 @@ def _ablation(args, parser) -> int:
     return 0
 
 
+def _check_pages_out(parser, out, overwrite: bool) -> None:
+    """Refuse a pages folder that holds results, or pages already unless ``--overwrite``."""
+    from .arguments import _MARKERS
+
+    held = next((kind for kind, marker in _MARKERS.items() if (out / marker).exists()), None)
+    if held:
+        parser.error(f"--out {out} holds a {held}'s results; give the pages a folder of their own")
+    pages = sorted(p.name for p in out.glob("*.html")) if out.is_dir() else []
+    if pages and not overwrite:
+        parser.error(f"--out {out} holds pages already ({', '.join(pages[:3])}{' ...' if len(pages) > 3 else ''}); "
+                     "add --overwrite to replace them, or give a new folder")
+    check_writable(parser, "--out", str(out), out)
+
+
 def _course(args, parser) -> int:
     from pathlib import Path
 
@@ -368,7 +382,7 @@ def _course(args, parser) -> int:
             else:
                 if args.out is None:
                     parser.error("pages needs --out DIR")
-                check_writable(parser, "--out", args.out, Path(args.out))
+                _check_pages_out(parser, Path(args.out), args.overwrite)
                 written = [write_pages(args.tutorials, args.out, mathjax=args.mathjax)]
         except (FileNotFoundError, ValueError) as exc:
             parser.error(str(exc))
@@ -378,9 +392,12 @@ def _course(args, parser) -> int:
     if (args.out is None) == (args.zip is None):
         parser.error("handout needs --out DIR or --zip FILE")
     if args.out is not None:
+        if any(Path(args.out).glob("tutorials/[0-9][0-9]_*.ipynb")):
+            parser.error(f"--out {args.out} holds a course hand-out already (written earlier); give a new or empty "
+                         "folder, or remove it first")
         check_out(parser, args.out, "handout")
     else:
-        check_file(parser, "--zip", args.zip)
+        check_file(parser, "--zip", args.zip, overwrite=args.overwrite)
     try:
         made = write_handout(args.root, out=args.out, zip_path=args.zip)
     except (FileNotFoundError, ValueError) as exc:

@@ -166,6 +166,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="pages: a MathJax 2 folder (holding MathJax.js) to copy beside the pages "
                         "[default: Debian's libjs-mathjax where installed, else a CDN]")
     course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
+    course.add_argument("--overwrite", action="store_true",
+                        help="pages: replace pages already in --out; handout: replace an existing --zip file")
     course.set_defaults(func=_course, parser=course)
 
     info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies, and the presets")
