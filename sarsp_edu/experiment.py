@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ._threads import one_blas_thread
-from .config import DEFINITION_4_A, ExperimentConfig
+from .config import DEFINITION_4_A, ExperimentConfig, config_or_default
 from .kernels import RBF
 from .metrics import RECORD_COLUMNS, check_a, running_metrics
 from .preparation import Prepared, prepare
@@ -353,7 +353,7 @@ def run_experiment(config: ExperimentConfig | None = None, progress: bool = Fals
     -------
     ExperimentResult
     """
-    return _finish(Experiment(ExperimentConfig() if config is None else config), progress)
+    return _finish(Experiment(config_or_default(config)), progress)
 
 
 def compare(config: ExperimentConfig | None = None, progress: bool = False, a: float = DEFINITION_4_A,
@@ -384,7 +384,7 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     """
     from ._parallel import available_cores, in_second_process, stop_workers
 
-    config = ExperimentConfig() if config is None else config
+    config = config_or_default(config)
     check_a(a)  # before any work starts
     if n_jobs is None:
         n_jobs = 2 if available_cores() >= 2 else 1

@@ -11,10 +11,10 @@ build its flags (and answer ``--help``) at once.
 
 from .defaults import *  # noqa: F401,F403
 from .defaults import __all__ as _defaults
-from .experiment_config import PRESET_DOCS, PRESET_FIELDS, PRESETS, ExperimentConfig, preset_of
+from .experiment_config import PRESET_DOCS, PRESET_FIELDS, PRESETS, ExperimentConfig, config_or_default, preset_of
 from .settings import CHECKS, AgentSettings, DataSettings, ModelSettings, WorldSettings
 
 __all__ = [
     *_defaults, "CHECKS", "AgentSettings", "DataSettings", "ExperimentConfig", "ModelSettings", "PRESETS",
-    "PRESET_DOCS", "PRESET_FIELDS", "WorldSettings", "preset_of",
+    "PRESET_DOCS", "PRESET_FIELDS", "WorldSettings", "config_or_default", "preset_of",
 ]

@@ -267,3 +267,19 @@ def preset_of(config: "ExperimentConfig") -> str:
         if all(getattr(config, key) == value for key, value in values.items()):
             return name
     return "custom"
+
+
+def config_or_default(config, name: str = "config") -> "ExperimentConfig":
+    """``config`` checked to be an :class:`ExperimentConfig` (None: the default one).
+
+    Raises
+    ------
+    TypeError
+        Naming the type given and how to make a config (a dict of settings is ``ExperimentConfig(**settings)``).
+    """
+    if config is None:
+        return ExperimentConfig()
+    if not isinstance(config, ExperimentConfig):
+        hint = "; make one with ExperimentConfig(**settings)" if isinstance(config, dict) else ""
+        raise TypeError(f"{name} must be an ExperimentConfig, got {type(config).__name__}{hint}")
+    return config

@@ -8,6 +8,8 @@ and run the check of each of their fields from :data:`CHECKS`.
 from __future__ import annotations
 
 import dataclasses
+import decimal
+import fractions
 import numbers
 from dataclasses import dataclass, field, fields
 
@@ -42,12 +44,15 @@ from .defaults import (
 
 
 def _plain(value):
-    """A numpy scalar as the Python number it holds (``np.int64(2)`` -> ``2``); anything else unchanged.
+    """A numpy scalar as the Python number it holds (``np.int64(2)`` -> ``2``), a Decimal or Fraction as a float;
+    anything else unchanged.
 
     Settings are saved as JSON, which takes Python numbers only.
     """
     if type(value).__module__ == "numpy" and getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
         return value.item()
+    if isinstance(value, (decimal.Decimal, fractions.Fraction)):  # exact numbers: the float they are closest to
+        return float(value)
     return value
 
 

@@ -17,7 +17,8 @@ from pathlib import Path
 from .._io import StoredResultError, atomic_write_text, lock_folder, one_line_warning, read_json, staging_directory
 from .._validation import check_fraction, check_int, check_positive
 from .._version import __version__
-from ..config import DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES, ExperimentConfig
+from ..config import (DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES, ExperimentConfig,
+                      config_or_default)
 from ..experiment import compare
 from ..metrics import check_a
 from ..results import Comparison
@@ -165,7 +166,7 @@ def run_sweep(
     SweepResults
         Every cell of the grid: those run now and those found in ``results_dir``.
     """
-    base = ExperimentConfig() if config is None else config
+    base = config_or_default(config)
     seeds = _grid("seeds", seeds, lambda v: check_int("seeds", v, 0))
     if cells is None:
         magnitudes = _grid("magnitudes", magnitudes, lambda v: check_positive("magnitudes", v))
