@@ -29,3 +29,32 @@ def test_a_config_of_the_wrong_type_is_named_with_the_type_expected(function):
     with pytest.raises(TypeError, match=r"config must be an ExperimentConfig, got dict; make one with "
                                         r"ExperimentConfig\(\*\*settings\)"):
         function({"episodes": 1})
+
+
+TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=2, offline_episodes=5, cost_fit_points=50,
+                        reward_fit_points=50, k_prior=20, optimizer_steps=3)
+
+
+def test_a_thousand_jobs_for_one_cell_start_one_worker_and_say_so():
+    with pytest.warns(UserWarning, match=r"n_jobs=1000: running 1 worker process, for 1 cell to run on \d+ cores? "
+                                         r"\(more would only wait\)"):
+        results = run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1,), n_jobs=1000)
+    assert len(results) == 1
+
+
+def test_the_registered_world_takes_the_configs_bounds():
+    import gymnasium
+
+    import sarsp_edu  # noqa: F401  (registers the environment)
+
+    with pytest.raises(ValueError, match=r"size must be an integer from 2 to 50 .* got size=1000000"):
+        gymnasium.make("sarsp_edu/SafeGridWorld-v0", size=10**6)
+
+
+@pytest.mark.parametrize("start", [(1.7, 2.2), "12", (True, False), (1, 2, 3), (1,), None])
+def test_a_start_that_is_not_a_pair_of_integers_is_refused(start):
+    from sarsp_edu.gridworld import SafeGridWorld
+
+    env = SafeGridWorld(seed=0)
+    with pytest.raises(ValueError, match=r"start must be a pair of integers \(x, y\), got start="):
+        env.reset(options={"start": start})

@@ -10,7 +10,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .._validation import check_choice, check_int, check_positive, check_switch_states
-from ..config import PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
+from ..config import LIMITS, PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
 from ..rng import as_generator
 from .layout import MOVES, PLACEMENT_ATTEMPTS, GridLayout
 from .rendering import Rendering
@@ -120,11 +120,12 @@ class SafeGridWorld(Rendering, gym.Env):
         render_mode: str | None = None,
         seed=None,
     ):
-        self.size = check_int("size", size, 2)
+        self.size = check_int("size", size, 2, LIMITS["grid_size"][0], why=LIMITS["grid_size"][1])
         self.placement = check_choice("placement", placement, PLACEMENTS)
         self.n_unsafe = check_n_unsafe(n_unsafe, self.size, self.placement)
         self.d = check_positive("d", d)
-        max_steps = check_int("max_steps", max_steps, 1, allow_none=True)
+        max_steps = check_int("max_steps", max_steps, 1, LIMITS["max_steps"][0], allow_none=True,
+                              why=LIMITS["max_steps"][1])
         self.max_steps = self.size * self.size if max_steps is None else max_steps
         self.render_mode = check_choice("render_mode", render_mode, [None, *self.metadata["render_modes"]])
 
@@ -324,10 +325,12 @@ class SafeGridWorld(Rendering, gym.Env):
         return observation, info
 
     def _checked_cell(self, name, cell):
-        try:
-            x, y = (int(v) for v in cell)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be a pair of integers (x, y), got {name}={cell!r}") from None
+        whole = (isinstance(cell, (tuple, list, np.ndarray)) and len(cell) == 2
+                 and all(isinstance(v, (numbers.Integral, np.integer)) and not isinstance(v, (bool, np.bool_))
+                         for v in cell))
+        if not whole:
+            raise ValueError(f"{name} must be a pair of integers (x, y), got {name}={cell!r}")
+        x, y = (int(v) for v in cell)
         if not (0 <= x < self.size and 0 <= y < self.size):
             raise ValueError(f"{name} must lie on the grid, 0 <= x, y < {self.size}, got {name}={cell!r}")
         if np.any(np.all(self._unsafe == (x, y), axis=1)):

@@ -218,13 +218,28 @@ def run_sweep(
     return results
 
 
+def _workers(n_jobs: int, cells: int) -> int:
+    """Worker processes for ``cells`` cells: at most one per cell and per core (said when fewer than asked)."""
+    from .._parallel import available_cores
+
+    cores = available_cores()
+    workers = max(1, min(cores if n_jobs == -1 else n_jobs, cells, cores))
+    if n_jobs != -1 and workers < n_jobs:
+        warnings.warn(f"n_jobs={n_jobs}: running {workers} worker process{'es' if workers > 1 else ''}, for "
+                      f"{cells} cell{'s' if cells > 1 else ''} to run on {cores} core{'s' if cores > 1 else ''} "
+                      "(more would only wait)", UserWarning, stacklevel=4)
+    return workers
+
+
 def _execute(base, todo, folder, n_jobs, scheduler):
     """Yield (key, Comparison) as cells finish, in any order."""
     if not todo:
         return
     if scheduler is not None:
         yield from _execute_dask(base, todo, folder, scheduler)
-    elif n_jobs == 1:
+        return
+    n_jobs = _workers(n_jobs, len(todo))
+    if n_jobs == 1:
         for key in todo:
             yield _run_cell(base, key, folder)
     else:
