@@ -113,8 +113,9 @@ def check_switch_states(n_switch_states, n_unsafe: int) -> int:
 
 
 # -- model data (numpy is imported inside: config, which loads no numerical library, imports this module) --
-#: |values| beyond this overflow float64 once squared (distances, y^T K^-1 y)
-LARGEST = 1e150
+#: |values| beyond this overflow float64 in a fit: squared in distances and y^T K^-1 y, and squared again in the
+#: optimiser's second moments of the likelihood's gradient (1e75^4 = 1e300)
+LARGEST = 1e75
 
 
 def check_X(X, name="X", n_features=None):
@@ -151,8 +152,8 @@ def check_scale(name: str, values) -> None:
     largest = float(np.max(np.abs(values)))
     if largest > LARGEST:
         raise ValueError(
-            f"{name} holds values as large as {largest:.3g}, whose squares overflow float64 in the kernel "
-            f"and the likelihood; rescale {name} (divide it by its standard deviation, say)"
+            f"{name} holds values as large as {largest:.3g}, beyond {LARGEST:g}: their squares (and the "
+            f"fit's squared gradients) overflow float64; rescale {name} (divide it by its standard deviation, say)"
         )
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from decimal import Decimal
 from fractions import Fraction
 
@@ -58,3 +59,55 @@ def test_a_start_that_is_not_a_pair_of_integers_is_refused(start):
     env = SafeGridWorld(seed=0)
     with pytest.raises(ValueError, match=r"start must be a pair of integers \(x, y\), got start="):
         env.reset(options={"start": start})
+
+
+@pytest.mark.parametrize("scale", [1e150, 1e76, 1e-300])
+def test_targets_whose_squares_overflow_are_named_with_their_scale(scale):
+    from sarsp_edu import GaussianProcess, StudentTProcess
+
+    X = np.linspace(0, 5, 20)[:, None]
+    y = np.sin(X[:, 0])
+    for model in (GaussianProcess(), StudentTProcess()):
+        if scale > 1:
+            with pytest.raises(ValueError, match=rf"y holds values as large as {re.escape(f'{scale:.3g}')}, beyond 1e\+75: their "
+                                                 r"squares \(and the fit's squared gradients\) overflow float64; "
+                                                 r"rescale y"):
+                model.fit(X, scale * y / np.abs(y).max())
+        else:  # tiny targets are fitted as they are: no error, no NaN
+            assert np.isfinite(model.fit(X, scale * y).predict(X)).all()
+
+
+SMALL_RUN = ["--episodes", "1", "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--quiet"]
+
+
+def _cli(*args, **kwargs):
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, **kwargs.pop("env", {})}
+    return subprocess.run([sys.executable, "-m", "sarsp_edu.cli", *args], capture_output=True, text=True, env=env,
+                          **kwargs)
+
+
+def test_a_path_the_terminal_cannot_encode_is_escaped_after_the_save(tmp_path):
+    out = tmp_path / "日本"
+    done = _cli("run", *SMALL_RUN, "--out", str(out), env={"PYTHONIOENCODING": "ascii"})
+    assert done.returncode == 0, done.stderr
+    assert "saved to " in done.stdout and "\\u65e5\\u672c" in done.stdout and "Traceback" not in done.stderr
+    assert (out / "result.json").is_file()
+
+
+def test_a_reader_that_leaves_early_ends_the_command_quietly():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parents[1] / "results" / "sweep-reduced"
+    process = subprocess.Popen([sys.executable, "-m", "sarsp_edu.cli", "tables", str(folder)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    process.stdout.readline()
+    process.stdout.close()  # 'tables ... | head -1'
+    err = process.stderr.read().decode()
+    assert process.wait(timeout=120) == 141
+    assert "Broken pipe" not in err and "Traceback" not in err

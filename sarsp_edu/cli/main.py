@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from .._version import __version__
@@ -188,6 +189,11 @@ def main(argv: list[str] | None = None) -> int:
     from .._io import one_line_warning
 
     warnings.formatwarning = one_line_warning  # a warning is one line to a terminal user
+    for stream in (sys.stdout, sys.stderr):  # a path the terminal's encoding cannot show is escaped, not fatal
+        try:
+            stream.reconfigure(errors="backslashreplace")
+        except (AttributeError, ValueError):  # not a text stream of its own (a test's capture, say)
+            pass
     parser = build_parser()
     args = parser.parse_args(argv)
     if not hasattr(args, "func"):
@@ -198,6 +204,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(_interrupted(args), file=sys.stderr)
         return 130  # the shell's code for a command ended by Ctrl-C
+    except BrokenPipeError:  # the reader left ('tables ... | head'): stop quietly, as other tools do
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush finds no pipe either
+        return 141  # the shell's code for a command ended by SIGPIPE
     except OSError as exc:  # a full disk, a folder made read-only meanwhile: one line, not a traceback
         print(f"sarsp-edu {args.command}: error: {exc}", file=sys.stderr)
         return 1
