@@ -111,3 +111,27 @@ def test_a_reader_that_leaves_early_ends_the_command_quietly():
     err = process.stderr.read().decode()
     assert process.wait(timeout=120) == 141
     assert "Broken pipe" not in err and "Traceback" not in err
+
+
+def test_an_ablation_cell_with_a_fractional_nss_is_refused(capsys):
+    err = usage_error(["ablation", "--cells", "40", "0.2", "2.7", "--episodes", "1"], capsys)
+    assert err.endswith("--cells: each triple's third number, nss, must be a whole number of switch states, got 2.7")
+
+
+def test_a_sweep_resumed_with_one_grid_flag_takes_the_others_from_the_stored_sweep(tmp_path):
+    out = tmp_path / "sweep"
+    assert main(["sweep", *SMALL_RUN, "--m", "40", "--p", "0.2", "--nss", "1", "--out", str(out)]) == 0
+    assert main(["sweep", *SMALL_RUN, "--nss", "2", "--out", str(out)]) == 0
+    cells = sorted(p.name for p in (out / "cells").iterdir())
+    assert cells == ["m40_p0.2_nss1_seed0", "m40_p0.2_nss2_seed0"], cells  # not the paper's 3 x 3 x 1 grid
+
+
+def test_a_dangling_or_looping_symlink_as_out_is_named_as_such(tmp_path, capsys):
+    dangling, looping = tmp_path / "dangling", tmp_path / "looping"
+    dangling.symlink_to(tmp_path / "nowhere")
+    looping.symlink_to(looping)
+    err = usage_error(["run", *SMALL_RUN, "--out", str(dangling)], capsys)
+    assert err.endswith(f"is a symbolic link to {tmp_path / 'nowhere'}, which does not exist; make that folder or "
+                        "remove the link")
+    err = usage_error(["compare", *SMALL_RUN, "--out", str(looping / "sub")], capsys)
+    assert err.endswith(f"cannot be made: {looping} is a symbolic link that loops")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import errno
 import os
 import sys
 
@@ -117,6 +118,16 @@ def check_writable(parser: argparse.ArgumentParser, flag: str, name, path) -> No
     made = []
     ancestor = path
     while not ancestor.exists():
+        if ancestor.is_symlink():  # a link to nothing: exists() is False, yet no folder can be made there
+            try:
+                ancestor.resolve(strict=True)
+                loops = False
+            except (RuntimeError, OSError) as exc:  # Python 3.13 says a loop with OSError(ELOOP)
+                loops = isinstance(exc, RuntimeError) or exc.errno == errno.ELOOP
+            if loops:
+                parser.error(f"{flag} {name} cannot be made: {ancestor} is a symbolic link that loops")
+            parser.error(f"{flag} {name} cannot be made: {ancestor} is a symbolic link to {os.readlink(ancestor)}, "
+                         "which does not exist; make that folder or remove the link")
         made.append(ancestor)
         ancestor = ancestor.parent
     if not ancestor.is_dir():

@@ -123,6 +123,8 @@ def _sweep(args, parser) -> int:
 
         defaults = {"magnitudes": PAPER_MAGNITUDES, "proportions": PAPER_PROPORTIONS, "nss": PAPER_SWITCH_STATES,
                     "seeds": (0,)}
+        if stored is not None and stored[1]:  # flags not given: the stored sweep's values, as the help says
+            defaults = {name: sorted({key[axis] for key in stored[1]}) for axis, name in enumerate(defaults)}
         grid = {name: defaults[name] if values is None else values for name, values in grid.items()}
         keys = [(float(m), float(p), int(nss), int(seed)) for seed in grid["seeds"] for m in grid["magnitudes"]
                 for p in grid["proportions"] for nss in grid["nss"]]
@@ -331,7 +333,12 @@ def _ablation(args, parser) -> int:
     if args.cells:
         if len(args.cells) % 3:
             parser.error(f"--cells takes m p nss triples, got {len(args.cells)} numbers")
-        cells = [(args.cells[i], args.cells[i + 1], int(args.cells[i + 2])) for i in range(0, len(args.cells), 3)]
+        cells = [(args.cells[i], args.cells[i + 1], args.cells[i + 2]) for i in range(0, len(args.cells), 3)]
+        fractional = [nss for _, _, nss in cells if not float(nss).is_integer()]
+        if fractional:
+            parser.error(f"--cells: each triple's third number, nss, must be a whole number of switch states, got "
+                         f"{fractional[0]:g}")
+        cells = [(m, p, int(nss)) for m, p, nss in cells]
     else:
         from ..config import ABLATION_CELLS as cells
     check_out(parser, args.out, "ablation")
