@@ -53,6 +53,11 @@ def read_json(path, keys=()) -> dict:
         raise
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise StoredResultError(f"{path} cannot be read ({exc}); it was probably cut short") from None
+    except RecursionError:
+        raise StoredResultError(f"{path} cannot be read: it nests lists or objects thousands deep, as no stored "
+                                "result does; restore it") from None
+    except ValueError as exc:  # an integer of more digits than Python converts (sys.get_int_max_str_digits)
+        raise StoredResultError(f"{path} cannot be read ({exc}); no stored result holds such a number") from None
     missing = [key for key in keys if not isinstance(payload, dict) or key not in payload]
     if missing:
         raise StoredResultError(f"{path} lacks {', '.join(repr(k) for k in missing)}")

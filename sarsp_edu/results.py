@@ -100,6 +100,10 @@ class ExperimentResult:
         except (TypeError, ValueError) as exc:
             raise StoredResultError(f"{meta_path} holds an invalid config: {exc}") from None
         records = _read_records(csv_path, config.episodes)
+        for key in ("timings", "code"):
+            if not isinstance(payload.get(key, {}), dict):
+                raise StoredResultError(f"{meta_path} holds {key}={payload[key]!r}, where a result stores an object "
+                                        "(names and values); it was edited")
         result = cls(config, records, payload.get("timings", {}), payload.get("code") or {})
         _check_summary(meta_path, payload.get("summary"), result.summary)
         _check_ranges(csv_path, records, config)

@@ -135,3 +135,31 @@ def test_a_dangling_or_looping_symlink_as_out_is_named_as_such(tmp_path, capsys)
                         "remove the link")
     err = usage_error(["compare", *SMALL_RUN, "--out", str(looping / "sub")], capsys)
     assert err.endswith(f"cannot be made: {looping} is a symbolic link that loops")
+
+
+@pytest.fixture
+def sweep_copy(tmp_path):
+    import shutil
+    from pathlib import Path
+
+    folder = tmp_path / "s"
+    shutil.copytree(Path(__file__).resolve().parents[1] / "results" / "sweep-reduced", folder)
+    return folder
+
+
+def test_stored_json_nested_deep_or_holding_huge_numbers_or_wrong_types_is_named(sweep_copy, capsys):
+    (sweep_copy / "sweep.json").write_text("[" * 100_000 + "]" * 100_000)
+    assert usage_error(["tables", str(sweep_copy)], capsys).endswith(
+        "sweep.json cannot be read: it nests lists or objects thousands deep, as no stored result does; restore it")
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda text: json.dumps({**json.loads(text), "code": [1, 2]}),
+     r"tp/result.json holds code=\[1, 2\], where a result stores an object \(names and values\); it was edited"),
+    (lambda text: re.sub(r'"seed": \d+', '"seed": ' + "9" * 5000, text, count=1),
+     r"tp/result.json cannot be read \(Exceeds the limit \(4300 digits\).*\); no stored result holds such a number"),
+])
+def test_a_result_json_with_a_wrong_type_or_a_huge_number_is_named(sweep_copy, capsys, edit, message):
+    result = next((sweep_copy / "cells").glob("*/tp/result.json"))
+    result.write_text(edit(result.read_text()))
+    assert re.search(message, usage_error(["tables", str(sweep_copy)], capsys))
