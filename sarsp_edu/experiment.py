@@ -89,7 +89,7 @@ class Experiment:
     outliers, fits both models and shifts the world.
     """
 
-    def __init__(self, config: ExperimentConfig, *, prepared: Prepared | None = None):
+    def __init__(self, config: ExperimentConfig, *, prepared: Prepared | None = None, fit=None):
         if not isinstance(config, ExperimentConfig):
             raise TypeError(f"config must be an ExperimentConfig, got {type(config).__name__}")
         self.config = config
@@ -100,8 +100,8 @@ class Experiment:
         self.agent = SARSPAgent(make_model(config), make_model(config), prepared.data, config.agent_settings,
                                 rng=prepared.agent_seed)
         start = time.perf_counter()
-        with one_blas_thread():
-            self.agent.fit()
+        with one_blas_thread():  # fit: a function that gives the agent its fitted models (the fit cache's)
+            self.agent.fit() if fit is None else fit(self.agent)
         self.timings = {
             "data_seconds": prepared.seconds,
             "offline_fit_seconds": time.perf_counter() - start,
@@ -317,12 +317,11 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache
             f"so change them in config (the fields of PREPARATION_FIELDS)"
         )
     configs = {name: config.replace(**changes) for name, changes in sides.items()}  # validated before any work
-    stored = {name: fitcache.load(side) for name, side in configs.items()} if cache else {}
     prepared = None
     for name, side in configs.items():
-        experiment = stored.get(name)
+        prepared = prepare(config) if prepared is None else prepared
+        experiment = fitcache.load(side, prepared) if cache else None
         if experiment is None:
-            prepared = prepare(config) if prepared is None else prepared
             experiment = Experiment(side, prepared=prepared)
             if cache:
                 fitcache.store(experiment)

@@ -3,9 +3,20 @@
 Fitting an agent's offline models takes a few seconds (Adam on the whole
 cost buffer and on a thousand reward rows); the live dashboard
 (:class:`~sarsp_edu.live.AgentDashboard`) would make a lecturer wait for it
-after every Run All.  It therefore keeps each experiment it fits, pickled
-before the experiment's first step, and loads it the next time the same
-settings are asked for, in this kernel or a later one.
+after every Run All.  It therefore keeps what each fit computed (the fitted
+hyperparameters, the optimiser's trace, the rows it used and the Cholesky
+factor of the training covariance), and rebuilds the experiment from it the
+next time the same settings are asked for, in this kernel or a later one: the
+world and its data are prepared afresh (a fraction of a second) and the
+factor is checked against them.
+
+An entry holds arrays and JSON only (a ``.npz`` file read with
+``allow_pickle=False``), so a shared cache folder cannot make a kernel run
+anyone's code.  An entry is used only if its digest matches its contents and
+the log marginal likelihood recomputed from its factor and the freshly
+prepared data is, bit for bit, the one it stored: an edited entry (its
+factor or hyperparameters changed) or data that changed since are refused,
+removed and fitted afresh.
 
 A fit is reused only where it is the same bits a new fit would be: the
 key is the whole :class:`~sarsp_edu.config.ExperimentConfig` together with
@@ -22,17 +33,23 @@ Where: ``$SARSP_EDU_CACHE`` if set (``off`` turns the cache off), else
 :data:`CACHE_BYTES` are kept: the entries used least recently go first.
 Entries are written through a temporary file and an atomic rename, so an
 interrupted write never leaves half a fit behind; an entry that cannot be
-read is removed and fitted again.
+read is removed (where it can be) and fitted again, and a cache that cannot be
+used at all (a folder in an entry's place, a read-only folder) is skipped with
+one warning.
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import io
+import json
 import os
-import pickle
 import platform
+import warnings
 from pathlib import Path
+
+import numpy as np
 
 from ._io import atomic_write_bytes
 
@@ -40,9 +57,13 @@ __all__ = ["CACHE_BYTES", "CACHE_VARIABLE", "cache_directory", "clear", "entries
 
 #: the environment variable naming the cache folder (``off``: no cache)
 CACHE_VARIABLE = "SARSP_EDU_CACHE"
-#: the most the cache keeps on disk (an entry, one agent's fitted experiment, is about 30 MB)
+#: the most the cache keeps on disk (an entry, one agent's fitted models, is about 13 MB at the paper's settings)
 CACHE_BYTES = 256 * 2**20
-_SUFFIX = ".fit.pickle"
+_SUFFIX = ".fit.npz"
+#: the entries' layout (an entry of another layout is fitted afresh)
+_FORMAT = 1
+#: what each fitted model keeps as arrays
+_ARRAYS = ("theta_", "objective_trace_", "fit_indices_", "L_")
 _OFF = {"off", "0", "false", "no", ""}
 
 
@@ -91,20 +112,106 @@ def _path(config) -> Path | None:
     return directory / f"{config.model}-{key}{_SUFFIX}"
 
 
-def load(config):
-    """The fitted :class:`~sarsp_edu.experiment.Experiment` of ``config`` stored earlier, or None."""
+_warned = set()
+
+
+def _warn_once(problem: str) -> None:
+    """One warning per kind of problem and process: the cache is skipped, the fit is computed afresh."""
+    if problem not in _warned:
+        _warned.add(problem)
+        warnings.warn(f"the cache of fits is skipped: {problem}; the live dashboard fits afresh "
+                      f"(sarsp-edu cache --clear empties it, {CACHE_VARIABLE}=off turns it off)", stacklevel=3)
+
+
+def _digest(arrays: dict, meta: dict) -> str:
+    digest = hashlib.sha256(json.dumps(meta, sort_keys=True).encode())
+    for name in sorted(arrays):
+        array = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name} {array.dtype.str} {array.shape}".encode())
+        digest.update(array.tobytes())
+    return digest.hexdigest()
+
+
+def _models(agent) -> dict:
+    return {"cost": (agent.cost_model, agent.cost_data, agent.cost_fit_points),
+            "reward": (agent.reward_model, agent.reward_data, agent.reward_fit_points)}
+
+
+def _contents(experiment) -> tuple[dict, dict]:
+    """The arrays and the JSON that an entry keeps of a just-fitted experiment."""
+    arrays, models = {}, {}
+    for name, (model, _, _) in _models(experiment.agent).items():
+        arrays.update({f"{name}.{attribute}": getattr(model, attribute) for attribute in _ARRAYS})
+        models[name] = {"n_features_in_": int(model.n_features_in_), "n_iter_": int(model.n_iter_),
+                        "jitter_": float(model.jitter_),
+                        "log_marginal_likelihood_value_": float(model.log_marginal_likelihood_value_)}
+    meta = {"format": _FORMAT, "fingerprint": fingerprint(), "config": experiment.config.to_dict(), "models": models}
+    return arrays, meta
+
+
+def _restore(agent, arrays: dict, meta: dict) -> None:
+    """Give ``agent`` the fitted models an entry kept, on the data it holds now; ValueError where they differ.
+
+    The agent draws each fit's rows as :meth:`SARSPAgent.fit` does (its random
+    stream moves on exactly as in a fit); each model takes the stored
+    hyperparameters and factor and recomputes the rest from the rows, which
+    must give the stored log marginal likelihood bit for bit.
+    """
+    from .linalg import group_rows
+    from .rng import draw_subset
+
+    for name, (model, buffer, fit_points) in _models(agent).items():
+        rows = draw_subset(len(buffer), fit_points, agent.rng)
+        X, y = buffer.X[rows], buffer.y[rows]
+        stored = meta["models"][name]
+        model.n_features_in_, model.n_iter_ = stored["n_features_in_"], stored["n_iter_"]
+        for attribute in ("theta_", "objective_trace_", "fit_indices_"):
+            setattr(model, attribute, arrays[f"{name}.{attribute}"])
+        model.kernel_, model.noise_variance_, extra = model._unpack(model.theta_)
+        model._set_extra(extra)
+        data = group_rows(X, y)
+        L = arrays[f"{name}.L_"]
+        if L.shape != (len(data.counts), len(data.counts)):
+            raise ValueError(f"the {name} model's factor is {L.shape}, for {len(data.counts)} distinct inputs")
+        model._adopt_factor(X, y, data, L, stored["jitter_"])
+        if model.log_marginal_likelihood_value_ != stored["log_marginal_likelihood_value_"]:
+            raise ValueError(f"the {name} model's factor and hyperparameters do not give the stored likelihood on "
+                             "these data: the entry was edited, or the data changed")
+
+
+def load(config, prepared):
+    """The :class:`~sarsp_edu.experiment.Experiment` of ``config`` rebuilt from a stored fit, or None.
+
+    ``prepared`` is the world and data of ``config`` (:func:`~sarsp_edu.preparation.prepare`).
+    """
+    from .experiment import Experiment
+
     path = _path(config)
-    if path is None or not path.exists():
+    if path is None or not os.path.lexists(path):
+        return None
+    if path.is_symlink() or not path.is_file():
+        _warn_once(f"{path} is not a regular file (a folder or a link in an entry's place)")
         return None
     try:
-        with open(path, "rb") as handle:
-            experiment = pickle.load(handle)
-        if repr(experiment.config) != repr(config) or _steps_taken(experiment):
+        with np.load(path, allow_pickle=False) as stored:
+            arrays = {name: stored[name] for name in stored.files if name != "meta"}
+            meta = json.loads(str(stored["meta"]))
+        digest = meta.pop("digest", None)
+        if digest != _digest(arrays, meta) or meta.get("format") != _FORMAT:
+            raise ValueError("its digest does not match its contents")
+        if meta["fingerprint"] != fingerprint() or meta["config"] != config.to_dict():
             raise ValueError("not the fit of these settings")
-    except Exception:  # unreadable or not ours: fitted again and stored anew
-        path.unlink(missing_ok=True)
+        experiment = Experiment(config, prepared=prepared, fit=lambda agent: _restore(agent, arrays, meta))
+    except Exception:  # unreadable, edited or not ours: fitted again and stored anew
+        try:
+            path.unlink(missing_ok=True)
+        except OSError as exc:
+            _warn_once(f"{path} cannot be used nor removed ({exc.strerror or exc})")
         return None
-    os.utime(path)  # most recently used
+    try:
+        os.utime(path)  # most recently used
+    except OSError:
+        pass
     experiment.loaded_from_cache = True
     return experiment
 
@@ -116,24 +223,31 @@ def store(experiment) -> Path | None:
     path = _path(experiment.config)
     if path is None:
         return None
+    arrays, meta = _contents(experiment)
+    meta["digest"] = _digest(arrays, meta)
+    buffer = io.BytesIO()
+    np.savez(buffer, meta=np.array(json.dumps(meta)), **arrays)
     try:
-        atomic_write_bytes(path, pickle.dumps(experiment, protocol=pickle.HIGHEST_PROTOCOL))
-    except OSError:  # a full or read-only disk costs a later fit, nothing else
+        atomic_write_bytes(path, buffer.getvalue())
+    except OSError as exc:  # a full or read-only disk, a folder in the way: a later fit, nothing else
+        _warn_once(f"{path} cannot be written ({exc.strerror or exc})")
         return None
     _prune()
     return path
 
 
 def entries() -> list:
-    """The stored fits, most recently used first: ``(path, bytes)``."""
+    """The stored fits, most recently used first: ``(path, bytes)`` (regular files only)."""
     directory = cache_directory()
     if directory is None or not directory.is_dir():
         return []
     found = []
     for path in directory.glob(f"*{_SUFFIX}"):
         try:
+            if path.is_symlink() or not path.is_file():
+                continue
             stat = path.stat()
-        except FileNotFoundError:  # removed meanwhile by another kernel
+        except OSError:  # removed meanwhile by another kernel, or a link that loops
             continue
         found.append((stat.st_mtime, path, stat.st_size))
     return [(path, size) for _, path, size in sorted(found, reverse=True)]
@@ -144,7 +258,10 @@ def _prune() -> None:
     for path, size in entries():
         total += size
         if total > CACHE_BYTES:
-            path.unlink(missing_ok=True)
+            try:
+                path.unlink(missing_ok=True)
+            except OSError:
+                pass
 
 
 def clear() -> int:

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-import pickle
+import json
+import os
 
+import numpy as np
 import pytest
 
 from sarsp_edu import ExperimentConfig, fitcache
@@ -20,6 +22,12 @@ SIDES = {"tp": {"model": "tp"}, "gp": {"model": "gp"}}
 def cache(tmp_path, monkeypatch):
     monkeypatch.setenv(fitcache.CACHE_VARIABLE, str(tmp_path / "fits"))
     return tmp_path / "fits"
+
+
+def stored_config(path) -> dict:
+    """The settings an entry was fitted for, read as arrays and JSON (nothing in it can run code)."""
+    with np.load(path, allow_pickle=False) as entry:
+        return json.loads(str(entry["meta"]))["config"]
 
 
 def records(experiment):
@@ -56,7 +64,7 @@ def test_an_unreadable_entry_is_fitted_again_and_replaced(cache):
     path.write_bytes(b"half a fit")
     again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
     assert not again["gp"].loaded_from_cache
-    assert pickle.loads(path.read_bytes()).config == TINY.replace(model="gp")
+    assert stored_config(path) == TINY.replace(model="gp").to_dict()
     assert not list(cache.glob(".*.tmp"))  # written through a temporary file, none left behind
 
 
@@ -73,7 +81,7 @@ def test_the_least_recently_used_fits_go_first(cache, monkeypatch):
     monkeypatch.setattr(fitcache, "CACHE_BYTES", size + 1)  # room for one
     experiments_on_one_world(TINY.replace(seed=4), {"tp": {"model": "tp"}}, cache=True)
     (kept, _), = fitcache.entries()
-    assert pickle.loads(kept.read_bytes()).config == TINY.replace(seed=4, model="tp")
+    assert stored_config(kept) == TINY.replace(seed=4, model="tp").to_dict()
     assert fitcache.clear() == 1 and fitcache.entries() == []
 
 
@@ -89,3 +97,92 @@ def test_by_default_the_cache_lives_in_the_users_cache_folder(monkeypatch, tmp_p
     monkeypatch.delenv(fitcache.CACHE_VARIABLE)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     assert fitcache.cache_directory() == tmp_path / "sarsp_edu" / "fits"
+
+
+def _edit_entry(path, change):
+    """Rewrite an entry with ``change(arrays, meta)`` applied (its digest made to match, as a careful editor would)."""
+    from sarsp_edu.fitcache import _digest
+
+    with np.load(path, allow_pickle=False) as entry:
+        arrays = {name: entry[name].copy() for name in entry.files if name != "meta"}
+        meta = json.loads(str(entry["meta"]))
+    meta.pop("digest")
+    change(arrays, meta)
+    meta["digest"] = _digest(arrays, meta)
+    with open(path, "wb") as handle:
+        np.savez(handle, meta=np.array(json.dumps(meta)), **arrays)
+
+
+@pytest.mark.parametrize("change", [
+    lambda arrays, meta: arrays["cost.L_"].__imul__(1 + 1e-9),  # the factor of other data (zeroed labels, say)
+    lambda arrays, meta: arrays["cost.theta_"].__iadd__(0.01),  # other hyperparameters
+])
+def test_an_edited_entry_is_detected_not_loaded(cache, change):
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    (path, _), = fitcache.entries()
+    _edit_entry(path, change)
+    again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    assert not again["gp"].loaded_from_cache  # refused, fitted afresh and stored anew
+    fresh = experiments_on_one_world(TINY, {"gp": {"model": "gp"}})
+    assert records(again["gp"]) == records(fresh["gp"])
+
+
+def test_an_entry_edited_without_its_digest_is_refused(cache):
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    (path, _), = fitcache.entries()
+    with np.load(path, allow_pickle=False) as entry:
+        arrays = {name: entry[name] for name in entry.files}
+    arrays["reward.theta_"] = arrays["reward.theta_"] * 0
+    with open(path, "wb") as handle:
+        np.savez(handle, **arrays)
+    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"].loaded_from_cache
+
+
+def test_a_pickle_in_an_entrys_place_is_never_unpickled(cache, tmp_path):
+    import pickle
+
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    (path, _), = fitcache.entries()
+    marker = tmp_path / "ran"
+
+    class Payload:
+        def __reduce__(self):
+            return (open, (str(marker), "w"))
+
+    path.write_bytes(pickle.dumps(Payload()))
+    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"].loaded_from_cache
+    assert not marker.exists()
+
+
+def test_a_folder_or_a_looping_link_in_an_entrys_place_is_skipped_with_one_warning(cache):
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    (path, _), = fitcache.entries()
+    path.unlink()
+    path.mkdir()
+    fitcache._warned.clear()
+    with pytest.warns(UserWarning, match=r"the cache of fits is skipped: .* is not a regular file"):
+        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    assert not again["gp"].loaded_from_cache and path.is_dir()
+    assert fitcache.entries() == []  # 'sarsp-edu cache' counts no folder as a fit
+    path.rmdir()
+    path.symlink_to(path)
+    assert fitcache.entries() == []
+    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"].loaded_from_cache
+
+
+def test_a_read_only_cache_with_a_corrupt_entry_is_skipped_with_a_warning(cache, monkeypatch):
+    import errno
+    from pathlib import Path
+
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    (path, _), = fitcache.entries()
+    path.write_bytes(b"half a fit")
+
+    def read_only(self, missing_ok=False):  # a read-only folder (root ignores chmod, so it is simulated)
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(self))
+
+    monkeypatch.setattr(Path, "unlink", read_only)
+    fitcache._warned.clear()
+    with pytest.warns(UserWarning, match=r"cannot be used nor removed \(Read-only file system\)"):
+        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    assert not again["gp"].loaded_from_cache

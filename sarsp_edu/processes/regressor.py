@@ -188,6 +188,10 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
                 f"{type(self).__name__} could not factorise the training covariance "
                 f"(kernel_={self.kernel_!r}, noise_variance_={self.noise_variance_:.3g}): {exc}"
             ) from None
+        self._adopt_factor(X, y, data, L, jitter)
+
+    def _adopt_factor(self, X, y, data, L, jitter):
+        """The fitted state from the training rows (``data``: folded) and their covariance's Cholesky factor."""
         self.X_train_ = X
         self.y_train_ = y
         self.X_unique_ = data.X
