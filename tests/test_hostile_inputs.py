@@ -163,3 +163,20 @@ def test_a_result_json_with_a_wrong_type_or_a_huge_number_is_named(sweep_copy, c
     result = next((sweep_copy / "cells").glob("*/tp/result.json"))
     result.write_text(edit(result.read_text()))
     assert re.search(message, usage_error(["tables", str(sweep_copy)], capsys))
+
+
+def test_info_lists_every_declared_dependency(capsys):
+    import importlib.metadata
+
+    assert main(["info"]) == 0
+    out = capsys.readouterr().out
+    for name in ("scikit-learn", "threadpoolctl", "gymnasium", "numpy"):
+        assert f"\n{name} {importlib.metadata.version(name)}" in out
+    assert "(extra [dask])" in out
+
+
+def test_the_ablation_takes_a_stored_folders_name_for_its_setting(tmp_path):
+    out = tmp_path / "ablation"
+    assert main(["ablation", "--settings", "default-k-400", "--cells", "40", "0.2", "1", "--seeds", "0",
+                 "--episodes", "1", "--quiet", "--out", str(out)]) == 0
+    assert [p.name for p in out.iterdir() if p.is_dir()] == ["default-k-400"]

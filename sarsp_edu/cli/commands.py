@@ -13,7 +13,21 @@ from .._version import __version__
 from .arguments import check_file, check_out, check_writable, config_flags, config_from_args
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
-_REPORTED = ("numpy", "scipy", "sympy", "matplotlib", "ipywidgets", "gymnasium", "pandas", "tqdm", "joblib", "dask")
+def _dependencies() -> list[tuple[str, str]]:
+    """(name, extra) of every requirement the installed package declares ('' for the core ones), in order."""
+    import re
+
+    try:
+        declared = importlib.metadata.requires("sarsp_edu") or []
+    except importlib.metadata.PackageNotFoundError:  # run from a source tree that was never installed
+        return []
+    found = []
+    for requirement in declared:
+        name = re.match(r"[A-Za-z0-9_.\-]+", requirement).group(0)
+        extra = re.search(r"extra\s*==\s*['\"]([^'\"]+)['\"]", requirement)
+        if name.lower().replace("_", "-") != "sarsp-edu":
+            found.append((name, extra.group(1) if extra else ""))
+    return found
 
 
 def _format_table(frame) -> str:
@@ -320,16 +334,19 @@ def _ablation_table(args, parser) -> int:
 def _ablation(args, parser) -> int:
     import shlex
 
-    from ..ablation import ABLATION_SETTINGS, AblationResults, run_ablation
+    from ..ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_folder
 
     if args.list:
         for name, setting in ABLATION_SETTINGS.items():
-            print(f"{name}: {setting or 'the default preset'}")
+            print(f"{name} (folder {setting_folder(name)}): {setting or 'the default preset'}")
         return 0
-    unknown = [name for name in args.settings or () if name not in ABLATION_SETTINGS]
+    by_folder = {setting_folder(name): name for name in ABLATION_SETTINGS}  # the stored folders' names too
+    chosen = [name if name in ABLATION_SETTINGS else by_folder.get(name, name) for name in args.settings or ()]
+    unknown = [name for name in chosen if name not in ABLATION_SETTINGS]
     if unknown:
-        parser.error(f"unknown setting(s) {unknown}; 'sarsp-edu ablation --list' names them")
-    settings = {name: ABLATION_SETTINGS[name] for name in (args.settings or ABLATION_SETTINGS)}
+        parser.error(f"unknown setting(s) {unknown}; 'sarsp-edu ablation --list' names them (a stored folder's "
+                     "name, such as default-k-400, works too)")
+    settings = {name: ABLATION_SETTINGS[name] for name in (chosen or ABLATION_SETTINGS)}
     if args.cells:
         if len(args.cells) % 3:
             parser.error(f"--cells takes m p nss triples, got {len(args.cells)} numbers")
@@ -344,8 +361,6 @@ def _ablation(args, parser) -> int:
     check_out(parser, args.out, "ablation")
     if args.out:
         from pathlib import Path
-
-        from ..ablation import setting_folder
 
         keys = {(float(m), float(p), int(nss), int(seed)) for seed in args.seeds for m, p, nss in cells}
         args.stored = [(Path(args.out) / setting_folder(name), keys) for name in settings]
@@ -418,12 +433,15 @@ def _info(args, parser) -> int:
 
     print(f"sarsp_edu {__version__}")
     print(f"python {platform.python_version()} ({sys.executable})")
-    for name in _REPORTED:
+    dependencies = _dependencies()
+    if not dependencies:
+        print("(not installed: pip install -e . lists its dependencies here)")
+    for name, extra in dependencies:
         try:
             version = importlib.metadata.version(name)
         except importlib.metadata.PackageNotFoundError:
             version = "not installed"
-        print(f"{name} {version}")
+        print(f"{name} {version}" + (f"  (extra [{extra}])" if extra else ""))
     print("\npresets (sarsp-edu run|compare|sweep|ablation --preset NAME):")
     for name, values in PRESETS.items():
         print(f"  {name}: {PRESET_DOCS[name]}")
