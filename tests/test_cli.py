@@ -80,6 +80,10 @@ def test_sweep_and_tables(tmp_path, capsys):
     assert main(["sweep", *grid, *settings, "--out", str(out)]) == 0
     assert "2 cells, each a paired TP-vs-GP run of 2 episodes" in capsys.readouterr().out
     assert main(["tables", str(out)]) == 0
+    short = capsys.readouterr().out
+    assert short.startswith("terms: ") and "Table 2: each metric's mean" in short and "wilcoxon" not in short
+    assert "Definition 4, configuration by configuration (2 in all): TP preferred: " in short
+    assert main(["tables", str(out), "--all"]) == 0
     printed = capsys.readouterr().out
     assert "table1" in printed and "wilcoxon" in printed
     # the mean beside the paper's, saying over how many configurations; (40, 0.2, 2) is a row of Table 1
@@ -124,7 +128,7 @@ def test_info_lists_the_presets(capsys):
 
 def test_cache_says_where_the_fits_are_and_clears_them(capsys, monkeypatch, tmp_path):
     monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path))
-    (tmp_path / "tp-0123.fit.pickle").write_bytes(b"x" * 2**20)
+    (tmp_path / "tp-0123.fit.npz").write_bytes(b"x" * 2**20)
     assert main(["cache"]) == 0
     assert f"{tmp_path}: 1 stored fits, 1 MB" in capsys.readouterr().out
     assert main(["cache", "--clear"]) == 0

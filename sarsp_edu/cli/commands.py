@@ -70,9 +70,11 @@ def _out_lock(parser, out, command: str):
     if out is None:
         yield
         return
-    Path(out).mkdir(parents=True, exist_ok=True)
+    folder = Path(out)
+    made = not folder.exists()
+    folder.mkdir(parents=True, exist_ok=True)
     try:
-        lock = lock_folder(out, LOCK_NAME, "sarsp-edu command")
+        lock = lock_folder(folder, LOCK_NAME, "sarsp-edu command")
     except ValueError as exc:
         parser.error(str(exc))
     try:
@@ -80,6 +82,9 @@ def _out_lock(parser, out, command: str):
     finally:
         if lock is not None:
             lock.close()
+        if made and [p.name for p in folder.iterdir()] == [LOCK_NAME]:  # nothing was saved: leave no trace
+            (folder / LOCK_NAME).unlink(missing_ok=True)
+            folder.rmdir()
 
 
 def _compare(args, parser) -> int:
@@ -213,13 +218,19 @@ def _tables(args, parser) -> int:
     if len(versions) > 1:
         print(f"note: the runs were computed by {len(versions)} versions of the code, whose numbers may differ: "
               + "; ".join(f"{label}: {runs} runs" for label, runs in versions.items()))
-    for key, frame in tables.items():
-        if key == "seeds":
-            continue
-        print(f"\n{key}\n{_format_table(frame)}")
+    print(_LEGEND)
+    print(f"\nTable 2: each metric's mean over the configurations, TP against GP\n{_format_table(tables['mean'])}")
+    print("\n" + _verdict_counts(tables["table1"]))
     sections = _beside_paper_sections(tables) + _beside_authors_sections(tables, results.base.episodes)
-    for title, frame in sections:
-        print(f"\n{title}\n{_format_table(frame)}")
+    if args.all:
+        for key, frame in tables.items():
+            if key not in ("seeds", "mean"):
+                print(f"\n{key}\n{_format_table(frame)}")
+        for title, frame in sections:
+            print(f"\n{title}\n{_format_table(frame)}")
+    else:
+        print("\n--all prints the rest: Table 1 (every configuration), each model's levels with 95% intervals, "
+              "Tables 3-4 (median, mode), the Wilcoxon tests, and these beside the paper's and the authors' runs")
     if args.markdown:
         markdown = tables_markdown(tables)
         for title, frame in sections:
@@ -244,6 +255,23 @@ def _check_cell(args, parser) -> int:
         parser.error(str(exc))
     print(report)
     return 0 if report.identical else 1
+
+
+#: what the tables' terms mean, printed above them
+_LEGEND = """terms: % change = (TP - GP) / |GP| x 100; better = the model with the better value (n/a: undefined);
+Definition 4 (eq. 12): a model is preferred when its TSR is at least a and its cost rate p_c is lower;
+"neither" when no model is preferred; "n/a (p_c undefined)", Definition 4 cannot decide: a cost rate p_c is
+undefined (violations, but no episode reached the goal without one)"""
+
+
+def _verdict_counts(table1) -> str:
+    """One line: how many configurations Definition 4 decides each way."""
+    verdicts = table1.query("model == 'TP'")["result"] if "result" in table1 else table1.iloc[:0]
+    counts = verdicts.value_counts()
+    named = ", ".join(f"{label}: {int(counts.get(value, 0))}" for value, label in (
+        ("TP > GP", "TP preferred"), ("GP > TP", "GP preferred"), ("neither", "neither"),
+        ("n/a (p_c undefined)", "cannot decide (p_c undefined)")))
+    return f"Definition 4, configuration by configuration ({len(verdicts)} in all): {named}"
 
 
 def _beside_paper_sections(tables: dict) -> list:

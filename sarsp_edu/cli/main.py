@@ -97,13 +97,16 @@ def build_parser() -> argparse.ArgumentParser:
     tables = sub.add_parser(
         "tables",
         help="print the paper's Tables 1-4 for a sweep's results folder (and write them as Markdown)",
-        description="Read a sweep's results folder; print Table 1 (every configuration), Tables 2-4 "
-        "(mean, median, mode) and a paired Wilcoxon test; with --markdown, write them all as Markdown.",
+        description="Read a sweep's results folder (or an ablation's); print a legend of the terms, Table 2 (the "
+        "mean over configurations) and Definition 4's verdicts; with --all also Table 1 (every configuration), "
+        "Tables 3-4 (median, mode), each model's levels, a paired Wilcoxon test and all of them beside the paper's "
+        "and the authors' runs; with --markdown, write them all as Markdown.",
     )
     tables.add_argument("results_dir", metavar="RESULTS_DIR")
     tables.add_argument("--a", type=float, default=DEFINITION_4_A,
                         help=f"Definition 4's TSR threshold [default: {DEFINITION_4_A:g}]")
     tables.add_argument("--markdown", metavar="FILE", help="also write every table as Markdown to FILE")
+    tables.add_argument("--all", action="store_true", help="print every table, not only Table 2 and the verdicts")
     tables.add_argument("--allow-partial", action="store_true",
                         help="tabulate a sweep with cells still to run (and list them)")
     tables.add_argument("--seeds", type=int, nargs="+", metavar="SEED",
