@@ -247,8 +247,8 @@ class _NoProgress:
         pass
 
 
-def _progress(total: int, desc: str, enabled: bool):
-    """A tqdm bar over episodes, or a stand-in that does nothing.
+def _progress(total: int | None, desc: str, enabled: bool, unit: str = "episode", position: int = 0):
+    """A tqdm bar, or a stand-in that does nothing.
 
     Even a disabled tqdm bar creates a multiprocessing lock, which a sweep's
     worker stopped by Ctrl-C would leave behind (with a warning); quiet runs
@@ -258,13 +258,28 @@ def _progress(total: int, desc: str, enabled: bool):
         return _NoProgress()
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, desc=desc, unit="episode", leave=False)
+    return tqdm(total=total, desc=desc, unit=unit, leave=False, position=position)
 
 
-def _finish(experiment: "Experiment", progress: bool) -> ExperimentResult:
+def _fit_showing_progress(config: ExperimentConfig, enabled: bool, position: int = 0):
+    """A ``fit`` for :class:`Experiment` that shows the offline fits' progress, step by step of the search."""
+    from .optimizers import reporting_steps
+
+    def fit(agent):
+        steps = None if config.optimizer != "adam" else 2 * config.optimizer_steps  # L-BFGS: as many as it takes
+        rows = len(agent.cost_data) if agent.cost_fit_points is None else min(agent.cost_fit_points,
+                                                                               len(agent.cost_data))
+        desc = f"{config.model.upper()}: fitting the cost model ({rows} rows) and the reward model"
+        with _progress(steps, desc, enabled, unit="step", position=position) as bar, reporting_steps(bar.update):
+            agent.fit()
+    return fit
+
+
+def _finish(experiment: "Experiment", progress: bool, position: int = 0) -> ExperimentResult:
     """Run ``experiment``'s remaining episodes; its result."""
     config = experiment.config
-    with one_blas_thread(), _progress(config.episodes, f"{config.model.upper()} episodes", progress) as bar:
+    with one_blas_thread(), _progress(config.episodes, f"{config.model.upper()} episodes", progress,
+                                      position=position) as bar:
         while not experiment.finished:
             experiment.run_episode()
             bar.update(1)
@@ -338,7 +353,8 @@ def paired_experiments(config: ExperimentConfig) -> dict:
     return experiments_on_one_world(config, {model: {"model": model} for model in ("tp", "gp")})
 
 
-def run_experiment(config: ExperimentConfig | None = None, progress: bool = False) -> ExperimentResult:
+def run_experiment(config: ExperimentConfig | None = None, progress: bool = False, *,
+                   progress_position: int = 0) -> ExperimentResult:
     """Run one experiment: world, offline data, outliers, fits, shift, episodes.
 
     Parameters
@@ -346,13 +362,18 @@ def run_experiment(config: ExperimentConfig | None = None, progress: bool = Fals
     config : ExperimentConfig, optional
         Default: the paper's settings with the TP.
     progress : bool, default False
-        Show a progress bar over episodes (a widget in notebooks, text in a terminal).
+        Show the offline fits' progress (step by step of the hyperparameter search), then a bar over
+        episodes (a widget in notebooks, text in a terminal).
+    progress_position : int, default 0
+        The bars' line in a terminal (1: below another run's, as ``compare`` in two processes shows them).
 
     Returns
     -------
     ExperimentResult
     """
-    return _finish(Experiment(config_or_default(config)), progress)
+    config = config_or_default(config)
+    fit = _fit_showing_progress(config, progress, progress_position) if progress else None
+    return _finish(Experiment(config, fit=fit), progress, progress_position)
 
 
 def compare(config: ExperimentConfig | None = None, progress: bool = False, a: float = DEFINITION_4_A,
@@ -368,7 +389,7 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     ----------
     config : ExperimentConfig, optional
     progress : bool, default False
-        A progress bar over the TP's episodes (and the GP's, when they run here).
+        Each model's fits and episodes as progress bars (with two processes, the GP's on a second line).
     a : float, default 100
         Definition 4's TSR threshold.
     n_jobs : {None, 1, 2}, default None
@@ -392,12 +413,15 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     if n_jobs == 2:
         # Each process prepares the world itself: the preparation depends on the seed, not on the model, so
         # both sides start from the same world, data and episode seeds as in the sequential run.
-        gp = in_second_process(run_experiment, config.replace(model="gp"))
+        gp = in_second_process(run_experiment, config.replace(model="gp"), progress=progress, progress_position=1)
         try:
             tp = run_experiment(config.replace(model="tp"), progress=progress)
             return Comparison(tp, gp.result(), a)
         except KeyboardInterrupt:
             stop_workers()
             raise
-    experiments = paired_experiments(config)
+    prepared = prepare(config)
+    experiments = {model: Experiment(config.replace(model=model), prepared=prepared,
+                                     fit=_fit_showing_progress(config.replace(model=model), progress) if progress
+                                     else None) for model in ("tp", "gp")}
     return Comparison(_finish(experiments["tp"], progress), _finish(experiments["gp"], progress), a)

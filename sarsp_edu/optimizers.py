@@ -7,13 +7,34 @@ objective's values along the way.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import warnings
 
 import numpy as np
 from scipy import optimize
 
-__all__ = ["adam", "lbfgs"]
+__all__ = ["adam", "lbfgs", "reporting_steps"]
+
+#: called after each step of a search (a progress bar's update), where :func:`reporting_steps` sets one
+_STEP_HOOK: contextvars.ContextVar = contextvars.ContextVar("sarsp_edu_step_hook", default=None)
+
+
+@contextlib.contextmanager
+def reporting_steps(callback):
+    """Within the block, every step of a search in this thread calls ``callback()`` (to show progress)."""
+    token = _STEP_HOOK.set(callback)
+    try:
+        yield
+    finally:
+        _STEP_HOOK.reset(token)
+
+
+def _stepped() -> None:
+    hook = _STEP_HOOK.get()
+    if hook is not None:
+        hook()
 
 
 def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, epsilon=1e-7):
@@ -32,6 +53,7 @@ def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, 
         v += (grad * grad - v) * (1.0 - beta_2)
         step = learning_rate * math.sqrt(1.0 - beta_2**t) / (1.0 - beta_1**t)
         theta = np.clip(theta - step * m / (np.sqrt(v) + epsilon), bounds[:, 0], bounds[:, 1])
+        _stepped()
     trace.append(fun(theta)[0])
     return theta, trace, n_steps
 
@@ -53,7 +75,8 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
 
     start = fun(theta0)[0]
     result = optimize.minimize(
-        scaled, theta0, method="L-BFGS-B", jac=True, bounds=bounds, options=options
+        scaled, theta0, method="L-BFGS-B", jac=True, bounds=bounds, options=options,
+        callback=lambda *_: _stepped(),
     )
     if not result.success:
         warnings.warn(

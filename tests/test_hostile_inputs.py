@@ -180,3 +180,14 @@ def test_the_ablation_takes_a_stored_folders_name_for_its_setting(tmp_path):
     assert main(["ablation", "--settings", "default-k-400", "--cells", "40", "0.2", "1", "--seeds", "0",
                  "--episodes", "1", "--quiet", "--out", str(out)]) == 0
     assert [p.name for p in out.iterdir() if p.is_dir()] == ["default-k-400"]
+
+
+def test_a_run_shows_its_fits_progress_before_its_episodes_and_compare_shows_both_models():
+    done = _cli("run", *SMALL_RUN[:-1])
+    assert done.returncode == 0, done.stderr
+    assert "TP: fitting the cost model (" in done.stderr and "TP episodes" in done.stderr
+    assert done.stderr.index("TP: fitting") < done.stderr.index("TP episodes")
+    done = _cli("compare", *SMALL_RUN[:-1], "--jobs", "2")
+    assert done.returncode == 0, done.stderr
+    for model in ("TP", "GP"):
+        assert f"{model}: fitting the cost model (" in done.stderr and f"{model} episodes" in done.stderr

@@ -71,7 +71,11 @@ def _out_lock(parser, out, command: str):
         yield
         return
     folder = Path(out)
-    made = not folder.exists()
+    made = []  # the folders this makes, the deepest first
+    for ancestor in (folder, *folder.parents):
+        if ancestor.exists():
+            break
+        made.append(ancestor)
     folder.mkdir(parents=True, exist_ok=True)
     try:
         lock = lock_folder(folder, LOCK_NAME, "sarsp-edu command")
@@ -84,7 +88,8 @@ def _out_lock(parser, out, command: str):
             lock.close()
         if made and [p.name for p in folder.iterdir()] == [LOCK_NAME]:  # nothing was saved: leave no trace
             (folder / LOCK_NAME).unlink(missing_ok=True)
-            folder.rmdir()
+            for made_folder in made:
+                made_folder.rmdir()
 
 
 def _compare(args, parser) -> int:
