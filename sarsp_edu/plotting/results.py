@@ -236,6 +236,10 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
         failures, pooled over the runs.
     ylim : (float, float), optional
         Fixed limits, so that moving between settings compares like with like.
+
+    When ``runs`` hold one setting (a ``setting`` column with one value), the
+    title names it after ``title``: "violations: per step, 500 rows" (the
+    settings of ``ablation.PRIOR_AND_FITS`` by their two choices).
     """
     for i, model in enumerate(("TP", "GP")):
         part = runs[runs["model"] == model]
@@ -260,8 +264,15 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
         ax.set_ylim(*ylim)
     ax.set_ylabel(ABLATION_LABELS.get(metric, metric))
     ax.grid(alpha=0.3, axis="y")
+    settings = runs["setting"].unique() if "setting" in runs else ()
+    if len(settings) == 1:
+        from ..ablation import PRIOR_AND_FITS
+
+        short = {name: f"{prior}, {fits}" for (prior, fits), name in PRIOR_AND_FITS.items()}
+        setting = short.get(settings[0], settings[0])
+        title = f"{title}: {setting}" if title else setting
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize=SMALL if len(settings) == 1 else None)
     return ax
 
 
@@ -298,8 +309,18 @@ def plot_beside_authors(ax, table, *, metric: str, label: str = "ours"):
     return ax
 
 
-def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str = "ours", settle: int = 0):
+#: how each model's band over seeds is hatched, so that overlapping bands both stay visible
+_BAND_HATCH = {"TP": "", "GP": "////"}
+
+
+def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str = "ours", settle: int = 0,
+                                        legend: bool = True):
     """A running metric per episode, mean over configurations: ours (band over seeds) beside the authors'.
+
+    Each model's band runs from its lowest to its highest seed.  It is drawn
+    translucent with its edges outlined, and the GP's is hatched, so where the
+    two models' bands overlap both stay visible; the legend names every line
+    and band.
 
     Parameters
     ----------
@@ -309,22 +330,30 @@ def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str =
     metric : str
         For the y label.
     label : str, default "ours"
-        What our runs are, for the legend.
+        What our runs are, for the legend (e.g. "ours, 3 seeds").
     settle : int, default 0
         As in :func:`plot_metric_curves`.
+    legend : bool, default True
+        Draw the legend on ``ax``; with False, take ``ax.get_legend_handles_labels()``
+        for one legend shared by several Axes.
     """
+    from matplotlib.colors import to_rgba
+
     for model in ("TP", "GP"):
         colour = COLOURS[model.lower()]
+        low, high = curves[f"ours {model} low"], curves[f"ours {model} high"]
+        if not np.allclose(low, high, equal_nan=True):
+            ax.fill_between(curves.index, low, high, facecolor=to_rgba(colour, 0.12),
+                            edgecolor=to_rgba(colour, 0.55), lw=0.7, hatch=_BAND_HATCH[model],
+                            label=f"{model}, {label}: lowest to highest seed")
+        ax.plot(curves.index, curves[f"ours {model}"], color=colour, lw=2, label=f"{model}, {label}: mean")
         ax.plot(curves.index, curves[f"authors {model}"], color=colour, lw=1.6, ls="--",
                 label=f"{model}, the authors' runs")
-        ax.plot(curves.index, curves[f"ours {model}"], color=colour, lw=2, label=f"{model}, {label}")
-        if not np.allclose(curves[f"ours {model} low"], curves[f"ours {model} high"], equal_nan=True):
-            ax.fill_between(curves.index, curves[f"ours {model} low"], curves[f"ours {model} high"], color=colour,
-                            alpha=0.2, lw=0)
     if settle:
         _settled_ylim([ax], [curves], settle)
     ax.set_xlabel("episode")
     ax.set_ylabel(METRIC_LABELS.get(metric, metric))
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=SMALL, frameon=False)
+    if legend:
+        ax.legend(fontsize=SMALL, frameon=False)
     return ax
