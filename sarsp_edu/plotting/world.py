@@ -6,10 +6,11 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.collections import LineCollection, PatchCollection
 
+from .._validation import check_choice
 from ..config import ACTION_MOVES
 from .style import COLOURS, SMALL, log_scale
 
-__all__ = ["plot_gridworld", "plot_outlier_scatter"]
+__all__ = ["plot_gridworld", "plot_outlier_scatter", "plot_path_direction"]
 
 
 def _layout_of(world):
@@ -21,6 +22,7 @@ def plot_gridworld(
     world,
     *,
     trajectory=None,
+    direction: str | None = None,
     show_moved: bool = True,
     visits=None,
     unsafe_pairs=None,
@@ -38,6 +40,11 @@ def plot_gridworld(
         A snapshot (``env.layout()``) or the environment itself.
     trajectory : array-like of shape (T, 2), optional
         Cells ``(x, y)`` visited in order, drawn as a path.
+    direction : {None, "arrows", "steps"}, default None
+        Show which way the path runs (see :func:`plot_path_direction`):
+        ``"arrows"`` puts an arrowhead on each move it makes, ``"steps"``
+        writes in each cell the step at which the path first reached it; both
+        mark where it ends, with the steps it spent there at the end.
     show_moved : bool, default True
         Mark the states moved by the last shift: their old cells dashed, an
         arrow to the new cell.
@@ -59,6 +66,7 @@ def plot_gridworld(
     -------
     ax
     """
+    check_choice("direction", direction, (None, "arrows", "steps"))
     layout = _layout_of(world)
     n = layout.size
     ax.set_xlim(-0.5, n - 0.5)
@@ -122,6 +130,8 @@ def plot_gridworld(
             line, = ax.plot(path[:, 0], path[:, 1], color=COLOURS["path"], lw=2, alpha=0.9,
                             marker="o", ms=3, zorder=5)
             handles["path"] = line
+            if direction is not None:
+                handles.update(plot_path_direction(ax, path, numbers=direction == "steps", size=n))
     if layout.start is not None:
         handles["start"] = ax.scatter(*layout.start, s=140, marker="o", facecolor="white",
                                       edgecolor=COLOURS["start"], lw=2.5, zorder=7)
@@ -137,6 +147,67 @@ def plot_gridworld(
     if title:
         ax.set_title(title)
     return ax
+
+
+def plot_path_direction(ax, path, *, numbers: bool = False, size: int | None = None) -> dict:
+    """Which way a drawn path runs: an arrowhead on each move (or each cell's first step), and its end.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        The Axes the path is drawn on (``plot_gridworld``).
+    path : array-like of shape (T, 2)
+        Cells ``(x, y)`` in the order visited; ``path[0]`` is step 0.
+    numbers : bool, default False
+        Write in each cell the step at which the path first reached it instead
+        of the arrowheads.
+    size : int, optional
+        The grid's size, to keep the end's label inside it.
+
+    Returns
+    -------
+    dict
+        Legend label -> handle: ``"end"``.
+
+    Each move between two cells gets one arrowhead however often it is made;
+    a move made both ways gets two, each beside the path on its right.  The
+    end is a square around the last cell, labelled with the steps taken from
+    it once the path reached it for the last time, each of which left the
+    path there (pushing against a wall, say).
+    """
+    path = np.asarray(path, dtype=float).reshape(-1, 2)
+    if not len(path):
+        return {}
+    colour = "#0b6b75"  # a darker shade of the path's, to read on top of it
+    if numbers:
+        first = {}
+        for step, cell in enumerate(map(tuple, path)):
+            first.setdefault(cell, step)
+        for (x, y), step in first.items():
+            ax.text(x + 0.3, y - 0.28, str(step), ha="center", va="center", fontsize=SMALL - 1, color=colour,
+                    zorder=6, bbox=dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
+    else:
+        moves = {(tuple(a), tuple(b)) for a, b in zip(path[:-1], path[1:]) if tuple(a) != tuple(b)}
+        for a, b in sorted(moves):
+            a, b = np.array(a), np.array(b)
+            d = b - a
+            side = 0.13 * np.array([-d[1], d[0]]) if (tuple(b), tuple(a)) in moves else np.zeros(2)
+            ax.add_artist(patches.FancyArrowPatch(
+                tuple(a + 0.3 * d + side), tuple(a + 0.7 * d + side), arrowstyle="-|>", mutation_scale=13,
+                color=colour, lw=1.2, shrinkA=0, shrinkB=0, zorder=6))
+    end = path[-1]
+    stay = 1
+    while stay < len(path) and np.array_equal(path[-stay - 1], end):
+        stay += 1
+    handle = ax.scatter(*end, s=330, marker="s", facecolor="none", edgecolor=colour, lw=2.2, zorder=6)
+    if stay > 1:  # the path reached the cell, then took stay - 1 steps that left it there
+        n = size if size is not None else int(np.max(path)) + 1
+        dx = -0.55 if end[0] > (n - 1) / 2 else 0.55
+        dy = 0.55 if end[1] < (n - 1) / 2 else -0.55
+        ax.text(end[0] + dx, end[1] + dy, f"{stay - 1} steps here", ha="right" if dx < 0 else "left", va="center",
+                fontsize=SMALL, color=colour, zorder=8,
+                bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor=colour, lw=0.8))
+    return {"end": handle}
 
 
 def plot_outlier_scatter(ax, world, *, title: str | None = None):
