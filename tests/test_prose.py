@@ -150,3 +150,29 @@ def test_the_forty_minute_tutorials_hold_no_more_prose_than_a_class_reads(tutori
     assert words <= most_words and numbers <= most_numbers, (
         f"{source.name}: {words} words and {numbers} numbers of prose; a 40-minute unit holds at most "
         f"{most_words} and {most_numbers} (move details to REPRODUCTION.md)")
+
+
+def test_the_lecturers_guide_quotes_only_numbers_a_notebook_prints():
+    """LECTURER.md's numbers (decimals, percentages, integers of four or more digits): each printed by a
+    notebook's stored output or declared in its "Numbers from elsewhere" cell. Minutes and counts of a plan
+    (integers below 1,000), commands (in backticks) and screen sizes (1280x720) are the guide's own."""
+    import re
+
+    from sarsp_edu.prose import _output_text
+
+    printed, declared = [], []
+    for path in SOURCES:
+        notebook = nbformat.read(path, as_version=4)
+        printed += [n for cell in notebook.cells if cell.cell_type == "code"
+                    for n in output_numbers(_output_text(cell))]
+        declared += declared_numbers(notebook)[0]
+    text = (ROOT / "tutorials" / "LECTURER.md").read_text(encoding="utf-8")
+    missing = []
+    for line in text.splitlines():
+        for number in prose_numbers(re.sub(r"`[^`]*`|\b\d+x\d+\b", " ", line)):
+            whole = number.resolution >= 1 and not number.percent
+            if whole and number.value < 1000:
+                continue
+            if not traces(number, printed) and not traces(number, declared):
+                missing.append(f"{number.text!r} in: {line.strip()[:120]}")
+    assert not missing, "LECTURER.md states numbers no notebook prints:\n" + "\n".join(missing)
