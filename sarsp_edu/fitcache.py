@@ -219,7 +219,8 @@ def load(config, prepared):
 def store(experiment) -> Path | None:
     """Keep a just-fitted ``experiment`` (before its first step) for its settings; the entry's path."""
     if _steps_taken(experiment):
-        raise ValueError(f"only a just-fitted experiment is stored, this one has taken {_steps_taken(experiment)} steps")
+        raise ValueError(f"only a just-fitted experiment is stored, this one has taken {_steps_taken(experiment)} "
+                         "steps")
     path = _path(experiment.config)
     if path is None:
         return None

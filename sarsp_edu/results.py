@@ -10,18 +10,16 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-import os
-
 from ._io import StoredResultError, atomic_write_text, read_json
 from ._version import __version__
 from .config import DEFINITION_4_A, ExperimentConfig
-from .provenance import code_provenance
 from .metrics import (
     RECORD_COLUMNS,
     SUMMARY_METRICS,
@@ -31,6 +29,7 @@ from .metrics import (
     prefers,
     running_metrics,
 )
+from .provenance import code_provenance
 
 __all__ = ["ExperimentResult", "Comparison", "StoredResultError", "stored_results"]
 

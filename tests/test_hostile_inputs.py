@@ -69,7 +69,8 @@ def test_targets_whose_squares_overflow_are_named_with_their_scale(scale):
     y = np.sin(X[:, 0])
     for model in (GaussianProcess(), StudentTProcess()):
         if scale > 1:
-            with pytest.raises(ValueError, match=rf"y holds values as large as {re.escape(f'{scale:.3g}')}, beyond 1e\+75: their "
+            shown = re.escape(f"{scale:.3g}")
+            with pytest.raises(ValueError, match=rf"y holds values as large as {shown}, beyond 1e\+75: their "
                                                  r"squares \(and the fit's squared gradients\) overflow float64; "
                                                  r"rescale y"):
                 model.fit(X, scale * y / np.abs(y).max())

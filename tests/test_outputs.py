@@ -7,8 +7,6 @@ import stat
 import zipfile
 from pathlib import Path
 
-import pytest
-
 from sarsp_edu.cli import main
 
 from .test_cli import _usage_error as usage_error

@@ -88,7 +88,10 @@ def _source_outputs(source):
     return outputs_of
 
 
-@pytest.mark.parametrize("path", SOURCES + [student_path(p) for p in SOURCES], ids=lambda p: f"{p.parent.name}/{p.name}")
+NOTEBOOKS = SOURCES + [student_path(p) for p in SOURCES]
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: f"{p.parent.name}/{p.name}")
 def test_every_number_in_the_prose_is_printed_above_it_or_declared(path):
     notebook = nbformat.read(path, as_version=4)
     outputs_of = None

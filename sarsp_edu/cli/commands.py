@@ -9,8 +9,8 @@ import platform
 import sys
 
 from .._version import __version__
-
 from .arguments import check_file, check_out, check_writable, config_flags, config_from_args
+
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
 def _dependencies() -> list[tuple[str, str]]:

@@ -7,9 +7,9 @@ import os
 import sys
 
 from .._version import __version__
-
 from .arguments import add_config_arguments
 from .commands import _ablation, _cache, _check_cell, _compare, _course, _info, _run, _sweep, _tables
+
 
 def build_parser() -> argparse.ArgumentParser:
     from ..config import (

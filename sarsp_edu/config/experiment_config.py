@@ -13,20 +13,19 @@ from .defaults import (
     OPTIMIZERS,
     PLACEMENTS,
     PREDICTIVE,
-    PRIORS,
     PRIOR_DRAWS,
+    PRIORS,
     RETRAIN_RULES,
 )
 from .settings import (
-    AgentSettings,
     CHECKS,
+    AgentSettings,
     DataSettings,
     ModelSettings,
     WorldSettings,
-    _Settings,
     _field,
+    _Settings,
 )
-
 
 
 @dataclass(frozen=True)

@@ -23,22 +23,25 @@ Exercise 2.1: not yet. Not written yet; replace the line raise NotImplementedErr
 ...     return amplitude**2 * np.exp(-d2 / (2 * length_scale))
 >>> check("2.1", rbf)
 Exercise 2.1: not yet. Divide the squared distance by 2 l^2: the length scale is squared too.
->>> check("3.4", np.int64(50))
-Exercise 3.4: right. 50, one colour of the chessboard. The package accepts far fewer (19): the question below asks why.
+>>> check("3.4", "fifty")  # a short answer that cannot be read is told the forms that can
+Exercise 3.4: not yet. Could not read 'fifty' as a whole number. Accepted: a whole number: 12, 12.0, '12' or a numpy integer.
 """
 
 from __future__ import annotations
 
 from .agent import AGENT_EXERCISES
+from .answers import Unreadable
 from .evidence import EVIDENCE_EXERCISES
-from .grading import CodingExercise, Mistake, explained, grade, same
+from .grading import CodingExercise, Mistake, explained, grade, run_prediction, same
 from .lookups import LOOKUPS, Exercise
 from .models import MODEL_EXERCISES
+from .records import RECORD_EXERCISES
 
 __all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
 
 #: the exercises in which the student writes a function, by "tutorial.number"
-CODING: dict[str, CodingExercise] = {**MODEL_EXERCISES, **AGENT_EXERCISES, **EVIDENCE_EXERCISES}
+CODING: dict[str, CodingExercise] = {**MODEL_EXERCISES, **AGENT_EXERCISES, **EVIDENCE_EXERCISES,
+                                     **RECORD_EXERCISES}
 #: every exercise, by "tutorial.number": the coding ones and the short answers
 EXERCISES: dict = dict(sorted({**CODING, **LOOKUPS}.items(), key=lambda item: tuple(map(int, item[0].split(".")))))
 
@@ -51,12 +54,21 @@ def _verdict(exercise: str, answer, **context) -> tuple[bool, str]:
     if exercise in CODING:
         return grade(exercise, CODING[exercise], answer)
     item = LOOKUPS[exercise]
+    returned = ""
     if callable(answer):  # a prediction written as a function: my_prediction() returns it
-        try:
-            answer = answer()
-        except NotImplementedError:
-            return False, "Not written yet; replace the line raise NotImplementedError(...) with your answer."
-    if item.is_right(answer, **context):
+        answer, problem = run_prediction(answer)
+        if problem:
+            return False, problem
+        if answer is Ellipsis:
+            return False, "Not answered yet: your function returns ...; replace it with your answer."
+        returned = " (is your function's return statement missing?)"
+    if answer is None:
+        return False, f"Your answer is None{returned}. Accepted: {item.accepted}."
+    try:
+        value = item.read(answer)
+    except Unreadable as unread:
+        return False, f"{unread} Accepted: {item.accepted}."
+    if item.is_right(value, **context):
         return True, explained(item.explanation)
     return False, item.hint
 

@@ -2,16 +2,19 @@
 
 A :class:`CodingExercise` names the function the student writes, the
 package's own computation of the same quantity (the reference), a generator
-of fresh inputs (several sizes and the edge cases), and the usual mistakes,
-each as the function a student who made it would have written.  Grading
-calls the student's function on every input, compares it with the reference
-to a tolerance set from the quantity's own scale, and when it differs says
-which mistake it matches, never what the answer is.
+of fresh inputs (several sizes and shapes, and the edge cases), and the usual
+mistakes, each as the function a student who made it would have written.
+Grading calls the student's function on copies of every input (within a
+time limit, watching that it leaves its inputs as they were), compares it
+with the reference to a tolerance set from the quantity's own scale, and
+when it differs says which mistake it matches, never what the answer is.
+Besides the listed mistakes, two are tried for every exercise: a number
+argument fixed at one value (``d = 1`` written into the code, say), and
+results rounded.
 """
 
 from __future__ import annotations
 
-import copy
 import time
 import zlib
 from collections.abc import Callable
@@ -19,7 +22,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["CodingExercise", "Mistake", "explained", "grade", "same"]
+from . import running
+from .running import TimedOut, call_copies, changed, run_limited
+from .wording import describe, parts, said, several, shape_problem, which_differ
+
+__all__ = ["CodingExercise", "Mistake", "explained", "grade", "raised", "same"]
 
 #: relative tolerance of a right answer; the absolute one is this times the quantity's own scale
 RTOL = 1e-6
@@ -44,18 +51,20 @@ class CodingExercise:
     Attributes
     ----------
     question : str
-        What the function computes, in one line.
+        What the function computes, in one line (with the rule for any case
+        the equations leave undefined).
     signature : str
         ``name(arguments) -> what it returns``, as the notebook gives it.
     reference : callable
         The package's computation, with the student's signature.
     cases : callable
         ``cases(rng) -> list of dict``: keyword arguments of fresh inputs
-        (several sizes, and the edge cases).
+        (several sizes and shapes, and the edge cases); every argument takes
+        several values.
     mistakes : tuple of Mistake
         Tried in order when an answer is wrong.
     hint : str
-        For a wrong answer that matches no listed mistake.
+        For a wrong answer that matches no mistake: where to look, not what to write.
     explanation : str or callable
         Said with a right answer: what it shows (a callable computes it, so
         that its numbers come from the package, never typed in).
@@ -66,6 +75,10 @@ class CodingExercise:
         ``timing(rng) -> dict``: one large input on which a right answer
         should not be much slower than the package (a loop that refactorises
         a matrix for every query, say); only a remark, never a failure.
+    examples : dict, optional
+        Values of number arguments that the notebook uses (``{"d": 1.0}``):
+        an answer with one of them written in is told so, as one with the
+        first case's value is.
     """
 
     question: str
@@ -77,6 +90,7 @@ class CodingExercise:
     explanation: str | Callable[[], str] = ""
     on_linalg_error: str = ""
     timing: Callable | None = None
+    examples: dict = field(default_factory=dict)
 
 
 def explained(explanation) -> str:
@@ -84,16 +98,11 @@ def explained(explanation) -> str:
     return explanation() if callable(explanation) else explanation
 
 
-def _several(value) -> bool:
-    """Whether a reference result is several results (a tuple), not one array."""
-    return isinstance(value, tuple)
-
-
-def _parts(value, several: bool) -> list:
-    """A result as a list of arrays: several parts where the reference returns a tuple, else one array."""
-    if several and isinstance(value, (tuple, list)):
-        return [np.asarray(v) for v in value]
-    return [np.asarray(value)]
+def raised(exc: BaseException) -> str:
+    """An exception in one line: 'ZeroDivisionError: division by zero' (a long message shortened)."""
+    text = " ".join(str(exc).split())
+    text = text if len(text) <= 200 else text[:197] + "..."
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
 def same(got, expected, rtol: float = RTOL) -> bool:
@@ -101,9 +110,16 @@ def same(got, expected, rtol: float = RTOL) -> bool:
 
     Infinities must match exactly, NaN matches NaN, booleans and integers
     match exactly; any numeric type is accepted (int, float, numpy scalar,
-    0-d array).
+    0-d array).  Anything that cannot be read as numbers is not equal.
     """
-    got_parts, expected_parts = _parts(got, _several(expected)), _parts(expected, _several(expected))
+    try:
+        return _same(got, expected, rtol)
+    except (TypeError, ValueError, OverflowError, ArithmeticError):
+        return False
+
+
+def _same(got, expected, rtol: float) -> bool:
+    got_parts, expected_parts = parts(got, several(expected)), parts(expected, several(expected))
     if len(got_parts) != len(expected_parts):
         return False
     for g, e in zip(got_parts, expected_parts):
@@ -113,11 +129,9 @@ def same(got, expected, rtol: float = RTOL) -> bool:
             if not (np.issubdtype(g.dtype, np.number) or g.dtype == bool) or not np.array_equal(g, e):
                 return False
             continue
-        try:
-            g = g.astype(float)
-        except (TypeError, ValueError):
+        if g.dtype.kind not in "biuf":
             return False
-        e = e.astype(float)
+        g, e = g.astype(float), e.astype(float)
         finite = np.isfinite(e)
         scale = float(np.max(np.abs(e[finite]))) if finite.any() else 1.0
         infinities = [np.where(np.isinf(v), np.sign(v), 0.0) for v in (g, e)]  # NaN's sign is NaN: not used
@@ -128,76 +142,57 @@ def same(got, expected, rtol: float = RTOL) -> bool:
     return True
 
 
-def _shape_problem(got, expected) -> str | None:
-    """A sentence about a result of the wrong structure or shape, or None."""
-    got_parts, expected_parts = _parts(got, _several(expected)), _parts(expected, _several(expected))
-    if len(expected_parts) > 1 and len(got_parts) != len(expected_parts):
-        return f"it should return {len(expected_parts)} things (a tuple), but returns {len(got_parts)}."
-    for i, (g, e) in enumerate(zip(got_parts, expected_parts)):
-        if g.shape != e.shape:
-            which = f"its result number {i + 1}" if len(expected_parts) > 1 else "its result"
-            if e.ndim == 0:
-                return f"{which} should be a single number, but has shape {g.shape}."
-            return f"{which} has shape {g.shape} where {e.shape} is expected."
-    return None
-
-
-def _which_differ(got, expected) -> str:
-    """'it gives other values than the package', naming which results differ where there are several."""
-    if not _several(expected):
-        return "it gives other values than the package"
-    parts = list(zip(_parts(got, True), _parts(expected, True)))
-    wrong = [i + 1 for i, (g, e) in enumerate(parts) if not same(g, e)]
-    if len(wrong) == len(parts):
-        return ("both of its results differ" if len(parts) == 2 else f"all {len(parts)} of its results differ") + \
-            " from the package's"
-    named = " and ".join(f"number {i}" for i in wrong)
-    verb = "differs" if len(wrong) == 1 else "differ"
-    rest = "the other is right" if len(parts) - len(wrong) == 1 else "the others are right"
-    return f"its result {named} (of {len(parts)}) {verb} from the package's; {rest}"
-
-
-#: inputs and results with at most this many numbers are said in full, so a student can redo the case by hand
-SMALL = 8
-
-
-def _said(value) -> str | None:
-    """A value in words: small ones in full ('[0.2, 0.5]', 'True', '3.5'), else None."""
-    if isinstance(value, (bool, np.bool_)):
-        return str(bool(value))
-    if isinstance(value, (int, float, np.number)):
-        return f"{value:g}"
-    if isinstance(value, dict):
-        items = [(key, _said(item)) for key, item in value.items()]
-        return "{" + ", ".join(f"{key}: {text}" for key, text in items) + "}" if all(t for _, t in items) else None
-    if isinstance(value, tuple):
-        items = [_said(item) for item in value]
-        return "(" + ", ".join(items) + ")" if all(items) else None
-    array = np.asarray(value)
-    if array.dtype != object and array.ndim == 1 and array.size <= SMALL:
-        return "[" + ", ".join(_said(item.item()) for item in array) + "]"
-    return None
-
-
-def _describe(case: dict) -> str:
-    """An input in words: small values in full, larger arrays by their shape ('X of shape (7, 2), nu = 3.5')."""
-    parts = []
-    for name, value in case.items():
-        text = _said(value)
-        if text is not None:
-            parts.append(f"{name} = {text}")
-        elif isinstance(value, np.ndarray):
-            parts.append(f"{name} of shape {value.shape}")
-    return ", ".join(parts)
-
-
 def _seed(name: str) -> int:
     return zlib.crc32(name.encode())
 
 
-def _call(function, case: dict):
-    """``function`` on a copy of ``case``'s values, passed in order (a student may name them as they like)."""
-    return function(*copy.deepcopy(list(case.values())))
+def _number(value) -> bool:
+    return isinstance(value, (bool, int, float, np.number, np.bool_))
+
+
+def _fixed_arguments(exercise: CodingExercise, cases: list) -> list:
+    """A mistake for each number argument written in as a fixed value: the first case's, or a notebook example's."""
+    mistakes = []
+    for i, (name, value) in enumerate(cases[0].items()):
+        if not _number(value):
+            continue
+        values = [value] + [v for v in np.atleast_1d(exercise.examples.get(name, ())).tolist() if v != value]
+        for fixed in values:
+            def wrong(*args, i=i, fixed=fixed):
+                args = list(args)
+                args[i] = fixed
+                return exercise.reference(*args)
+
+            mistakes.append(Mistake(wrong, f"Your results are the ones {name} = {said(fixed)} gives, whatever "
+                                           f"{name} is: use the {name} your function is given."))
+    return mistakes
+
+
+def _round_to(value, digits: int, significant: bool):
+    """``value``'s floating-point parts rounded to ``digits`` decimals (or significant digits)."""
+    def one(part):
+        array = np.asarray(part)
+        if array.dtype.kind != "f":
+            return part
+        if not significant:
+            return np.round(array, digits)
+        return np.vectorize(lambda x: float(f"{x:.{digits}g}") if np.isfinite(x) else x, otypes=[float])(array)
+
+    return tuple(one(p) for p in value) if several(value) else one(value)
+
+
+def _rounding(exercise: CodingExercise) -> list:
+    """Mistakes: results rounded to 0 to 6 decimals, or to 1 to 6 significant digits."""
+    mistakes = []
+    for digits, significant in [(k, False) for k in range(7)] + [(k, True) for k in range(1, 7)]:
+        unit = "significant digit" if significant else "decimal"
+        unit = unit if digits == 1 else unit + "s"
+        mistakes.append(Mistake(
+            lambda *args, digits=digits, significant=significant: _round_to(exercise.reference(*args), digits,
+                                                                           significant),
+            f"Your values are rounded (to {digits} {unit}): return them as computed; round only where you "
+            "print them."))
+    return mistakes
 
 
 def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool, str]:
@@ -205,8 +200,10 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
 
     ``rng`` (a seed or Generator) draws the inputs; by default a seed of the
     exercise's name, so that a verdict is the same every time it is asked.
-    A wrong answer is matched against the usual mistakes on every input; the
-    first mistake that reproduces all of its results gives the diagnosis.
+    Every call gets copies of the inputs and :data:`running.TIME_LIMIT`
+    seconds.  A wrong answer is matched against the usual mistakes on every
+    input; the first mistake that reproduces all of its results gives the
+    diagnosis.
     """
     if not callable(function):
         return False, f"This exercise asks for a function, {exercise.signature}; got {type(function).__name__}."
@@ -214,32 +211,29 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
     cases = exercise.cases(rng)
     answers, failed = [], None
     for case in cases:
-        expected = _call(exercise.reference, case)
+        expected = call_copies(exercise.reference, case)[0]
         try:
-            got = _call(function, case)
+            got, copies = call_copies(function, case, limited=True)
         except NotImplementedError:
             return False, "Not written yet; replace the line raise NotImplementedError(...) with your code."
-        except Exception as exc:  # the student's code may raise anything: say what and where
-            said = f"Your function raised {type(exc).__name__}: {exc} (on {_describe(case)})."
+        except TimedOut as exc:
+            return False, (f"Your function {exc} (on {describe(case)}), so the check stopped waiting: is there a "
+                           "loop that never ends?")
+        except (Exception, SystemExit) as exc:  # the student's code may raise anything: say what and where
+            said_ = f"Your function raised {raised(exc)} (on {describe(case)})."
             if isinstance(exc, np.linalg.LinAlgError) and exercise.on_linalg_error:
-                said = f"{said} {exercise.on_linalg_error}"
-            return False, said
+                said_ = f"{said_} {exercise.on_linalg_error}"
+            return False, said_
+        moved = [key for (key, before), after in zip(case.items(), copies) if changed(before, after)]
+        if moved:
+            which = " and ".join(moved)
+            return False, (f"Your function changed its input {which} in place (on {describe(case)}): the caller's "
+                           f"data must stay as they were, so work on a copy.")
         answers.append(got)
         if failed is None and not same(got, expected):
             failed = (case, got, expected)
     if failed is not None:
-        for mistake in exercise.mistakes:
-            if _reproduces(mistake, cases, answers):
-                return False, mistake.diagnosis
-        case, got, expected = failed
-        if got is None:  # a right result is never None: a return is missing
-            return False, f"Your function returned None (is its return statement missing?) on {_describe(case)}."
-        problem = _shape_problem(got, expected)
-        if problem:
-            return False, f"{problem[0].upper()}{problem[1:]} (On {_describe(case)}.)"
-        yours = _said(got)
-        yours = f" (yours: {yours})" if yours is not None else ""
-        return False, f"On {_describe(case)}, {_which_differ(got, expected)}{yours}. {exercise.hint}".strip()
+        return False, _diagnosis(exercise, cases, answers, failed)
     message = explained(exercise.explanation)
     if exercise.timing is not None:
         slow = _slowness(exercise, function, rng)
@@ -248,12 +242,29 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
     return True, message
 
 
+def _diagnosis(exercise: CodingExercise, cases: list, answers: list, failed: tuple) -> str:
+    """What is wrong: a mistake the answers reproduce, else where they differ first, and the hint."""
+    for mistake in (*exercise.mistakes, *_fixed_arguments(exercise, cases), *_rounding(exercise)):
+        if _reproduces(mistake, cases, answers):
+            return mistake.diagnosis
+    case, got, expected = failed
+    if got is None:  # a right result is never None: a return is missing
+        return f"Your function returned None (is its return statement missing?) on {describe(case)}."
+    problem = shape_problem(got, expected)
+    if problem:
+        return f"{problem[0].upper()}{problem[1:]} (On {describe(case)}.)"
+    yours = said(got)
+    yours = f" (yours: {yours})" if yours is not None else ""
+    return f"On {describe(case)}, {which_differ(got, expected, same)}{yours}. {exercise.hint}".strip()
+
+
 def _reproduces(mistake: Mistake, cases: list, answers: list) -> bool:
     """Whether ``mistake`` gives the student's result on every input it applies to (and on one at least)."""
     applied = 0
     for case, got in zip(cases, answers):
         try:
-            wrong = _call(mistake.wrong, case)
+            with np.errstate(all="ignore"):
+                wrong = call_copies(mistake.wrong, case)[0]
         except Exception:  # a mistake that does not apply to this input
             continue
         if not same(got, wrong):
@@ -266,17 +277,32 @@ def _slowness(exercise: CodingExercise, function, rng) -> str:
     """A remark when ``function`` is far slower than the package on a large input ('' otherwise)."""
     case = exercise.timing(rng)
 
-    def seconds(f):
+    def seconds(f, limited=False):
         start = time.perf_counter()
-        _call(f, case)
+        call_copies(f, case, limited=limited)
         return time.perf_counter() - start
 
     ours = min(seconds(exercise.reference) for _ in range(3))
     try:
-        theirs = seconds(function)
+        theirs = seconds(function, limited=True)
+    except TimedOut:
+        theirs = float(running.TIME_LIMIT)
     except Exception:
         return ""
     if theirs > 0.5 and theirs > 30 * ours:
-        return (f"It is right but slow: {theirs:.0f} s on {_describe(case)}, {theirs / ours:.0f} times the package's "
+        took = f"{theirs:.0f} s" if theirs < running.TIME_LIMIT else f"over {running.TIME_LIMIT:g} s"
+        return (f"It is right but slow: {took} on {describe(case)}, {theirs / ours:.0f} times the package's "
                 "time. Factorise once and solve for every query together, not one query at a time.")
     return ""
+
+
+def run_prediction(prediction):
+    """A prediction written as a function, called within the time limit: ``(value, None)`` or ``(None, reply)``."""
+    try:
+        return run_limited(prediction), None
+    except NotImplementedError:
+        return None, "Not written yet; replace the line raise NotImplementedError(...) with your answer."
+    except TimedOut as exc:
+        return None, f"Your function {exc}, so the check stopped waiting: is there a loop that never ends?"
+    except (Exception, SystemExit) as exc:
+        return None, f"Your answer raised {raised(exc)}."

@@ -14,7 +14,15 @@ from matplotlib.figure import Figure
 from .. import markup, plotting
 from .._threads import one_blas_thread
 from ..config import NU, DataSettings
-from ..dashboard import SNAPSHOT_WIDTH_PX, control_row, fixed_layout_axes, readable_png, render_figure, slider, wipe_axes
+from ..dashboard import (
+    SNAPSHOT_WIDTH_PX,
+    control_row,
+    fixed_layout_axes,
+    readable_png,
+    render_figure,
+    slider,
+    wipe_axes,
+)
 from ..projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
 from .animation import Animation
 from .background import Preparer, changed_settings

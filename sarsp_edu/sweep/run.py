@@ -17,15 +17,28 @@ from pathlib import Path
 from .._io import StoredResultError, atomic_write_text, lock_folder, one_line_warning, read_json, staging_directory
 from .._validation import check_fraction, check_int, check_positive
 from .._version import __version__
-from ..config import (DEFINITION_4_A, PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES, ExperimentConfig,
-                      config_or_default)
+from ..config import (
+    DEFINITION_4_A,
+    PAPER_MAGNITUDES,
+    PAPER_PROPORTIONS,
+    PAPER_SWITCH_STATES,
+    ExperimentConfig,
+    config_or_default,
+)
 from ..experiment import compare
 from ..metrics import check_a
 from ..results import Comparison
-from .cells import (StoredResultWarning, _as_key, _cell_name, _check_cell, _shared_fields, _stored_base, cell_config,
-                    finished_cells)
+from .cells import (
+    StoredResultWarning,
+    _as_key,
+    _cell_name,
+    _check_cell,
+    _shared_fields,
+    _stored_base,
+    cell_config,
+    finished_cells,
+)
 from .stored import SweepResults, load_cell, stored_sweep
-
 
 LOCK_NAME = ".sweep.lock"
 

@@ -1,0 +1,121 @@
+"""Saying values, inputs and results in words, for the replies of the checks.
+
+Small values are said in full, so that a student can redo a case by hand;
+larger arrays by their shape; anything else by a short description, never a
+traceback or a page of digits.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["SMALL", "describe", "said", "several", "parts", "shape_problem", "shown", "which_differ"]
+
+#: inputs and results with at most this many numbers are said in full, so a student can redo the case by hand
+SMALL = 8
+#: a value's repr longer than this is shortened
+_LONGEST = 40
+
+
+def shown(value) -> str:
+    """Any value in a few words: its repr when short ('fifty', 3.5), else what it is ('an int of 401 digits')."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**_LONGEST:
+        return f"an int of {len(str(abs(value)))} digits"
+    try:
+        text = repr(value)
+    except Exception:  # a student's object may fail to print itself
+        text = ""
+    if text and len(text) <= _LONGEST and "\n" not in text:
+        return text
+    if isinstance(value, str):
+        return f"a text of {len(value)} characters"
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape}"
+    return f"a {type(value).__name__}"
+
+
+def several(value) -> bool:
+    """Whether a reference result is several results (a tuple), not one array."""
+    return isinstance(value, tuple)
+
+
+def parts(value, many: bool) -> list:
+    """A result as a list of arrays: several parts where the reference returns a tuple, else one array.
+
+    A part that numpy cannot read as an array (ragged lists, say) becomes an array of one object.
+    """
+    values = list(value) if many and isinstance(value, (tuple, list)) else [value]
+    out = []
+    for v in values:
+        try:
+            out.append(np.asarray(v))
+        except (TypeError, ValueError, OverflowError):
+            holder = np.empty((), dtype=object)
+            holder[()] = v
+            out.append(holder)
+    return out
+
+
+def said(value) -> str | None:
+    """A value in words: small ones in full ('[0.2, 0.5]', 'True', '3.5'), else None."""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, np.integer)):
+        return str(value) if abs(int(value)) < 10**15 else None
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, dict):
+        items = [(key, said(item)) for key, item in value.items()]
+        return "{" + ", ".join(f"{key}: {text}" for key, text in items) + "}" if all(t for _, t in items) else None
+    if isinstance(value, tuple):
+        items = [said(item) for item in value]
+        return "(" + ", ".join(items) + ")" if items and all(items) else None
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    if array.dtype.kind in "biuf" and array.ndim == 1 and array.size <= SMALL:
+        items = [said(item.item()) for item in array]
+        return "[" + ", ".join(items) + "]" if all(items) else None
+    return None
+
+
+def describe(case: dict) -> str:
+    """An input in words: small values in full, larger arrays by their shape ('X of shape (7, 2), nu = 3.5')."""
+    out = []
+    for name, value in case.items():
+        text = said(value)
+        if text is not None:
+            out.append(f"{name} = {text}")
+        elif isinstance(value, np.ndarray):
+            out.append(f"{name} of shape {value.shape}")
+    return ", ".join(out)
+
+
+def shape_problem(got, expected) -> str | None:
+    """A sentence about a result of the wrong structure or shape, or None."""
+    got_parts, expected_parts = parts(got, several(expected)), parts(expected, several(expected))
+    if len(expected_parts) > 1 and len(got_parts) != len(expected_parts):
+        return f"it should return {len(expected_parts)} things (a tuple), but returns {len(got_parts)}."
+    for i, (g, e) in enumerate(zip(got_parts, expected_parts)):
+        if g.shape != e.shape:
+            which = f"its result number {i + 1}" if len(expected_parts) > 1 else "its result"
+            if e.ndim == 0:
+                return f"{which} should be a single number, but has shape {g.shape}."
+            return f"{which} has shape {g.shape} where {e.shape} is expected."
+    return None
+
+
+def which_differ(got, expected, same) -> str:
+    """'it gives other values than the package', naming which results differ where there are several."""
+    if not several(expected):
+        return "it gives other values than the package"
+    pairs = list(zip(parts(got, True), parts(expected, True)))
+    wrong = [i + 1 for i, (g, e) in enumerate(pairs) if not same(g, e)]
+    if len(wrong) == len(pairs):
+        return ("both of its results differ" if len(pairs) == 2 else f"all {len(pairs)} of its results differ") + \
+            " from the package's"
+    named = " and ".join(f"number {i}" for i in wrong)
+    verb = "differs" if len(wrong) == 1 else "differ"
+    rest = "the other is right" if len(pairs) - len(wrong) == 1 else "the others are right"
+    return f"its result {named} (of {len(pairs)}) {verb} from the package's; {rest}"
