@@ -49,7 +49,10 @@ TEXT_STUB = "YOUR ANSWER HERE"
 #: the nbgrader cell-metadata schema this package writes
 SCHEMA_VERSION = 3
 #: what a student copy holds beside the notebooks (paths relative to the repository)
-HANDOUT_FILES = ("tutorials/GLOSSARY.md", "tutorials/README.md", "tutorials/nbval_sanitize.cfg")
+#: (repository path, path in the hand-out): the students' README is one of its own, which links only to what
+#: the hand-out holds (the repository's tutorials/README.md links to the lecturer's guide and the sources)
+HANDOUT_FILES = (("tutorials/GLOSSARY.md", "tutorials/GLOSSARY.md"), ("tutorials/HANDOUT.md", "tutorials/README.md"),
+                 ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"))
 #: the stored results the tutorials read (``../results/...`` from ``tutorials/``)
 HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-reduced", "results/sweep-reference", "results/ablation")
 
@@ -356,7 +359,7 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
         raise ValueError("give exactly one of out (a folder) or zip_path (a zip file)")
     notebooks = _student_notebooks(root / "tutorials")
     files = [(p, Path("tutorials") / p.name) for p in notebooks]
-    files += [(root / name, Path(name)) for name in HANDOUT_FILES if (root / name).exists()]
+    files += [(root / name, Path(inside)) for name, inside in HANDOUT_FILES if (root / name).exists()]
     for folder in HANDOUT_RESULTS:
         for path in sorted((root / folder).rglob("*")):
             if path.is_file() and not path.name.startswith("."):

@@ -60,3 +60,18 @@ def test_a_handout_written_again_into_its_own_folder_is_named_as_a_handout(tmp_p
     assert main(["course", "handout", "--root", str(ROOT), "--out", str(out)]) == 0
     err = usage_error(["course", "handout", "--root", str(ROOT), "--out", str(out)], capsys)
     assert f"--out {out} holds a course hand-out already (written earlier)" in err
+
+
+def test_the_handouts_pages_link_only_to_what_the_handout_holds(tmp_path):
+    import re
+
+    out = tmp_path / "handout"
+    assert main(["course", "handout", "--root", str(ROOT), "--out", str(out)]) == 0
+    pages = sorted(out.rglob("*.md"))
+    assert (out / "tutorials" / "README.md") in pages
+    for page in pages:
+        for target in re.findall(r"\]\(([^)#]+)", page.read_text(encoding="utf-8")):
+            if "://" not in target:
+                assert (page.parent / target).exists(), f"{page.relative_to(out)} links to {target}, not in the hand-out"
+    text = (out / "tutorials" / "README.md").read_text(encoding="utf-8")
+    assert "LECTURER" not in text and "source/" not in text
