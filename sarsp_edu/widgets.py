@@ -40,6 +40,19 @@ __all__ = [
 _T_LIMIT = None  # lambda**(-nu - 1), derived once by sympy
 
 
+def _tex_number(value: float, digits: int = 4) -> str:
+    r"""A number for TeX maths: 1.024e-07 as 1.024 \times 10^{-7} (maths would set the e-07 as a subtraction).
+
+    >>> print(_tex_number(1.0241e-07), _tex_number(0.0016))
+    1.024 \times 10^{-7} 0.0016
+    """
+    text = f"{value:.{digits}g}"
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    return f"{mantissa} \\times 10^{{{int(exponent)}}}"
+
+
 def _student_t_limit_expr():
     global _T_LIMIT
     if _T_LIMIT is None:
@@ -68,7 +81,7 @@ def tail_decay_dashboard(nu: float = NU, lam: float = 5.0) -> Dashboard:
         value = float(expr.subs({tails.LAMBDA: lam, tails.NU: nu}))
         info = (
             f"Student-t (sympy): $\\lim_{{x\\to\\infty}} f(\\lambda x)/f(x) = {sp.latex(expr)}"
-            f" = {lam:g}^{{{-1 - nu:g}}} = {value:.4g}$, regularly varying with index $-1-\\nu = {-1 - nu:g}$."
+            f" = {lam:g}^{{{-1 - nu:g}}} = {_tex_number(value)}$, regularly varying with index $-1-\\nu = {-1 - nu:g}$."
             f"<br>Gaussian: $f(\\lambda x)/f(x) = e^{{(1-\\lambda^2)x^2/2}} \\to 0$ for $\\lambda > 1$:"
             " no power of $\\lambda$, so not regularly varying; its tail is lighter than any Student-t's."
         )
@@ -118,8 +131,8 @@ def posterior_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: flo
                         f"{post['kernel'].length_scale:.3g}, noise variance {post['noise_variance']:.3g}, "
                         f"log marginal likelihood {post['log_marginal_likelihood']:.2f}")
         factor = (f"TP variance factor $\\frac{{\\nu + \\beta - 2}}{{\\nu + n - 2}} = "
-                  f"\\frac{{{data['nu']:g} + {data['beta']:.4g} - 2}}{{{data['nu']:g} + {data['n']} - 2}} = "
-                  f"{data['tp_scale']:.4g}$, with $\\beta = y^T K_y^{{-1}} y$, $K_y = K + \\sigma^2 I$")
+                  f"\\frac{{{data['nu']:g} + {_tex_number(data['beta'])} - 2}}{{{data['nu']:g} + {data['n']} - 2}} = "
+                  f"{_tex_number(data['tp_scale'])}$, with $\\beta = y^T K_y^{{-1}} y$, $K_y = K + \\sigma^2 I$")
         return data, "<br>".join([factor, *rows])
 
     def draw_posterior(model):

@@ -816,3 +816,16 @@ def test_the_robust_dashboard_says_what_its_pictures_show():
     thin = demos.compute_robust(nu=50.0)
     assert (thin["weights"] < 0.1).sum() == 0 and thin["rmse"]["robust"] > 2 * data["rmse"]["robust"]
     assert "0 of 40 points" in dashboard.info.value
+
+
+def test_a_slider_moved_by_steps_gives_the_number_it_shows():
+    """40 + 1.0 steps and 0.1 + 0.2 reach 41.00000000000001 and 0.30000000000000004: shown and used as 41, 0.3."""
+    from sarsp_edu import ExperimentConfig
+    from sarsp_edu.widgets import agent_dashboard
+
+    dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL), prepare_ahead=False)
+    dashboard.controls["proportion"].value = 0.1 + 0.2
+    assert dashboard.config().outlier_proportion == 0.3
+    assert dashboard.status.value.startswith("p = 0.3: ")
+    dashboard.controls["magnitude"].value = 40 + 0.1 * 10
+    assert "41.00000000000001" not in dashboard.status.value and dashboard.config().outlier_magnitude == 41.0

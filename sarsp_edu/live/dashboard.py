@@ -193,7 +193,8 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
 
     # -- configuration ------------------------------------------------------
     def config(self):
-        values = {k: c.value for k, c in self.controls.items()}
+        # a slider's float carries its steps' rounding (40 + 1.0 moves to 41.00000000000001): round it away
+        values = {k: round(c.value, 10) if isinstance(c.value, float) else c.value for k, c in self.controls.items()}
         return self.base_config.replace(
             nu=float(values["nu"]), outlier_magnitude=float(values["magnitude"]),
             outlier_proportion=float(values["proportion"]), n_switch_states=int(values["n_switch_states"]),
@@ -252,7 +253,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             self.status.value = f"<span style='color:#b00020'>{html.escape(str(exc))}</span>"
             return
         self._prepare_ahead()
-        self.status.value = ((f"{change['owner'].description} = {change['new']}: " if change else "")
+        self.status.value = ((f"{change['owner'].description} = {round(change['new'], 10):g}: " if change else "")
                              + "both agents start on this world at the next <b>Run</b>"
                              + (" (the run under way was stopped)." if interrupted else "."))
 
