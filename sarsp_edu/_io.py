@@ -47,6 +47,9 @@ class StoredResultError(ValueError):
 def read_json(path, keys=()) -> dict:
     """A JSON object from ``path`` that holds ``keys``, or :class:`StoredResultError` naming the file."""
     path = Path(path)
+    if path.exists() and not path.is_file():  # a folder, a device (/dev/zero) or a pipe: never read
+        raise StoredResultError(f"{path} is not a regular file (a folder, a device or a pipe in a stored file's "
+                                "place); restore the file")
     try:
         payload = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:

@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ._io import atomic_write_text
+from ._io import StoredResultError, atomic_write_text, read_json
 from ._version import __version__
 from .config import ABLATION_CELLS, ABLATION_SEEDS, PRESETS, ExperimentConfig
 from .metrics import backup_share, trapped_episodes
@@ -212,9 +212,16 @@ class AblationResults:
         meta = results_dir / "ablation.json"
         if not meta.exists():
             raise FileNotFoundError(f"{results_dir} is not an ablation results folder (no ablation.json)")
-        payload = json.loads(meta.read_text(encoding="utf-8"))
+        payload = read_json(meta, keys=("settings",))
+        if not isinstance(payload["settings"], dict):
+            raise StoredResultError(f"{meta} holds settings={payload['settings']!r}, not a mapping of names to "
+                                    "settings; it was edited")
         results = cls()
         for name, entry in payload["settings"].items():
+            if not (isinstance(entry, dict) and isinstance(entry.get("changes"), dict)
+                    and entry.get("folder") == setting_folder(name)):
+                raise StoredResultError(f"{meta}: setting {name!r} holds {entry!r}, where an ablation stores its "
+                                        f"changes and its folder {setting_folder(name)!r}; it was edited")
             folder = results_dir / entry["folder"]
             results.settings[name] = entry["changes"]
             if (folder / "sweep.json").exists():

@@ -90,12 +90,14 @@ def _processor() -> str:
 @functools.lru_cache(maxsize=1)
 def fingerprint() -> str:
     """A digest of what a fit's bits depend on besides its settings: this code, its libraries, the machine."""
+    import scipy.linalg  # noqa: F401  (loads the BLAS and LAPACK a fit uses, whatever was imported before)
     from threadpoolctl import threadpool_info
 
     from .provenance import code_provenance
 
     code = {k: v for k, v in code_provenance().items() if k != "git_commit"}  # the source hash says it all
-    blas = sorted(f"{i.get('internal_api')} {i.get('version')} {i.get('architecture')}" for i in threadpool_info())
+    blas = sorted(f"{i.get('internal_api')} {i.get('version')} {i.get('architecture')}" for i in threadpool_info()
+                  if i.get("user_api") == "blas")  # not the OpenMP runtimes, which come and go with imports
     parts = [*(f"{k}={v}" for k, v in sorted(code.items())), *blas, platform.machine(), _processor()]
     return hashlib.sha256("\n".join(parts).encode()).hexdigest()
 
@@ -119,8 +121,8 @@ def _warn_once(problem: str) -> None:
     """One warning per kind of problem and process: the cache is skipped, the fit is computed afresh."""
     if problem not in _warned:
         _warned.add(problem)
-        warnings.warn(f"the cache of fits is skipped: {problem}; the live dashboard fits afresh "
-                      f"(sarsp-edu cache --clear empties it, {CACHE_VARIABLE}=off turns it off)", stacklevel=3)
+        warnings.warn(f"the cache of fits is skipped: {problem}; the live dashboard fits afresh (remove what is "
+                      f"named, or set {CACHE_VARIABLE}=off to turn the cache off)", stacklevel=3)
 
 
 def _digest(arrays: dict, meta: dict) -> str:
@@ -163,20 +165,57 @@ def _restore(agent, arrays: dict, meta: dict) -> None:
     for name, (model, buffer, fit_points) in _models(agent).items():
         rows = draw_subset(len(buffer), fit_points, agent.rng)
         X, y = buffer.X[rows], buffer.y[rows]
-        stored = meta["models"][name]
+        stored = _checked_model_meta(meta["models"][name], X.shape[1])
+        data = group_rows(X, y)
+        G = len(data.counts)
+        shapes = {"theta_": (len(model._theta_bounds()),), "objective_trace_": (stored["n_iter_"] + 1,),
+                  "fit_indices_": (len(X),), "L_": (G, G)}
+        for attribute, shape in shapes.items():
+            array = arrays[f"{name}.{attribute}"]
+            kind = "i" if attribute == "fit_indices_" else "f"
+            if array.shape != shape or array.dtype.kind != kind or not np.all(np.isfinite(array)):
+                raise ValueError(f"the {name} model's {attribute} is {array.dtype}{array.shape}, not {shape}")
+        if not np.array_equal(np.sort(arrays[f"{name}.fit_indices_"]), np.arange(len(X))):
+            raise ValueError(f"the {name} model's fit rows are not the rows it was fitted on")
         model.n_features_in_, model.n_iter_ = stored["n_features_in_"], stored["n_iter_"]
         for attribute in ("theta_", "objective_trace_", "fit_indices_"):
             setattr(model, attribute, arrays[f"{name}.{attribute}"])
         model.kernel_, model.noise_variance_, extra = model._unpack(model.theta_)
         model._set_extra(extra)
-        data = group_rows(X, y)
         L = arrays[f"{name}.L_"]
-        if L.shape != (len(data.counts), len(data.counts)):
-            raise ValueError(f"the {name} model's factor is {L.shape}, for {len(data.counts)} distinct inputs")
+        _check_factor(name, model, data, L, stored["jitter_"])
         model._adopt_factor(X, y, data, L, stored["jitter_"])
         if model.log_marginal_likelihood_value_ != stored["log_marginal_likelihood_value_"]:
             raise ValueError(f"the {name} model's factor and hyperparameters do not give the stored likelihood on "
                              "these data: the entry was edited, or the data changed")
+
+
+def _checked_model_meta(stored, features: int) -> dict:
+    """A model's stored numbers, of the types and in the ranges a fit gives; ValueError otherwise."""
+    ok = (isinstance(stored, dict) and type(stored.get("n_features_in_")) is int
+          and stored["n_features_in_"] == features and type(stored.get("n_iter_")) is int and stored["n_iter_"] >= 0
+          and type(stored.get("jitter_")) is float and 0 <= stored["jitter_"] < np.inf
+          and type(stored.get("log_marginal_likelihood_value_")) is float)
+    if not ok:
+        raise ValueError(f"a model's stored numbers are not a fit's: {stored!r}")
+    return stored
+
+
+def _check_factor(name: str, model, data, L, jitter: float) -> None:
+    """Refuse a factor that is not the Cholesky factor of the covariance the hyperparameters give on ``data``.
+
+    Checked on two random directions, K v against L (L^T v): a few matrix-vector products where refactorising
+    would cost the fit's last Cholesky again.
+    """
+    from .kernels import squared_distances
+
+    G = len(data.counts)
+    K = model.kernel_.from_squared_distances(squared_distances(data.X))
+    K.flat[:: G + 1] += model.noise_variance_ / data.counts + jitter
+    v = np.random.default_rng(0).standard_normal((G, 2))
+    if np.any(np.triu(L, 1)) or not np.allclose(L @ (L.T @ v), K @ v, rtol=1e-9,
+                                                  atol=1e-9 * np.abs(K).max() * np.abs(v).sum(axis=0).max()):
+        raise ValueError(f"the {name} model's factor is not that of its covariance on these data")
 
 
 def load(config, prepared):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +32,7 @@ from .metrics import (
 )
 from .provenance import code_provenance
 
-__all__ = ["ExperimentResult", "Comparison", "StoredResultError", "stored_results"]
+__all__ = ["ExperimentResult", "Comparison", "StoredResultError", "check_paired", "stored_results"]
 
 
 @dataclass
@@ -136,6 +137,8 @@ def _read_records(path: Path, episodes: int) -> pd.DataFrame:
     def bad(problem: str):
         return StoredResultError(f"{path} {problem}")
 
+    if not path.is_file():  # a folder, a device (/dev/zero) or a pipe: never read
+        raise bad("is not a regular file (a folder, a device or a pipe in a stored file's place); restore the file")
     try:
         records = pd.read_csv(path)
     except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
@@ -168,7 +171,7 @@ def _read_records(path: Path, episodes: int) -> pd.DataFrame:
         cells = []
         for row, text in enumerate(records[column], start=1):
             parts = str(text).split()
-            if len(parts) != 2 or not all(part.lstrip("-").isdigit() for part in parts):
+            if len(parts) != 2 or not all(re.fullmatch(r"-?[0-9]+", part) for part in parts):  # ASCII digits only
                 raise bad(f"has {column}={text!r} in episode {row}, not a cell 'x y'")
             cells.append((int(parts[0]), int(parts[1])))
         records[column] = cells
@@ -208,6 +211,9 @@ def _check_ranges(path: Path, records: pd.DataFrame, config: ExperimentConfig) -
         off = [not (0 <= x < config.grid_size and 0 <= y < config.grid_size) for x, y in records[column]]
         if any(off):
             raise StoredResultError(f"{where(column, off)}: off the {config.grid_size} x {config.grid_size} grid")
+    same = [start == goal for start, goal in zip(records["start"], records["goal"])]
+    if any(same):
+        raise StoredResultError(f"{where('goal', same)}: the episode's start, where no episode starts")
     running = running_metrics(records["episode_reward"], records["episode_cost"], records["episode_steps"],
                               records["task_completed"])
     for column in SUMMARY_METRICS:
@@ -285,7 +291,20 @@ class Comparison:
                 f"models {tp.config.model!r} and {gp.config.model!r}")
             raise StoredResultError(f"{directory}: tp/ and gp/ are not one paired comparison ({details}); "
                                     "they come from two runs: run 'sarsp-edu compare' again into a new folder")
+        check_paired(tp, gp, directory)
         return cls(tp, gp, a)
+
+
+def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory) -> None:
+    """Refuse a TP and a GP run whose episodes did not start and end at the same cells (they are paired)."""
+    for column in ("start", "goal"):
+        differ = [a != b for a, b in zip(tp.records[column], gp.records[column])]
+        if any(differ):
+            episode = differ.index(True) + 1
+            raise StoredResultError(
+                f"{directory}: tp/ and gp/ differ in episode {episode}'s {column} ({tp.records[column].iloc[episode - 1]}"
+                f" against {gp.records[column].iloc[episode - 1]}), where a paired comparison runs both on the same "
+                "episodes; one of the records was edited")
 
 
 #: an environment variable naming the folder that holds the repository's stored results

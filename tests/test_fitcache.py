@@ -113,9 +113,26 @@ def _edit_entry(path, change):
         np.savez(handle, meta=np.array(json.dumps(meta)), **arrays)
 
 
+def _factor_with_its_own_likelihood(arrays, meta):
+    """A careful forger: another factor, and the likelihood the loader recomputes from it, and a new digest."""
+    from sarsp_edu.linalg import group_rows
+
+    arrays["cost.L_"] *= 2
+    experiment = experiments_on_one_world(TINY, {"gp": {"model": "gp"}})["gp"]
+    model = experiment.agent.cost_model
+    model._adopt_factor(model.X_train_, model.y_train_, group_rows(model.X_train_, model.y_train_),
+                        arrays["cost.L_"], meta["models"]["cost"]["jitter_"])
+    meta["models"]["cost"]["log_marginal_likelihood_value_"] = float(model.log_marginal_likelihood_value_)
+
+
 @pytest.mark.parametrize("change", [
     lambda arrays, meta: arrays["cost.L_"].__imul__(1 + 1e-9),  # the factor of other data (zeroed labels, say)
     lambda arrays, meta: arrays["cost.theta_"].__iadd__(0.01),  # other hyperparameters
+    _factor_with_its_own_likelihood,
+    lambda arrays, meta: meta["models"]["cost"].update(n_features_in_="5"),
+    lambda arrays, meta: meta["models"]["cost"].update(jitter_=5.0),
+    lambda arrays, meta: arrays.update({"cost.fit_indices_": arrays["cost.fit_indices_"][::-1][:-1]}),
+    lambda arrays, meta: arrays.update({"cost.objective_trace_": arrays["cost.objective_trace_"][:3]}),
 ])
 def test_an_edited_entry_is_detected_not_loaded(cache, change):
     experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)

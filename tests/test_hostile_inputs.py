@@ -192,3 +192,79 @@ def test_a_run_shows_its_fits_progress_before_its_episodes_and_compare_shows_bot
     assert done.returncode == 0, done.stderr
     for model in ("TP", "GP"):
         assert f"{model}: fitting the cost model (" in done.stderr and f"{model} episodes" in done.stderr
+
+
+# -- the second hostile pass's findings ------------------------------------------------------------------------
+def test_tables_never_write_markdown_into_the_results_they_read(sweep_copy, capsys):
+    before = (sweep_copy / "sweep.json").read_bytes()
+    err = usage_error(["tables", str(sweep_copy), "--markdown", str(sweep_copy / "sweep.json")], capsys)
+    assert err.endswith(f"lies inside the results folder {sweep_copy}, whose files it could replace; write the "
+                        "tables outside it")
+    assert (sweep_copy / "sweep.json").read_bytes() == before
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device", "folder"])
+def test_a_pipe_device_or_folder_in_a_stored_files_place_is_never_read(sweep_copy, capsys, kind):
+    import os
+
+    target = next((sweep_copy / "cells").glob("*/tp/result.json")) if kind != "folder" else \
+        next((sweep_copy / "cells").glob("*/gp/records.csv"))
+    target.unlink()
+    if kind == "fifo":
+        os.mkfifo(target)
+    elif kind == "device":
+        target.symlink_to("/dev/zero")
+    else:
+        target.mkdir()
+    err = usage_error(["tables", str(sweep_copy)], capsys)  # returns: nothing hangs or fills the memory
+    assert "is not a regular file (a folder, a device or a pipe in a stored file's place)" in err
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda p: p.pop("settings"), r"ablation.json lacks"),
+    (lambda p: p.update(settings=[1, 2]), r"holds settings=\[1, 2\], not a mapping"),
+    (lambda p: next(iter(p["settings"].values())).pop("changes"), r"where an ablation stores its changes"),
+    (lambda p: next(iter(p["settings"].values())).update(folder="../../sweep-reduced"),
+     r"where an ablation stores its changes and its folder"),
+])
+def test_a_damaged_ablation_json_is_named_not_followed(tmp_path, capsys, edit, message):
+    import shutil
+    from pathlib import Path
+
+    folder = tmp_path / "ablation"
+    shutil.copytree(Path(__file__).resolve().parents[1] / "results" / "ablation", folder)
+    payload = json.loads((folder / "ablation.json").read_text())
+    edit(payload)
+    (folder / "ablation.json").write_text(json.dumps(payload))
+    assert re.search(message, usage_error(["tables", str(folder)], capsys))
+
+
+def test_two_cells_that_would_share_a_folder_or_a_seed_are_refused_before_any_work(capsys):
+    with pytest.raises(ValueError, match=r"the cells m=40.0 p=0.2 and m=40.0000001 p=0.2 \(nss=1\) would share the "
+                                         r"folder m40_p0.2_nss1_seed0 or one run seed"):
+        run_sweep(TINY, magnitudes=(40, 40.0000001), proportions=(0.2,), n_switch_states=(1,))
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda t: t.loc.__setitem__((0, "start"), "0 0"), r"tp/ and gp/ differ in episode 1's start"),
+    (lambda t: t.loc.__setitem__((0, "start"), "\u00b2 3"), r"has start='\u00b2 3' in episode 1, not a cell 'x y'"),
+])
+def test_unpaired_or_unreadable_cells_are_named(sweep_copy, capsys, edit, message):
+    import pandas as pd
+
+    records = next((sweep_copy / "cells").glob("*/gp/records.csv"))
+    table = pd.read_csv(records)
+    if (table.loc[0, "start"] == "0 0") and "differ" in message:
+        pytest.skip("the stored start is already 0 0")
+    edit(table)
+    table.to_csv(records, index=False)
+    assert re.search(message, usage_error(["tables", str(sweep_copy)], capsys))
+
+
+def test_the_cache_fingerprint_does_not_depend_on_what_was_imported_first():
+    import subprocess
+    import sys
+
+    code = ("from sarsp_edu import fitcache; first = fitcache.fingerprint(); import sklearn, sarsp_edu.experiment;"
+            " fitcache.fingerprint.cache_clear(); print(first == fitcache.fingerprint())")
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip() == "True"

@@ -168,7 +168,7 @@ def check_out(parser: argparse.ArgumentParser, out, command: str, config=None, o
         return
     kind = next((k for k, marker in _MARKERS.items() if (path / marker).exists()), None)
     if kind != command:
-        holds = f"a {kind}'s results" if kind else "other files"
+        holds = f"{'an' if kind[0] in 'aeiou' else 'a'} {kind}'s results" if kind else "other files"
         parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
                      f"or one holding a {command}'s results")
     if command in ("run", "compare") and config is not None and not overwrite:

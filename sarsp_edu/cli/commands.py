@@ -199,9 +199,14 @@ def _tables(args, parser) -> int:
     from ..sweep import SweepResults, describe_cells, stored_sweep
     from ..tables import frame_to_markdown, summary_tables, tables_markdown
 
+    from pathlib import Path
+
     if args.markdown:
         check_file(parser, "--markdown", args.markdown)
-    from pathlib import Path
+        folder = Path(args.results_dir).resolve()
+        if folder in Path(args.markdown).resolve().parents:
+            parser.error(f"--markdown {args.markdown} lies inside the results folder {args.results_dir}, whose files "
+                         "it could replace; write the tables outside it")
 
     if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
         return _ablation_table(args, parser)
@@ -415,7 +420,8 @@ def _check_pages_out(parser, out, overwrite: bool) -> None:
 
     held = next((kind for kind, marker in _MARKERS.items() if (out / marker).exists()), None)
     if held:
-        parser.error(f"--out {out} holds a {held}'s results; give the pages a folder of their own")
+        parser.error(f"--out {out} holds {'an' if held[0] in 'aeiou' else 'a'} {held}'s results; give the pages a "
+                     "folder of their own")
     pages = sorted(p.name for p in out.glob("*.html")) if out.is_dir() else []
     if pages and not overwrite:
         parser.error(f"--out {out} holds pages already ({', '.join(pages[:3])}{' ...' if len(pages) > 3 else ''}); "

@@ -32,6 +32,7 @@ from .cells import (
     StoredResultWarning,
     _as_key,
     _cell_name,
+    cell_seed,
     _check_cell,
     _shared_fields,
     _stored_base,
@@ -195,6 +196,7 @@ def run_sweep(
             raise ValueError("n_jobs must be a positive integer or -1 (one per core), got n_jobs=0")
     check_a(a)
     keys = [(float(m), float(p), int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
+    _refuse_twins(keys)
 
     if scheduler is not None:
         _dask()  # before any work: a missing Dask is said at once
@@ -229,6 +231,20 @@ def run_sweep(
         if lock is not None:
             lock.close()
     return results
+
+
+def _refuse_twins(keys) -> None:
+    """Refuse two cells that share a folder name or a run seed (m to 3 decimals, p to 6): one would overwrite,
+    or repeat, the other."""
+    names, seeds = {}, {}
+    for key in dict.fromkeys(keys):
+        for seen, mark in ((names, _cell_name(*key)), (seeds, (key[2], key[3], cell_seed(key[3], *key[:3])))):
+            twin = seen.setdefault(mark, key)
+            if twin != key:
+                raise ValueError(
+                    f"the cells m={twin[0]!r} p={twin[1]!r} and m={key[0]!r} p={key[1]!r} (nss={key[2]}) would share "
+                    f"the folder {_cell_name(*key)} or one run seed, and one would overwrite or repeat the other; give "
+                    "magnitudes that differ in their first three decimals and proportions in their first six")
 
 
 def _workers(n_jobs: int, cells: int) -> int:

@@ -12,7 +12,7 @@ from .._io import StoredResultError, read_json
 from ..config import DEFINITION_4_A, ExperimentConfig
 from ..metrics import SUMMARY_METRICS
 from ..provenance import code_label
-from ..results import Comparison, ExperimentResult
+from ..results import Comparison, ExperimentResult, check_paired
 from .cells import _KEY, _as_key, _name_key, _shared_fields, _stored_base, _stored_key, cell_config, describe_cells
 
 
@@ -249,6 +249,7 @@ def load_cell(base: ExperimentConfig, cell: Path, key: tuple, a: float = DEFINIT
             details = ", ".join(f"{name}={ran[name]!r} where the sweep gives {wanted[name]!r}" for name in differing)
             raise StoredResultError(f"{cell / model / 'result.json'} is not this sweep's cell "
                                     f"{describe_cells([key])}: it ran {details}")
+    check_paired(sides["tp"], sides["gp"], cell)
     return Comparison(sides["tp"], sides["gp"], a)
 
 
