@@ -114,12 +114,16 @@ def percent_difference(tp: float, gp: float) -> float:
 
 
 def symmetric_percent_difference(a: float, b: float) -> float:
-    """``|a - b| / ((a + b) / 2) * 100``: the "% difference" the paper's Table 1 prints in total cost.
+    """``|a - b| / ((|a| + |b|) / 2) * 100``: the "% difference" the paper's Table 1 prints in total cost.
 
-    Unlike :func:`percent_difference` it has no sign and no reference model.
+    Unlike :func:`percent_difference` it has no sign and no reference model.  For the non-negative totals of
+    Table 1 the denominator is the mean; with the magnitudes' mean it stays defined (at most 200) where the
+    values have opposite signs, as rewards can (exercise 5.1 asks for the same rule).
+
+    >>> symmetric_percent_difference(28, 58), symmetric_percent_difference(-3, 5), symmetric_percent_difference(0, 0)
+    (69.76744186046511, 200.0, 0.0)
     """
-    mean = (a + b) / 2
-    return 0.0 if a == b else (abs(a - b) / abs(mean) * 100 if mean else math.nan)
+    return 0.0 if a == b else abs(a - b) / ((abs(a) + abs(b)) / 2) * 100
 
 
 #: for each summary metric, whether a higher value is better

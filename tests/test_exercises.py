@@ -102,7 +102,8 @@ def corrects(mu_cost, var_cost, action, d, was_backup):
 
 
 def symmetric_percent_difference(a, b):
-    return 0.0 if a == b else abs(a - b) / ((a + b) / 2) * 100
+    """The exercise's rule: the mean of the sizes |a| and |b| (Table 1's totals are never negative)."""
+    return 0.0 if a == b else abs(a - b) / ((abs(a) + abs(b)) / 2) * 100
 
 
 def agreement_share(tp_1, gp_1, tp_2, gp_2):
@@ -195,7 +196,7 @@ WRONG = {
     "4.3": [(lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d), "second reason"),
             (lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d or var_cost[action] == min(var_cost)),
              "taken as the backup")],
-    "5.1": [(lambda a, b: (a - b) / b * 100, "Table 2's convention"),
+    "5.1": [(lambda a, b: (a - b) / abs(b) * 100, "Table 2's convention"),
             (lambda a, b: abs(a - b) / max(a, b) * 100, "not the larger")],
     "5.2": [(lambda t1, g1, t2, g2: 100.0 * np.mean(np.sign(t1 - g1) == np.sign(t2 - g2)), "A tie names no better"),
             (lambda t1, g1, t2, g2: agreement_share(t1, g1, t2, g2) / 100, "in %")],
@@ -210,7 +211,7 @@ WRONG = {
              and s1["task_success_rate"] >= s2["task_success_rate"], "or, not and"),
             (lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]),
-             "third branch is missing")],
+             "third branch missing")],
 }
 
 # -- the slips a student's attempt at every exercise made, each with the reply that names it -----------
@@ -346,7 +347,7 @@ def test_a_right_answer_that_refactorises_per_query_is_called_slow():
 @pytest.mark.parametrize("answer", [50, 50.0, np.int64(50), np.float32(50), np.array(50)])
 def test_short_answers_are_taken_in_any_numeric_type(answer):
     assert is_right("3.4", answer) is True
-    assert is_right("3.4", 25) is False and is_right("3.4", True) is False and is_right("3.4", "50") is False
+    assert is_right("3.4", 25) is False and is_right("3.4", True) is False and is_right("3.4", "50") is True
 
 
 def test_short_answers_right_wrong_and_missing(capsys):
@@ -407,3 +408,273 @@ def test_a_prediction_may_be_a_function_and_its_placeholder_is_not_answered(caps
     check("2.5", my_prediction)
     assert "Not written yet" in capsys.readouterr().out
     assert is_right("2.5", lambda: "below")
+
+
+# -- "Labs without holes", section 1: the grader's holes, one test each ----------------------------------
+#: the values of number arguments that the notebooks use in their examples (besides each first case's)
+NOTEBOOK_VALUES = {"3.1": {"cap": (1, 12)}, "3.3": {"size": 10}, "4.1": {"d": 1.0, "variance_threshold": 0.8},
+                   "4.2": {"d": 1.0, "variance_threshold": 0.8}, "4.3": {"d": 1.0}, "6.2": {"a": 100.0}}
+
+
+def _written_in(name, position, value):
+    """The right answer of ``name`` with its argument number ``position`` replaced by a fixed ``value``."""
+    def answer(*args):
+        args = list(args)
+        args[position] = value
+        return RIGHT[name](*args)
+    return answer
+
+
+def _number_arguments():
+    for name in sorted(CODING):
+        first = CODING[name].cases(np.random.default_rng(0))[0]
+        for position, (argument, value) in enumerate(first.items()):
+            if isinstance(value, (bool, int, float, np.number)):
+                for fixed in dict.fromkeys([value, *np.atleast_1d(NOTEBOOK_VALUES.get(name, {}).get(argument, ()))]):
+                    yield name, position, argument, fixed
+
+
+@pytest.mark.parametrize("name, position, argument, fixed", list(_number_arguments()))
+def test_an_answer_with_a_number_argument_written_in_is_judged_wrong(name, position, argument, fixed):
+    """Hole 1: every number argument takes several values, so writing one in (d = 1, cap = 12) is caught."""
+    right, message = grade(name, CODING[name], _written_in(name, position, fixed))
+    assert not right, f"{name}: {argument} = {fixed} written in passes"
+
+
+def test_exercise_4_3_varies_d_and_tells_the_distance_alone_from_the_whole_safe_test():
+    """Hole 1: 4.3 used d = 1 in every case, and no case told 'called it safe' from Algorithm 1's safe test."""
+    cases = CODING["4.3"].cases(np.random.default_rng(0))
+    assert len({case["d"] for case in cases}) >= 3
+    assert any(case["mu_cost"][case["action"]] >= case["d"] and case["var_cost"][case["action"]] > 0.8
+               and (case["was_backup"] or case["var_cost"][case["action"]] > case["var_cost"].min())
+               for case in cases)
+    d_is_one = lambda mu_cost, var_cost, action, d, was_backup: corrects(mu_cost, var_cost, action, 1.0,  # noqa: E731
+                                                                          was_backup)
+    right, message = grade("4.3", CODING["4.3"], d_is_one)
+    assert not right and "d = 1 gives, whatever d is" in message
+    whole_test = lambda mu_cost, var_cost, action, d, was_backup: bool(  # noqa: E731
+        (mu_cost[action] >= d and var_cost[action] <= 0.8) or (var_cost[action] <= min(var_cost) and not was_backup))
+    right, message = grade("4.3", CODING["4.3"], whole_test)
+    assert not right and "the predicted distance alone" in message
+    assert "whatever the variance" in CODING["4.3"].question
+
+
+@pytest.mark.parametrize("name", ["1.1", "1.2", "1.3", "2.7"])
+def test_array_arguments_are_given_in_more_than_one_dimension(name):
+    """Hole 2: 'x is an array' allows any shape; an answer that flattens it is caught."""
+    assert any(np.ndim(next(iter(case.values()))) == 2 for case in CODING[name].cases(np.random.default_rng(0)))
+
+    def flattening(x, *rest):
+        result = RIGHT[name](np.ravel(x), *rest)
+        return tuple(np.ravel(r) for r in result) if isinstance(result, tuple) else np.ravel(result)
+
+    right, message = grade(name, CODING[name], flattening)
+    assert not right and "has shape" in message
+
+
+def test_the_buffer_cap_is_given_inputs_of_one_and_three_features():
+    """Hole 2: X of shape (n, d) for any d; an answer that keys on the first two columns is caught."""
+    assert {case["X"].shape[1] for case in CODING["3.1"].cases(np.random.default_rng(0))} >= {1, 2, 3}
+    two_columns = lambda X, y, cap: cap_duplicates(X[:, :2], y, cap) if X.shape[1] == 2 else (X, y)  # noqa: E731
+    assert not grade("3.1", CODING["3.1"], two_columns)[0]
+
+
+@pytest.mark.parametrize("name, change, argument", [
+    ("2.1", lambda args: args[0].fill(0.0), "X"),
+    ("3.1", lambda args: args[1].sort(), "y"),
+    ("6.2", lambda args: args[0].update(cost_rate=0.0), "summary_1"),
+    ("5.3", lambda args: args[1].sort(), "gp"),
+])
+def test_an_answer_that_changes_its_inputs_in_place_is_judged_wrong(name, change, argument):
+    """Hole 3: the student's function gets copies; the copies are compared with the originals afterwards."""
+    def changing(*args):
+        result = RIGHT[name](*[np.array(a) if isinstance(a, np.ndarray) else dict(a) if isinstance(a, dict) else a
+                               for a in args])
+        change(args)
+        return result
+
+    right, message = grade(name, CODING[name], changing)
+    assert not right and f"changed its input {argument} in place" in message and "work on a copy" in message
+
+
+def test_an_answer_that_runs_too_long_is_stopped_after_ten_seconds(capsys):
+    """Hole 4: the check returns within the limit, and says so in one line."""
+    import time
+
+    start = time.perf_counter()
+    check("2.1", lambda X, Y, amplitude, length_scale: time.sleep(15))
+    out = capsys.readouterr().out
+    assert time.perf_counter() - start < 20
+    assert out.startswith("Exercise 2.1: not yet. Your function did not return within 10 s") and out.count("\n") == 1
+
+
+def test_an_endless_loop_is_stopped_and_a_prediction_too(monkeypatch, capsys):
+    import threading
+    import time
+
+    from sarsp_edu.exercises import running
+
+    monkeypatch.setattr(running, "TIME_LIMIT", 0.5)
+
+    def endless(x, nu):
+        while True:
+            pass
+
+    before = set(threading.enumerate())
+    right, message = grade("1.1", CODING["1.1"], endless)
+    assert not right and "did not return within 0.5 s" in message
+    stopped = [t for t in threading.enumerate() if t not in before and t.name == "sarsp_edu-exercise"]
+    for thread in stopped:
+        thread.join(5)  # an endless loop of Python code is asked to stop, and does
+    assert not any(thread.is_alive() for thread in stopped)
+    check("3.4", lambda: time.sleep(15))
+    assert "Exercise 3.4: not yet. Your function did not return within 0.5 s" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("exercise, answer, said", [
+    ("3.4", lambda: 1 / 0, "Your answer raised ZeroDivisionError: division by zero."),
+    ("2.5", lambda: {}["x"], "Your answer raised KeyError: 'x'."),
+    ("3.4", 10**400, "Could not read an int of 401 digits as a whole number."),
+    ("3.4", "fifty", "Could not read 'fifty' as a whole number."),
+    ("3.4", 49.5, "Could not read 49.5 as a whole number."),
+    ("3.4", None, "Your answer is None."),
+    ("3.4", lambda: None, "Your answer is None (is your function's return statement missing?)."),
+    ("1.4", "inf", "Could not read 'inf' as a dict of three limits."),
+    ("1.4", {"lambda < 1": "lots", "lambda = 1": 1, "lambda > 1": 0}, "Could not read 'lots' as the limit"),
+    ("4.4", [0, 7], "7 is not an action: they are numbered 0 to 3."),
+])
+def test_a_prediction_that_raises_or_cannot_be_read_gets_one_line(exercise, answer, said, capsys):
+    """Hole 4: never a traceback; what could not be read is said, with the accepted forms."""
+    decision = Decision((4, 4), np.array([1.0, 2.0, 0.4, 1.4]), np.array([5.5, 5.6, 5.4, 11.0]),
+                        np.array([-3.0, -2.0, -1.0, -2.5]), np.array([1.0] * 4), np.array([False] * 4),
+                        np.array([False] * 4), 2, True)
+    check(exercise, answer, **({"decision": decision} if exercise == "4.4" else {}))
+    out = capsys.readouterr().out
+    assert out.startswith(f"Exercise {exercise}: not yet. ") and said in out and out.count("\n") == 1
+    assert "raised" in said or "Accepted: " in out
+
+
+@pytest.mark.parametrize("answer", [lambda a, b: 10**400, lambda a, b: "69.8", lambda a, b: [[1], [2, 3]]])
+def test_a_result_that_cannot_be_read_is_said_not_raised(answer):
+    right, message = grade("5.1", CODING["5.1"], answer)
+    assert not right and "cannot be read as a number" in message
+
+
+@pytest.mark.parametrize("exercise, answers", [
+    ("2.5", ["below", "Below.", "BELOW", " below 1 ", "<", "< 1", "smaller", "less than 1", np.str_("below")]),
+    ("2.6", ["narrower", "Narrower.", "smaller", "<", "tighter"]),
+    ("3.4", [50, "50", " 50 ", "50.0", np.int64(50), np.float32(50), np.array(50), lambda: np.int32(50)]),
+    ("1.4", [{"lambda<1": "infinity", "lambda=1": "1", "lambda>1": 0},
+             {"λ < 1": math.inf, "λ = 1": np.float64(1.0), "λ > 1": np.int64(0)},
+             {"lambda < 1": "∞", "lambda == 1": 1.0, "lambda > 1": "0"},
+             {"λ<1": float("inf"), "λ=1": np.array(1), "λ>1": 0.0}]),
+])
+def test_predictions_take_the_spellings_a_student_would_use(exercise, answers):
+    """Hole 5: words with a capital and a full stop, symbols, numbers as text, numpy scalars, 'λ < 1'."""
+    for answer in answers:
+        assert is_right(exercise, answer), answer
+    assert not is_right(exercise, {"2.5": "above", "2.6": "wider", "3.4": 49}.get(exercise, {
+        "lambda < 1": 0, "lambda = 1": 1, "lambda > 1": math.inf}))
+
+
+def test_exercise_4_4_takes_a_list_a_set_an_array_a_mask_or_text():
+    decision = Decision((4, 4), np.array([1.0, 2.0, 0.4, 1.4]), np.array([5.5, 5.6, 5.4, 11.0]),
+                        np.array([-3.0, -2.0, -1.0, -2.5]), np.array([1.0] * 4), np.array([False] * 4),
+                        np.array([False] * 4), 2, True)
+    for answer in ([0, 1], (1, 0), {0, 1}, np.array([0, 1]), [np.int64(0), 1.0], "0, 1", "[0, 1]",
+                   np.array([True, True, False, False]), ["RIGHT", "down"]):
+        assert is_right("4.4", answer, decision=decision), answer
+
+
+@pytest.mark.parametrize("exercise, answer", [("2.5", "maybe"), ("2.5", 0.8), ("2.6", "same"), ("3.4", "fifty"),
+                                              ("3.4", True), ("1.4", [math.inf, 1, 0])])
+def test_an_answer_that_cannot_be_read_lists_the_forms_and_gets_no_hint(exercise, answer, capsys):
+    """Hole 5: the hint is for a wrong idea; an unreadable answer is told the accepted forms instead."""
+    check(exercise, answer)
+    out = capsys.readouterr().out
+    assert "Could not read" in out and "Accepted: " in out and EXERCISES[exercise].hint not in out
+
+
+def test_replies_do_not_give_the_answer_away(capsys):
+    """Hole 6: no formula, algorithm or function to call in a reply; the module's examples show no answer."""
+    import sarsp_edu.exercises as exercises
+
+    assert "50, one colour" not in exercises.__doc__ and 'check("3.4", np.int64(50))' not in exercises.__doc__
+    right, message = grade("1.3", CODING["1.3"], lambda residual, nu: (np.asarray(residual) ** 2,
+                                                                          outlier_costs(residual, nu)[1]))
+    assert not right and "log(2 pi)" not in message and "r^2/2" not in message
+    right, message = grade("3.1", CODING["3.1"], lambda X, y, cap: (X[:1], y[:1]))
+    assert not right and "dict" not in message and "tuple(x)" not in message
+    replies = [m.diagnosis for exercise in CODING.values() for m in exercise.mistakes]
+    replies += [exercise.hint for exercise in EXERCISES.values()]
+    for reply in replies:
+        assert "binomtest" not in reply and "chessboard" not in reply and "X[:, None" not in reply, reply
+        assert "ACTION_MOVES" not in reply and " & " not in reply and "keyed by" not in reply, reply
+    check("3.4", 49)
+    out = capsys.readouterr().out
+    assert "not a string" not in out and "chessboard" not in out and "50" not in out
+
+
+@pytest.mark.parametrize("name, answer, diagnosis", [
+    ("6.2", lambda s1, s2, a: prefers(s1, s2, 100.0), "a fixed at 100"),
+    ("6.2", lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+        s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+        or s1["task_success_rate"] / 100 >= a), "compared as a fraction"),
+    ("6.2", lambda s1, s2, a: prefers(s1, s2, a / 100), "both in %"),
+    ("2.4", lambda K, y, noise_variance, nu: -tp_log_marginal_likelihood(K, y, noise_variance, nu), "The sign"),
+    ("5.1", lambda a, b: round(symmetric_percent_difference(a, b), 1), "rounded (to 1 decimal)"),
+    ("2.2", lambda K, K_star, k_star_star, y, noise_variance: tuple(
+        np.round(r, 3) for r in gp_posterior(K, K_star, k_star_star, y, noise_variance)), "rounded (to 3 decimals)"),
+    ("1.2", lambda x, lam, nu: np.exp(student_t_logpdf(lam * np.asarray(x) ** 2, nu) - student_t_logpdf(x, nu)),
+     "eq. 8 as printed, with lambda x^2"),
+    ("1.2", lambda x, lam, nu: np.exp(stats.t.logpdf(lam * np.asarray(x) ** 2, nu) - stats.t.logpdf(x, nu)),
+     "eq. 8 as printed, with lambda x^2"),
+])
+def test_the_misdiagnoses_seen_get_the_right_diagnosis(name, answer, diagnosis):
+    """Hole 6: 6.2 with a = 100 or TSR / 100, 2.4's sign slip, 5.1 rounded, and 1.2's misprint (the tutorial's
+    teaching point) each get their own reply."""
+    right, message = grade(name, CODING[name], answer)
+    assert not right and diagnosis in message, message
+    if name == "5.1":
+        assert "yours: 69.8" not in message
+    if name == "2.4":
+        assert "shape matrix" not in message
+
+
+def test_exercise_5_1_has_one_rule_for_negative_values():
+    """Hole 7: rewards are negative; the question says the rule, the key follows it, Table 1's totals unchanged."""
+    from sarsp_edu.exercises.records import _symmetric
+    from sarsp_edu.metrics import symmetric_percent_difference as package
+
+    assert "(|a| + |b|) / 2" in CODING["5.1"].question
+    cases = CODING["5.1"].cases(np.random.default_rng(0))
+    assert any(case["a"] < 0 and case["b"] < 0 for case in cases) and any(case["a"] * case["b"] < 0 for case in cases)
+    assert _symmetric(-28.0, -58.0) == pytest.approx(69.77, abs=0.01) and _symmetric(-3.0, 5.0) == pytest.approx(200)
+    for a, b in ((28.0, 58.0), (0.0, 4.0), (5.0, 5.0), (0.0, 0.0)):
+        assert _symmetric(a, b) == package(a, b)
+    table_1_only = lambda a, b: 0.0 if a == b else abs(a - b) / ((a + b) / 2) * 100  # noqa: E731
+    right, message = grade("5.1", CODING["5.1"], table_1_only)
+    assert not right and "negative values" in message
+
+
+def test_exercise_6_1_has_one_rule_where_eq_12_divides_by_zero():
+    """Hole 7: 0 where either is 0, as running_metrics keeps it; said once, in the question."""
+    from sarsp_edu.metrics import running_metrics
+
+    assert "0 where either of the two is 0" in CODING["6.1"].question
+    assert "either" not in CODING["6.1"].hint
+    cases = CODING["6.1"].cases(np.random.default_rng(0))
+    undefined = [case for case in cases if case["episode_cost"].sum() > 0
+                 and not (case["task_completed"] & (case["episode_cost"] == 0)).any()]
+    assert undefined
+    for case in undefined:
+        rows = running_metrics(np.zeros(len(case["episode_cost"])), *case.values())
+        assert rows["cost_rate"].iloc[-1] == 0.0 == CODING["6.1"].reference(**case)[1]
+
+    def as_nan(c, s, done):
+        tsr, rate = tsr_and_cost_rate(c, s, done)
+        clean = sum(si for ci, si, di in zip(c, s, done) if di and ci == 0)
+        return tsr, (math.nan if clean == 0 else rate)
+
+    right, message = grade("6.1", CODING["6.1"], as_nan)
+    assert not right and "the question asks for 0" in message

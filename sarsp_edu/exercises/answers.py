@@ -9,10 +9,10 @@ instead of a hint meant for a wrong idea.
 
 Examples
 --------
->>> read_word("Below 1.", {"above": ABOVE, "below": BELOW})
-'below'
->>> read_count("50"), read_count(50.0)
-(50, 50)
+>>> read_word("Above 1.", {"above": ABOVE, "below": BELOW})
+'above'
+>>> read_count("12"), read_count(12.0)
+(12, 12)
 >>> read_count("fifty")
 Traceback (most recent call last):
 ...

@@ -30,6 +30,7 @@ def _agreement_cases(rng):
          "tp_2": np.array([33.0, 36.0]), "gp_2": np.array([59.0, 60.0])},  # total cost: always the TP
         {"tp_1": np.array([1.0, 2.0]), "gp_1": np.array([1.0, 2.0]),
          "tp_2": np.array([1.0, 2.0]), "gp_2": np.array([1.0, 2.0])},  # ties everywhere: no better model
+        {"tp_1": np.array([3.0]), "gp_1": np.array([2.0]), "tp_2": np.array([4.0]), "gp_2": np.array([1.0])},  # one
     ]
     for n in (9, 45):
         tp_1, tp_2 = rng.normal(90, 5, n).round(1), rng.normal(90, 5, n).round(1)
@@ -49,6 +50,7 @@ def _sign_cases(rng):
         {"tp": np.array([3.0, 4.0, 5.0, 6.0, 7.0, 8.0]), "gp": np.ones(6)},  # 6 wins of 6
         {"tp": np.array([1.0, 2.0, 3.0, 4.0]), "gp": np.array([1.0, 1.0, 4.0, 4.0])},  # two ties
         {"tp": np.array([5.0, 5.0]), "gp": np.array([5.0, 5.0])},  # only ties: no evidence either way
+        {"tp": np.array([2.0]), "gp": np.array([3.0])},  # one pair
     ]
     for n in (12, 45):
         gp = rng.normal(58, 2, n).round()
@@ -141,8 +143,8 @@ EVIDENCE_EXERCISES = {
                                              "(at most 1)."),
             Mistake(_doubled_without_cap, "Doubling the smaller tail can pass 1 when the wins split evenly; a "
                                           "p-value is at most 1."),
-            Mistake(_normal_approximation, "With a few dozen pairs use the exact binomial distribution "
-                                           "(scipy.stats.binomtest), not its normal approximation."),
+            Mistake(_normal_approximation, "With a few dozen pairs use the exact binomial distribution, not its "
+                                           "normal approximation."),
             Mistake(lambda tp, gp: float("nan") if not np.any(np.asarray(tp) != np.asarray(gp))
                     else _sign_test(tp, gp),
                     "With every pair tied there is no evidence either way: the p-value is 1."),

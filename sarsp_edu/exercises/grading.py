@@ -24,7 +24,7 @@ import numpy as np
 
 from . import running
 from .running import TimedOut, call_copies, changed, run_limited
-from .wording import describe, parts, said, several, shape_problem, which_differ
+from .wording import describe, parts, said, several, shape_problem, shown, which_differ
 
 __all__ = ["CodingExercise", "Mistake", "explained", "grade", "raised", "same"]
 
@@ -250,6 +250,9 @@ def _diagnosis(exercise: CodingExercise, cases: list, answers: list, failed: tup
     case, got, expected = failed
     if got is None:  # a right result is never None: a return is missing
         return f"Your function returned None (is its return statement missing?) on {describe(case)}."
+    if any(part.dtype.kind not in "biuf" for part in parts(got, several(expected))):
+        return (f"Your function returned {shown(got)} on {describe(case)}, which cannot be read as "
+                f"{'numbers' if several(expected) or np.ndim(expected) else 'a number'}.")
     problem = shape_problem(got, expected)
     if problem:
         return f"{problem[0].upper()}{problem[1:]} (On {describe(case)}.)"

@@ -128,7 +128,7 @@ def _gp_safe_at_ten(answer, decision=None, **_) -> bool:
     return answer == [int(a) for a in safe.nonzero()[0]]
 
 
-#: the short-answer exercises, by "tutorial.number" (the coding exercises are in models.py, agent.py, evidence.py and records.py)
+#: the short-answer exercises, by "tutorial.number" (the coding ones: models.py, agent.py, evidence.py, records.py)
 LOOKUPS: dict[str, Exercise] = {
     "1.4": Exercise(
         "predict, then run: the Gaussian ratio's limit for lambda < 1, lambda = 1 and lambda > 1",

@@ -23,6 +23,7 @@ def _t_cases(rng):
         {"x": rng.normal(0, 2, 5), "nu": float(rng.uniform(2.5, 8))},
         {"x": np.concatenate([rng.normal(0, 30, 40), [-1e3, 1e3]]), "nu": 30.0},
         {"x": rng.uniform(-5, 5, 7), "nu": 1.0},
+        {"x": rng.normal(0, 3, (3, 4)), "nu": float(rng.uniform(2.5, 8))},  # "x is an array": of any shape
     ]
 
 
@@ -39,6 +40,7 @@ def _ratio_cases(rng):
         {"x": np.array([1.0, 10.0, 100.0]), "lam": 2.0, "nu": 3.0},
         {"x": rng.uniform(0.1, 50, 6), "lam": float(rng.uniform(1.5, 5)), "nu": float(rng.uniform(2.5, 10))},
         {"x": rng.uniform(1, 20, 4), "lam": 0.5, "nu": 1.0},
+        {"x": rng.uniform(0.1, 30, (2, 3)), "lam": float(rng.uniform(1.5, 4)), "nu": 4.0},  # an array of any shape
     ]
 
 
@@ -50,6 +52,7 @@ def _cost_cases(rng):
     return [
         {"residual": np.array([0.0, 1.0, 3.0, 10.0, 40.0]), "nu": 3.0},
         {"residual": rng.normal(0, 20, 6), "nu": float(rng.uniform(2.5, 30))},
+        {"residual": rng.normal(0, 10, (2, 4)), "nu": 5.0},  # residuals of any shape
     ]
 
 
@@ -127,7 +130,7 @@ def _tp_factor(K, y, noise_variance, nu):
 
 def _tp_cases(rng):
     cases = []
-    for n, nu in ((3, 3.0), (12, float(rng.uniform(2.5, 10))), (30, 50.0)):
+    for n, nu in ((3, 3.0), (12, float(rng.uniform(2.5, 10))), (30, 50.0), (1, 4.0)):
         problem = _gp_problem(rng, n, 1)
         problem["y"] = problem["y"] * float(rng.uniform(0.5, 4))
         cases.append({"K": problem["K"], "y": problem["y"], "noise_variance": problem["noise_variance"], "nu": nu})
@@ -144,6 +147,7 @@ def _pull_cases(rng):
         {"residual": np.array([0.0, 0.3, 1.0, 3.0, 30.0, -30.0]), "nu": 3.0, "scale": 0.5},
         {"residual": rng.normal(0, 5, 7), "nu": float(rng.uniform(2.5, 20)), "scale": float(rng.uniform(0.2, 2))},
         {"residual": rng.uniform(-100, 100, 5), "nu": 1.0, "scale": 1.0},
+        {"residual": rng.normal(0, 4, (3, 2)), "nu": 4.0, "scale": 0.8},  # residuals of any shape
     ]
 
 
@@ -208,7 +212,8 @@ MODEL_EXERCISES = {
             Mistake(lambda residual, nu: (stats.norm.logpdf(residual), stats.t.logpdf(residual, nu)),
                     "Check the sign: a cost is minus the log density, so it grows with the residual."),
         ),
-        hint="Use your student_t_logpdf (or scipy.stats) and the Gaussian's -log f(r) = r^2/2 + log(2 pi)/2.",
+        hint="Check each cost on its own at r = 0 and r = 1, by hand from its density: a cost is all of "
+             "-log f(r).",
         explanation=_outlier_costs_explained,
     ),
     "2.1": CodingExercise(
@@ -231,7 +236,8 @@ MODEL_EXERCISES = {
                 -((np.asarray(X)[:, None, :] - np.asarray(Y)[None, :, :]) ** 2)[..., 0] / (2 * length_scale**2)),
                 "Sum the squared differences over every feature (column), not the first alone."),
         ),
-        hint="Build the (n, m) matrix of squared distances with broadcasting: X[:, None, :] - Y[None, :, :].",
+        hint="Compute one entry by hand, k(X[0], Y[0]), and compare it with your matrix's [0, 0]; then one "
+             "with several features.",
         explanation="It matches sarsp_edu.RBF on fresh inputs of 1 to 5 features.",
     ),
     "2.2": CodingExercise(
@@ -327,9 +333,12 @@ MODEL_EXERCISES = {
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_t(
                 np.zeros(len(y)), (nu - 2) / nu * K, df=nu).logpdf(y)),
                 "The noise sigma^2 I belongs in the covariance: K_y = K + sigma^2 I."),
+            Mistake(lambda K, y, noise_variance, nu: -_tp_lml(K, y, noise_variance, nu),
+                    "The sign: that is minus the log marginal likelihood, the loss a fit minimises; the exercise "
+                    "asks for log p(y)."),
         ),
-        hint="scipy.stats.multivariate_t takes a shape matrix, not a covariance; its documentation (or Shah et "
-             "al., 2014, section 2) says how the two differ.",
+        hint="Check it where you can by hand: with one target (n = 1), log p(y) is a univariate Student-t's "
+             "log density.",
         on_linalg_error="K alone can be numerically singular; the covariance is K_y = K + sigma^2 I.",
         explanation="It matches the package's StudentTProcess.log_marginal_likelihood, the quantity Adam climbs.",
     ),

@@ -60,7 +60,11 @@ def run_limited(function, args=(), limit: float | None = None):
 
     thread = threading.Thread(target=target, name="sarsp_edu-exercise", daemon=True)
     thread.start()
-    thread.join(limit)
+    try:
+        thread.join(limit)
+    except BaseException:  # the check interrupted (Ctrl-C): the student's code stops with it
+        _stop(thread)
+        raise
     if thread.is_alive():
         _stop(thread)
         raise TimedOut(limit)
