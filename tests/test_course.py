@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ast
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -214,3 +215,57 @@ def test_every_stored_dashboard_picture_is_projector_wide(path):
             if "application/vnd.jupyter.widget-view+json" in data and "image/png" in data:
                 width = struct.unpack(">I", base64.b64decode(data["image/png"])[16:20])[0]
                 assert width >= SNAPSHOT_WIDTH_PX, f"{path.name} cell {index}: a dashboard picture {width} px wide"
+
+
+def _submission(release, source, wrong: str | None = None, answered: bool = True):
+    """A student's submission: the released notebook with each solution cell answered as the source answers it
+    (markers dropped), the exercise ``wrong`` answered wrongly, or nothing answered."""
+    notebook = nbformat.read(release, as_version=4)
+    answers = {cell.metadata["nbgrader"]["grade_id"]: cell for cell in nbformat.read(source, as_version=4).cells
+               if cell.metadata.get("nbgrader", {}).get("solution")}
+    for cell in notebook.cells:
+        grade_id = cell.metadata.get("nbgrader", {}).get("grade_id")
+        if not answered or grade_id not in answers or cell.cell_type != "code":
+            continue
+        cell.source = "\n".join(line for line in answers[grade_id].source.split("\n") if "### " not in line)
+        if grade_id == wrong:  # the usual slip of exercise 1.1: the log of the normalising constant forgotten
+            cell.source += "\n\n_right = student_t_logpdf\nstudent_t_logpdf = lambda x, nu: _right(x, nu) + 1.0"
+    return notebook
+
+
+def test_a_course_grades_submissions_with_nbgrader_end_to_end(tmp_path):
+    """generate_assignment, three submissions (right, one slip, untouched), autograde, feedback: full, partial and
+    zero automatic scores, and the package's diagnosis in the feedback a student reads."""
+    pytest.importorskip("nbgrader")
+    from nbgrader.api import Gradebook
+
+    source = sources(ROOT / "tutorials", [1])[0]
+    course = tmp_path / "course"
+    (course / "source" / "tutorials").mkdir(parents=True)
+    shutil.copy(source, course / "source" / "tutorials" / source.name)
+    (course / "nbgrader_config.py").write_text(
+        'c = get_config()\nc.CourseDirectory.course_id = "sarsp_edu"\nc.ExecutePreprocessor.timeout = 300\n')
+
+    def nbgrader(*args):
+        done = subprocess.run([sys.executable, "-m", "nbgrader", *args], cwd=course, capture_output=True, text=True,
+                              timeout=600, env={**os.environ, "SARSP_EDU_AUTOPLAY": "0"})
+        assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-3000:]
+
+    nbgrader("generate_assignment", "tutorials", "--force")
+    release = course / "release" / "tutorials" / source.name
+    for student, kwargs in {"right": {}, "slip": {"wrong": "ex-1-1-answer"}, "blank": {"answered": False}}.items():
+        folder = course / "submitted" / student / "tutorials"
+        folder.mkdir(parents=True)
+        nbformat.write(_submission(release, source, **kwargs), folder / source.name)
+    nbgrader("autograde", "tutorials", "--create", "--force")
+    nbgrader("generate_feedback", "tutorials", "--force")
+    with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gradebook:
+        automatic = {student: sum(grade.auto_score or 0 for grade in
+                                  gradebook.find_submission("tutorials", student).notebooks[0].grades)
+                     for student in ("right", "slip", "blank")}
+        most = sum(cell.max_score for cell in gradebook.find_notebook(source.stem, "tutorials").grade_cells
+                   if cell.cell_type == "code")
+    assert automatic == {"right": most, "slip": most - 1, "blank": 0}, automatic
+    feedback = (course / "feedback" / "slip" / "tutorials" / f"{source.stem}.html").read_text(encoding="utf-8")
+    assert "Exercise 1.1: not yet. On x = [0], nu = 3, it gives other values than the package" in feedback
+    assert "Exercise 1.2: right" in feedback
