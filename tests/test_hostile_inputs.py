@@ -268,3 +268,24 @@ def test_the_cache_fingerprint_does_not_depend_on_what_was_imported_first():
     code = ("from sarsp_edu import fitcache; first = fitcache.fingerprint(); import sklearn, sarsp_edu.experiment;"
             " fitcache.fingerprint.cache_clear(); print(first == fitcache.fingerprint())")
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip() == "True"
+
+
+def test_a_sweep_json_without_its_requested_cells_is_refused_when_its_version_always_writes_them(sweep_copy, capsys):
+    payload = json.loads((sweep_copy / "sweep.json").read_text())
+    payload.pop("requested", None)
+    payload["sarsp_edu_version"] = "0.2.1"
+    (sweep_copy / "sweep.json").write_text(json.dumps(payload))
+    assert "lacks 'requested' (the cells the sweep was asked for), which sarsp_edu 0.2.1 always writes" in \
+        usage_error(["tables", str(sweep_copy)], capsys)
+
+
+def test_a_partial_ablation_says_so(tmp_path, capsys):
+    import shutil
+    from pathlib import Path
+
+    folder = tmp_path / "ablation"
+    shutil.copytree(Path(__file__).resolve().parents[1] / "results" / "ablation", folder)
+    shutil.rmtree(next((folder / "default-k-400" / "cells").iterdir()))
+    assert main(["tables", str(folder)]) == 0
+    assert "partial: 1 setting(s) hold fewer than the 6 runs the ablation plans (default, k=400)" in \
+        capsys.readouterr().out

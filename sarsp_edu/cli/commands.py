@@ -358,11 +358,21 @@ def _ablation_table(args, parser) -> int:
     from ..ablation import AblationResults
     from ..tables import frame_to_markdown
 
+    from pathlib import Path
+
+    from .._io import read_json
+
     try:
         table = AblationResults.load(args.results_dir).table()
-    except (StoredResultError, FileNotFoundError, ValueError) as exc:
+        design = read_json(Path(args.results_dir) / "ablation.json", keys=("cells", "seeds"))
+        planned = len(design["cells"]) * len(design["seeds"])
+    except (StoredResultError, FileNotFoundError, ValueError, TypeError) as exc:
         parser.error(str(exc))
     print(f"the ablation stored in {args.results_dir}\n{_format_table(table)}")
+    short = sorted({setting for (setting, _), runs in table["runs"].items() if runs < planned})
+    if short:
+        print(f"\npartial: {len(short)} setting(s) hold fewer than the {planned} runs the ablation plans "
+              f"({', '.join(short)}); rerun its command to complete them")
     if args.markdown:
         atomic_write_text(args.markdown, frame_to_markdown(table.reset_index()) + "\n")
         print(f"\nMarkdown table written to {args.markdown}")

@@ -7,6 +7,8 @@ many workers ran them.
 
 from __future__ import annotations
 
+import math
+
 import re
 from pathlib import Path
 
@@ -74,8 +76,13 @@ def _shared_fields(config: ExperimentConfig) -> dict:
 
 
 def _as_key(values) -> tuple:
+    """A stored cell's (m, p, nss, seed); ValueError for anything a sweep never stores (NaN, 2.5 switch states)."""
     m, p, nss, seed = values
-    return float(m), float(p), int(nss), int(seed)
+    m, p = float(m), float(p)
+    if not (math.isfinite(m) and math.isfinite(p)) or any(
+            isinstance(v, bool) or float(v) != int(v) for v in (nss, seed)):
+        raise ValueError(f"not a cell: {values!r}")
+    return m, p, int(nss), int(seed)
 
 
 def _stored_base(meta: Path, payload: dict) -> ExperimentConfig:

@@ -179,6 +179,11 @@ def stored_sweep(results_dir) -> tuple:
         raise FileNotFoundError(f"{results_dir} is not a sweep results folder (no sweep.json)")
     payload = read_json(meta, keys=("base_config",))
     base = _stored_base(meta, payload)
+    version = tuple(int(part) for part in str(payload.get("sarsp_edu_version", "0")).split(".")[:3]
+                    if part.isdigit())
+    if "requested" not in payload and version >= (0, 2, 1):  # written by every version since: cut or edited
+        raise StoredResultError(f"{meta} lacks 'requested' (the cells the sweep was asked for), which sarsp_edu "
+                                f"{payload['sarsp_edu_version']} always writes: it was edited; restore it")
     try:
         requested = {_as_key(key) for key in payload.get("requested", [])}
     except (TypeError, ValueError):
