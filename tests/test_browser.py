@@ -497,7 +497,7 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
         rehearsal = time.time() - started
         busy = page.locator('.jp-Notebook-ExecutionIndicator[data-status="busy"]').count() > 0
         deadline = time.time() + 120
-        while len(list(cache.glob("*.fit.pickle"))) < 2:  # both agents' fits, kept for the class
+        while len(list(cache.glob("*.fit.npz"))) < 2:  # both agents' fits, kept for the class
             assert time.time() < deadline, f"the rehearsal stored {list(cache.iterdir())} in two minutes"
             time.sleep(0.5)
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
