@@ -8,7 +8,8 @@ import sys
 
 from .._version import __version__
 from .arguments import add_config_arguments
-from .commands import _ablation, _cache, _check_cell, _compare, _course, _info, _run, _sweep, _tables
+from .commands import _ablation, _cache, _compare, _course, _info, _run, _sweep
+from .reading import _check_cell, _tables
 
 
 def build_parser() -> argparse.ArgumentParser:

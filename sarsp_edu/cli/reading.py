@@ -1,0 +1,176 @@
+"""The commands that read stored results: ``tables`` (a sweep's tables, or an ablation's) and ``check-cell``."""
+
+from __future__ import annotations
+
+from .arguments import check_file
+from .commands import _format_table
+
+
+def _tables(args, parser) -> int:
+    from pathlib import Path
+
+    from .._io import StoredResultError, atomic_write_text
+    from ..sweep import SweepResults, describe_cells, stored_sweep
+    from ..tables import frame_to_markdown, summary_tables, tables_markdown
+
+    if args.markdown:
+        check_file(parser, "--markdown", args.markdown)
+        folder = Path(args.results_dir).resolve()
+        if folder in Path(args.markdown).resolve().parents:
+            parser.error(f"--markdown {args.markdown} lies inside the results folder {args.results_dir}, whose files "
+                         "it could replace; write the tables outside it")
+
+    if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
+        return _ablation_table(args, parser)
+    try:
+        stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    try:
+        results = SweepResults.load(args.results_dir, a=args.a, allow_partial=args.allow_partial, seeds=args.seeds)
+        tables = summary_tables(results)
+    except StoredResultError as exc:
+        parser.error(f"{exc}; rerun the sweep's command, which computes a damaged cell again")
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    if results.missing:
+        print(f"partial sweep: {len(results)} of {len(results) + len(results.missing)} cells stored; "
+              f"missing: {describe_cells(results.missing)}")
+    versions = results.code_versions()
+    if len(versions) > 1:
+        print(f"note: the runs were computed by {len(versions)} versions of the code, whose numbers may differ: "
+              + "; ".join(f"{label}: {runs} runs" for label, runs in versions.items()))
+    print(_LEGEND)
+    print(f"\nTable 2: each metric's mean over the configurations, TP against GP\n{_format_table(tables['mean'])}")
+    print("\n" + _verdict_counts(tables["table1"]))
+    sections = _beside_paper_sections(tables) + _beside_authors_sections(tables, results.base.episodes)
+    if args.all:
+        for key, frame in tables.items():
+            if key not in ("seeds", "mean"):
+                print(f"\n{key}\n{_format_table(frame)}")
+        for title, frame in sections:
+            print(f"\n{title}\n{_format_table(frame)}")
+    else:
+        print("\n--all prints the rest: Table 1 (every configuration), each model's levels with 95% intervals, "
+              "Tables 3-4 (median, mode), the Wilcoxon tests, and these beside the paper's and the authors' runs")
+    if args.markdown:
+        markdown = tables_markdown(tables)
+        for title, frame in sections:
+            flat = frame.reset_index()
+            for column in {"m", "p"} & set(flat.columns):  # 40 and 0.2, not 40.000 and 0.200
+                flat[column] = flat[column].map(lambda v: f"{v:g}")
+            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(flat)}\n"
+        atomic_write_text(args.markdown, markdown + "\n")
+        print(f"\nMarkdown tables written to {args.markdown}")
+    return 0
+
+
+def _check_cell(args, parser) -> int:
+    from .._io import StoredResultError
+    from ..sweep import check_cell
+
+    try:
+        report = check_cell(args.results_dir, args.cell, n_jobs=args.jobs)
+    except StoredResultError as exc:
+        parser.error(f"{exc}; rerun the sweep's command, which computes a damaged cell again")
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    print(report)
+    return 0 if report.identical else 1
+
+
+#: what the tables' terms mean, printed above them
+_LEGEND = """terms: % change = (TP - GP) / |GP| x 100; better = the model with the better value (n/a: undefined);
+Definition 4 (eq. 12): a model is preferred when its TSR is at least a and its cost rate p_c is lower;
+"neither" when no model is preferred; "n/a (p_c undefined)", Definition 4 cannot decide: a cost rate p_c is
+undefined (violations, but no episode reached the goal without one)"""
+
+
+def _verdict_counts(table1) -> str:
+    """One line: how many configurations Definition 4 decides each way."""
+    verdicts = table1.query("model == 'TP'")["result"] if "result" in table1 else table1.iloc[:0]
+    counts = verdicts.value_counts()
+    named = ", ".join(f"{label}: {int(counts.get(value, 0))}" for value, label in (
+        ("TP > GP", "TP preferred"), ("GP > TP", "GP preferred"), ("neither", "neither"),
+        ("n/a (p_c undefined)", "cannot decide (p_c undefined)")))
+    return f"Definition 4, configuration by configuration ({len(verdicts)} in all): {named}"
+
+
+def _beside_paper_sections(tables: dict) -> list:
+    """(title, frame) pairs: the sweep's mean and Table 1 rows beside the paper's.
+
+    The paper's Table 2 is a mean over its 45 configurations; a partial
+    sweep's mean is over fewer, and the title says how many.
+    """
+    from .. import paper
+    from ..config import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
+    from ..tables import beside_paper, table1_beside_paper
+
+    n = len(tables["table1"]) // 2  # a TP row and a GP row per configuration
+    total = len(PAPER_MAGNITUDES) * len(PAPER_PROPORTIONS) * len(PAPER_SWITCH_STATES)
+    over = (f"all {total} configurations" if n == total
+            else f"the {n} configurations stored (the paper's: all {total})")
+    sections = [(f"beside the paper's Table 2: mean over {over}, with each model's 95% bootstrap interval",
+                 beside_paper(tables["mean"], paper.TABLE2, levels=tables["levels"], percents=paper.TABLE2_PERCENT))]
+    rows = table1_beside_paper(tables["table1"], paper.TABLE1)
+    if len(rows):
+        shown = rows.index.droplevel("metric").nunique()
+        sections.append((f"beside the paper's Table 1: {shown} of its {len(paper.TABLE1)} configurations stored",
+                         rows))
+    return sections
+
+
+def _beside_authors_sections(tables: dict, episodes: int) -> list:
+    """(title, frame) pairs: Tables 2 and 3 and Definition 4 per configuration, computed from the authors' runs.
+
+    Their per-episode records give what the paper's tables do not: every
+    configuration's cost rate, hence its verdict, and medians computed as ours.
+    """
+    from ..authors import AUTHORS_EPISODES, AuthorsRuns, tables_beside_authors, verdicts_beside_authors
+    from ..tables import summary_tables
+
+    configurations = {(row.m, row.p, row.nss) for row in tables["table1"].itertuples(index=False)}
+    authors = AuthorsRuns(episode=min(episodes, AUTHORS_EPISODES)).only(configurations)
+    if not len(authors):
+        return []
+    over = (f"the {len(authors)} configurations stored" if len(authors) < 45 else "all 45 configurations")
+    at = ("" if episodes == 250 else f", at episode {episodes} of their 250 (our runs' length)" if episodes < 250
+          else f", at their last episode (250; ours run to {episodes})")
+    authors_tables = summary_tables(authors)
+    verdicts = verdicts_beside_authors(tables, authors_tables)
+    same = int((verdicts["ours verdict"] == verdicts["authors verdict"]).sum())
+    for column in [c for c in verdicts.columns if "p_c" in c]:  # four decimals: the verdicts turn on the third
+        verdicts[column] = verdicts[column].map(lambda v: "n/a" if v != v else f"{v:.4f}")
+    return [
+        (f"beside the authors' own runs: Table 2 (mean over {over}) computed from their per-episode records{at}",
+         tables_beside_authors(tables, authors_tables, "mean")),
+        ("beside the authors' own runs: Table 3 (median), computed the same way",
+         tables_beside_authors(tables, authors_tables, "median")),
+        (f"Definition 4 per configuration, cost rates and verdicts, ours beside the authors' runs{at} "
+         f"(the same verdict in {same} of {len(verdicts)})", verdicts),
+    ]
+
+
+def _ablation_table(args, parser) -> int:
+    """``tables`` on an ablation's folder: its stored runs' table (``--markdown`` writes it too)."""
+    from pathlib import Path
+
+    from .._io import StoredResultError, atomic_write_text, read_json
+    from ..ablation import AblationResults
+    from ..tables import frame_to_markdown
+
+    try:
+        table = AblationResults.load(args.results_dir).table()
+        design = read_json(Path(args.results_dir) / "ablation.json", keys=("cells", "seeds"))
+        planned = len(design["cells"]) * len(design["seeds"])
+    except (StoredResultError, FileNotFoundError, ValueError, TypeError) as exc:
+        parser.error(str(exc))
+    print(f"the ablation stored in {args.results_dir}\n{_format_table(table)}")
+    short = sorted({setting for (setting, _), runs in table["runs"].items() if runs < planned})
+    if short:
+        print(f"\npartial: {len(short)} setting(s) hold fewer than the {planned} runs the ablation plans "
+              f"({', '.join(short)}); rerun its command to complete them")
+    if args.markdown:
+        atomic_write_text(args.markdown, frame_to_markdown(table.reset_index()) + "\n")
+        print(f"\nMarkdown table written to {args.markdown}")
+    return 0
