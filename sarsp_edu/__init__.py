@@ -15,7 +15,7 @@ The layout, lowest layer first (a module imports only from those above it):
 - ``tails``: the densities' tail limits in sympy (paper section 3.3).
 - ``gridworld``: the safe gridworld (a Gymnasium environment) and its shift.
 - ``offline``: the models' inputs, the training sets, offline data, outliers.
-- ``sarsp``: the SARSP agent (Algorithm 1).
+- ``sarsp``: the SARSP agent (Algorithm 1); ``decision``: its decision rule and records.
 - ``metrics``: the paper's metrics, their comparison, Definition 4.
 - ``results``: results of runs and paired comparisons, stored and read back.
 - ``preparation``: what a run needs before its agent (world, data, outliers, shift, seeds).
@@ -93,7 +93,7 @@ _LAZY = {
     "ConvergenceWarning": "processes",
     "StudentTProcess": "processes",
     "StudentTLikelihoodGP": "processes",
-    "Decision": "sarsp",
+    "Decision": "decision",
     "SARSPAgent": "sarsp",
     "SweepResults": "sweep",
     "run_sweep": "sweep",

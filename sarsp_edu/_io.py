@@ -44,12 +44,19 @@ class StoredResultError(ValueError):
     """A stored result that cannot be used: the message names the file and what is wrong with it."""
 
 
+def check_regular_file(path: Path) -> None:
+    """Refuse a folder, a device (``/dev/zero``) or a pipe in a stored file's place: never read, it can fill the
+    memory or wait for ever."""
+    if not path.is_file():
+        raise StoredResultError(f"{path} is not a regular file (a folder, a device or a pipe in a stored file's "
+                                "place); restore the file")
+
+
 def read_json(path, keys=()) -> dict:
     """A JSON object from ``path`` that holds ``keys``, or :class:`StoredResultError` naming the file."""
     path = Path(path)
-    if path.exists() and not path.is_file():  # a folder, a device (/dev/zero) or a pipe: never read
-        raise StoredResultError(f"{path} is not a regular file (a folder, a device or a pipe in a stored file's "
-                                "place); restore the file")
+    if path.exists():
+        check_regular_file(path)
     try:
         payload = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:

@@ -261,16 +261,20 @@ def _progress(total: int | None, desc: str, enabled: bool, unit: str = "episode"
     return tqdm(total=total, desc=desc, unit=unit, leave=False, position=position)
 
 
-def _fit_showing_progress(config: ExperimentConfig, enabled: bool, position: int = 0):
-    """A ``fit`` for :class:`Experiment` that shows the offline fits' progress, step by step of the search."""
+def _fit_showing_progress(config: ExperimentConfig, progress: bool, position: int = 0):
+    """A ``fit`` for :class:`Experiment` that shows the offline fits' progress, step by step of the search;
+    None (the agent's own fit) without ``progress``."""
     from .optimizers import reporting_steps
+
+    if not progress:
+        return None
 
     def fit(agent):
         steps = None if config.optimizer != "adam" else 2 * config.optimizer_steps  # L-BFGS: as many as it takes
         rows = len(agent.cost_data) if agent.cost_fit_points is None else min(agent.cost_fit_points,
                                                                                len(agent.cost_data))
         desc = f"{config.model.upper()}: fitting the cost model ({rows} rows) and the reward model"
-        with _progress(steps, desc, enabled, unit="step", position=position) as bar, reporting_steps(bar.update):
+        with _progress(steps, desc, True, unit="step", position=position) as bar, reporting_steps(bar.update):
             agent.fit()
     return fit
 
@@ -286,7 +290,8 @@ def _finish(experiment: "Experiment", progress: bool, position: int = 0) -> Expe
     return experiment.result()
 
 
-def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False) -> dict:
+def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False,
+                             progress: bool = False) -> dict:
     """Experiments of ``config`` with some settings changed, all on one prepared world.
 
     Every experiment shares the world, its shift, the offline data with its
@@ -302,16 +307,21 @@ def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bo
         experiment, e.g. ``{"tp": {"model": "tp"}, "gp": {"model": "gp"}}``.
         A field that the preparation reads (``PREPARATION_FIELDS``) cannot
         differ between sides: change it in ``config``.
+    cache : bool, default False
+        Load and store the fits in :mod:`sarsp_edu.fitcache`.
+    progress : bool, default False
+        Show each side's offline fits as a progress bar.
 
     Returns
     -------
     dict
         Name -> :class:`Experiment`.
     """
-    return dict(each_experiment_on_one_world(config, sides, cache=cache))
+    return dict(each_experiment_on_one_world(config, sides, cache=cache, progress=progress))
 
 
-def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False):
+def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False,
+                                 progress: bool = False):
     """:func:`experiments_on_one_world` one experiment at a time: yields ``(name, Experiment)`` as each is fitted.
 
     The live dashboard starts a side as soon as its models are fitted, while
@@ -332,25 +342,24 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache
             f"so change them in config (the fields of PREPARATION_FIELDS)"
         )
     configs = {name: config.replace(**changes) for name, changes in sides.items()}  # validated before any work
-    prepared = None
+    prepared = prepare(config)  # one world, data and episode seeds for every side
     for name, side in configs.items():
-        prepared = prepare(config) if prepared is None else prepared
         experiment = fitcache.load(side, prepared) if cache else None
         if experiment is None:
-            experiment = Experiment(side, prepared=prepared)
+            experiment = Experiment(side, prepared=prepared, fit=_fit_showing_progress(side, progress))
             if cache:
                 fitcache.store(experiment)
         yield name, experiment
 
 
-def paired_experiments(config: ExperimentConfig) -> dict:
+def paired_experiments(config: ExperimentConfig, progress: bool = False) -> dict:
     """The TP and the GP experiment of ``config``, paired: ``{"tp": Experiment, "gp": Experiment}``.
 
     Both share the world, its shift, the offline data with its outlier rows,
     the sequence of episode starts and goals and the agent's seed; only the
     regression model differs (:func:`experiments_on_one_world`).
     """
-    return experiments_on_one_world(config, {model: {"model": model} for model in ("tp", "gp")})
+    return experiments_on_one_world(config, {model: {"model": model} for model in ("tp", "gp")}, progress=progress)
 
 
 def run_experiment(config: ExperimentConfig | None = None, progress: bool = False, *,
@@ -372,7 +381,7 @@ def run_experiment(config: ExperimentConfig | None = None, progress: bool = Fals
     ExperimentResult
     """
     config = config_or_default(config)
-    fit = _fit_showing_progress(config, progress, progress_position) if progress else None
+    fit = _fit_showing_progress(config, progress, progress_position)
     return _finish(Experiment(config, fit=fit), progress, progress_position)
 
 
@@ -420,8 +429,5 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
         except KeyboardInterrupt:
             stop_workers()
             raise
-    prepared = prepare(config)
-    experiments = {model: Experiment(config.replace(model=model), prepared=prepared,
-                                     fit=_fit_showing_progress(config.replace(model=model), progress) if progress
-                                     else None) for model in ("tp", "gp")}
+    experiments = paired_experiments(config, progress=progress)
     return Comparison(_finish(experiments["tp"], progress), _finish(experiments["gp"], progress), a)

@@ -135,14 +135,13 @@ def _digest(arrays: dict, meta: dict) -> str:
 
 
 def _models(agent) -> dict:
-    return {"cost": (agent.cost_model, agent.cost_data, agent.cost_fit_points),
-            "reward": (agent.reward_model, agent.reward_data, agent.reward_fit_points)}
+    return {"cost": agent.cost_model, "reward": agent.reward_model}
 
 
 def _contents(experiment) -> tuple[dict, dict]:
     """The arrays and the JSON that an entry keeps of a just-fitted experiment."""
     arrays, models = {}, {}
-    for name, (model, _, _) in _models(experiment.agent).items():
+    for name, model in _models(experiment.agent).items():
         arrays.update({f"{name}.{attribute}": getattr(model, attribute) for attribute in _ARRAYS})
         models[name] = {"n_features_in_": int(model.n_features_in_), "n_iter_": int(model.n_iter_),
                         "jitter_": float(model.jitter_),
@@ -154,40 +153,42 @@ def _contents(experiment) -> tuple[dict, dict]:
 def _restore(agent, arrays: dict, meta: dict) -> None:
     """Give ``agent`` the fitted models an entry kept, on the data it holds now; ValueError where they differ.
 
-    The agent draws each fit's rows as :meth:`SARSPAgent.fit` does (its random
-    stream moves on exactly as in a fit); each model takes the stored
+    The agent draws each fit's rows as in a fit (:meth:`SARSPAgent.fit`, whose
+    random stream moves on the same); each model takes the stored
     hyperparameters and factor and recomputes the rest from the rows, which
     must give the stored log marginal likelihood bit for bit.
     """
-    from .linalg import group_rows
-    from .rng import draw_subset
+    names = {id(model): name for name, model in _models(agent).items()}
+    agent.fit(fit_model=lambda model, X, y: _restore_model(names[id(model)], model, X, y, arrays, meta))
 
-    for name, (model, buffer, fit_points) in _models(agent).items():
-        rows = draw_subset(len(buffer), fit_points, agent.rng)
-        X, y = buffer.X[rows], buffer.y[rows]
-        stored = _checked_model_meta(meta["models"][name], X.shape[1])
-        data = group_rows(X, y)
-        G = len(data.counts)
-        shapes = {"theta_": (len(model._theta_bounds()),), "objective_trace_": (stored["n_iter_"] + 1,),
-                  "fit_indices_": (len(X),), "L_": (G, G)}
-        for attribute, shape in shapes.items():
-            array = arrays[f"{name}.{attribute}"]
-            kind = "i" if attribute == "fit_indices_" else "f"
-            if array.shape != shape or array.dtype.kind != kind or not np.all(np.isfinite(array)):
-                raise ValueError(f"the {name} model's {attribute} is {array.dtype}{array.shape}, not {shape}")
-        if not np.array_equal(np.sort(arrays[f"{name}.fit_indices_"]), np.arange(len(X))):
-            raise ValueError(f"the {name} model's fit rows are not the rows it was fitted on")
-        model.n_features_in_, model.n_iter_ = stored["n_features_in_"], stored["n_iter_"]
-        for attribute in ("theta_", "objective_trace_", "fit_indices_"):
-            setattr(model, attribute, arrays[f"{name}.{attribute}"])
-        model.kernel_, model.noise_variance_, extra = model._unpack(model.theta_)
-        model._set_extra(extra)
-        L = arrays[f"{name}.L_"]
-        _check_factor(name, model, data, L, stored["jitter_"])
-        model._adopt_factor(X, y, data, L, stored["jitter_"])
-        if model.log_marginal_likelihood_value_ != stored["log_marginal_likelihood_value_"]:
-            raise ValueError(f"the {name} model's factor and hyperparameters do not give the stored likelihood on "
-                             "these data: the entry was edited, or the data changed")
+
+def _restore_model(name: str, model, X, y, arrays: dict, meta: dict) -> None:
+    """One model of an entry, restored on the rows ``X, y`` drawn for it."""
+    from .linalg import group_rows
+
+    stored = _checked_model_meta(meta["models"][name], X.shape[1])
+    data = group_rows(X, y)
+    G = len(data.counts)
+    shapes = {"theta_": (len(model._theta_bounds()),), "objective_trace_": (stored["n_iter_"] + 1,),
+              "fit_indices_": (len(X),), "L_": (G, G)}
+    for attribute, shape in shapes.items():
+        array = arrays[f"{name}.{attribute}"]
+        kind = "i" if attribute == "fit_indices_" else "f"
+        if array.shape != shape or array.dtype.kind != kind or not np.all(np.isfinite(array)):
+            raise ValueError(f"the {name} model's {attribute} is {array.dtype}{array.shape}, not {shape}")
+    if not np.array_equal(np.sort(arrays[f"{name}.fit_indices_"]), np.arange(len(X))):
+        raise ValueError(f"the {name} model's fit rows are not the rows it was fitted on")
+    model.n_features_in_, model.n_iter_ = stored["n_features_in_"], stored["n_iter_"]
+    for attribute in ("theta_", "objective_trace_", "fit_indices_"):
+        setattr(model, attribute, arrays[f"{name}.{attribute}"])
+    model.kernel_, model.noise_variance_, extra = model._unpack(model.theta_)
+    model._set_extra(extra)
+    L = arrays[f"{name}.L_"]
+    _check_factor(name, model, data, L, stored["jitter_"])
+    model._adopt_factor(X, y, data, L, stored["jitter_"])
+    if model.log_marginal_likelihood_value_ != stored["log_marginal_likelihood_value_"]:
+        raise ValueError(f"the {name} model's factor and hyperparameters do not give the stored likelihood on "
+                         "these data: the entry was edited, or the data changed")
 
 
 def _checked_model_meta(stored, features: int) -> dict:
@@ -207,11 +208,9 @@ def _check_factor(name: str, model, data, L, jitter: float) -> None:
     Checked on two random directions, K v against L (L^T v): a few matrix-vector products where refactorising
     would cost the fit's last Cholesky again.
     """
-    from .kernels import squared_distances
-
     G = len(data.counts)
-    K = model.kernel_.from_squared_distances(squared_distances(data.X))
-    K.flat[:: G + 1] += model.noise_variance_ / data.counts + jitter
+    K = model._training_covariance(data)
+    K.flat[:: G + 1] += jitter
     v = np.random.default_rng(0).standard_normal((G, 2))
     if np.any(np.triu(L, 1)) or not np.allclose(L @ (L.T @ v), K @ v, rtol=1e-9,
                                                   atol=1e-9 * np.abs(K).max() * np.abs(v).sum(axis=0).max()):

@@ -10,15 +10,15 @@ from __future__ import annotations
 
 import json
 import math
-import re
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ._io import StoredResultError, atomic_write_text, read_json
+from ._io import StoredResultError, atomic_write_text, check_regular_file, read_json
 from ._version import __version__
 from .config import DEFINITION_4_A, ExperimentConfig
 from .metrics import (
@@ -137,8 +137,7 @@ def _read_records(path: Path, episodes: int) -> pd.DataFrame:
     def bad(problem: str):
         return StoredResultError(f"{path} {problem}")
 
-    if not path.is_file():  # a folder, a device (/dev/zero) or a pipe: never read
-        raise bad("is not a regular file (a folder, a device or a pipe in a stored file's place); restore the file")
+    check_regular_file(path)
     try:
         records = pd.read_csv(path)
     except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
@@ -300,10 +299,10 @@ def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory) -> None:
     for column in ("start", "goal"):
         differ = [a != b for a, b in zip(tp.records[column], gp.records[column])]
         if any(differ):
-            episode = differ.index(True) + 1
+            row = differ.index(True)
             raise StoredResultError(
-                f"{directory}: tp/ and gp/ differ in episode {episode}'s {column} ({tp.records[column].iloc[episode - 1]}"
-                f" against {gp.records[column].iloc[episode - 1]}), where a paired comparison runs both on the same "
+                f"{directory}: tp/ and gp/ differ in episode {row + 1}'s {column} ({tp.records[column].iloc[row]} "
+                f"against {gp.records[column].iloc[row]}), where a paired comparison runs both on the same "
                 "episodes; one of the records was edited")
 
 

@@ -28,13 +28,13 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
 from ._threads import one_blas_thread
 from ._validation import check_choice
 from .config import AgentSettings  # Algorithm 1's settings, defined once
+from .decision import Decision, LearnOutcome, choose_action, override_known_unsafe
 from .kernels import KernelTable, whole_distance_bound
 from .offline import OfflineData, cost_inputs, reward_inputs
 from .rng import as_generator, draw_row_mask, draw_subset
@@ -42,102 +42,8 @@ from .rng import as_generator, draw_row_mask, draw_subset
 #: the most distinct inputs a buffer may have for the agent to keep its kernel table (8 G**2 bytes: 32 MB)
 KERNEL_TABLE_MAX_DISTINCT = 2048
 
-__all__ = ["SARSPAgent", "Decision", "LearnOutcome"]
-
-
-@dataclass
-class Decision:
-    """Why ``act`` chose its action: the per-action predictions and the rule applied.
-
-    Arrays have one entry per action (RIGHT, DOWN, LEFT, UP).
-
-    Attributes
-    ----------
-    position : tuple of int
-        The agent's cell ``(x, y)``.
-    mu_cost, var_cost : ndarray of shape (4,)
-        Predicted cost signal (distance to the nearest unsafe state) and its
-        predictive variance, *before* the ``S_u`` override.
-    mu_reward, var_reward : ndarray of shape (4,)
-        Predicted reward and its variance.
-    known_unsafe : ndarray of bool, shape (4,)
-        Actions in ``S_u`` from this cell (overridden to cost -inf, variance
-        +inf, reward -inf).
-    safe : ndarray of bool, shape (4,)
-        Actions that passed the safety test.
-    action : int
-    backup : bool
-        True when no action was safe and the backup rule chose.
-    prior_size : tuple of ndarray
-        Rows in each action's cost and reward prior, two arrays of shape (4,)
-        (with ``prior_draw="per_step"`` the four entries are those of the
-        one shared prior).
-    """
-
-    position: tuple
-    mu_cost: np.ndarray
-    var_cost: np.ndarray
-    mu_reward: np.ndarray
-    var_reward: np.ndarray
-    known_unsafe: np.ndarray
-    safe: np.ndarray
-    action: int
-    backup: bool
-    prior_size: tuple = (0, 0)
-
-    @property
-    def scores(self) -> dict:
-        """The values the decision rule saw, after the ``S_u`` override."""
-        mu_cost, var_cost, mu_reward = override_known_unsafe(
-            self.mu_cost, self.var_cost, self.mu_reward, self.known_unsafe)
-        return {"mu_cost": mu_cost, "var_cost": var_cost, "mu_reward": mu_reward}
-
-
-@dataclass
-class LearnOutcome:
-    """What ``learn`` did after one step."""
-
-    violation: bool = False
-    added_to_unsafe: bool = False
-    corrected: bool = False
-    buffer_update: str | None = None  # "overwritten", "added" or "unchanged"
-    retrained: bool = False
-    retrain_seconds: float = 0.0
-
-
-def override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe):
-    """Algorithm 1's ``S_u`` override: known-unsafe actions get cost -inf, variance +inf, reward -inf."""
-    return (np.where(known_unsafe, -np.inf, mu_cost), np.where(known_unsafe, np.inf, var_cost),
-            np.where(known_unsafe, -np.inf, mu_reward))
-
-
-def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
-    """The decision rule of Algorithm 1 on given predictions (a pure function).
-
-    Parameters
-    ----------
-    mu_cost, var_cost, mu_reward : ndarray of shape (n_actions,)
-    known_unsafe : ndarray of bool, shape (n_actions,)
-        Pairs in ``S_u``: their cost becomes -inf, variance +inf, reward -inf.
-    d, variance_threshold : float
-
-    Returns
-    -------
-    action : int
-    safe : ndarray of bool
-    backup : bool
-
-    Notes
-    -----
-    Ties go to the lowest action number: the paper's loop replaces its
-    candidate only on a strictly higher reward.  If every action is known
-    unsafe, every reward is -inf and the backup takes action 0.
-    """
-    mu_cost, var_cost, mu_reward = override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe)
-    safe = (var_cost <= variance_threshold) & (mu_cost >= d)
-    if safe.any():
-        return int(np.argmax(np.where(safe, mu_reward, -np.inf))), safe, False
-    return int(np.argmax(mu_reward)), safe, True
+# the decision rule and its records live in :mod:`sarsp_edu.decision`; imported here, where readers look for them
+__all__ = ["SARSPAgent", "Decision", "LearnOutcome", "choose_action", "override_known_unsafe"]
 
 
 class SARSPAgent:
@@ -250,20 +156,30 @@ class SARSPAgent:
         self.retraining = False
 
     # -- training -------------------------------------------------------------
-    def _fit(self, model, buffer, fit_points):
+    def _fit(self, model, buffer, fit_points, fit_model=None):
         rows = draw_subset(len(buffer), fit_points, self.rng)
-        model.fit(buffer.X[rows], buffer.y[rows])
+        if fit_model is None:
+            model.fit(buffer.X[rows], buffer.y[rows])
+        else:
+            fit_model(model, buffer.X[rows], buffer.y[rows])
 
-    def fit(self) -> "SARSPAgent":
+    def fit(self, fit_model=None) -> "SARSPAgent":
         """Offline training: fit both models' hyperparameters on the data.
 
         With one BLAS thread (:func:`~sarsp_edu._threads.one_blas_thread`):
         the agent's fits are a few hundred rows square, where more threads
         only add overhead, and many times more where the cores are busy.
+
+        Parameters
+        ----------
+        fit_model : callable, optional
+            ``fit_model(model, X, y)`` in place of ``model.fit(X, y)``, on the
+            rows drawn for each model (:mod:`sarsp_edu.fitcache` restores a
+            stored fit with it; the agent's random stream moves on the same).
         """
         with one_blas_thread():
-            self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
-            self._fit(self.reward_model, self.reward_data, self.reward_fit_points)
+            self._fit(self.cost_model, self.cost_data, self.cost_fit_points, fit_model)
+            self._fit(self.reward_model, self.reward_data, self.reward_fit_points, fit_model)
         return self
 
     # -- prediction -------------------------------------------------------------

@@ -105,6 +105,11 @@ def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace, 
 _MARKERS = {"sweep": "sweep.json", "ablation": "ablation.json", "run": "result.json", "compare": "tp/result.json"}
 
 
+def results_of(kind: str) -> str:
+    """"a sweep's results", "an ablation's results": what a folder holding ``kind``'s marker holds."""
+    return f"{'an' if kind[0] in 'aeiou' else 'a'} {kind}'s results"
+
+
 def check_writable(parser: argparse.ArgumentParser, flag: str, name, path) -> None:
     """Refuse a folder ``path`` (to make, or to write in) that cannot be written, before any work starts.
 
@@ -168,7 +173,7 @@ def check_out(parser: argparse.ArgumentParser, out, command: str, config=None, o
         return
     kind = next((k for k, marker in _MARKERS.items() if (path / marker).exists()), None)
     if kind != command:
-        holds = f"{'an' if kind[0] in 'aeiou' else 'a'} {kind}'s results" if kind else "other files"
+        holds = results_of(kind) if kind else "other files"
         parser.error(f"--out {out} holds {holds}; '{command}' writes into a new folder, an empty one "
                      f"or one holding a {command}'s results")
     if command in ("run", "compare") and config is not None and not overwrite:

@@ -254,12 +254,11 @@ def _ablation(args, parser) -> int:
 
 def _check_pages_out(parser, out, overwrite: bool) -> None:
     """Refuse a pages folder that holds results, or pages already unless ``--overwrite``."""
-    from .arguments import _MARKERS
+    from .arguments import _MARKERS, results_of
 
     held = next((kind for kind, marker in _MARKERS.items() if (out / marker).exists()), None)
     if held:
-        parser.error(f"--out {out} holds {'an' if held[0] in 'aeiou' else 'a'} {held}'s results; give the pages a "
-                     "folder of their own")
+        parser.error(f"--out {out} holds {results_of(held)}; give the pages a folder of their own")
     pages = sorted(p.name for p in out.glob("*.html")) if out.is_dir() else []
     if pages and not overwrite:
         parser.error(f"--out {out} holds pages already ({', '.join(pages[:3])}{' ...' if len(pages) > 3 else ''}); "

@@ -312,12 +312,13 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         sides = top.subplots(1, 4, width_ratios=(3, 1.9, 3, 1.9))
         key = ("circle: start, star: goal\nred: unsafe; outlined: moved\nby the shift (dashed: before)"
                "\nred ticks: moves in S_u\nline: this episode's path")
+        # the world of a side not running yet: a running side's, else the sliders' (built once, without fits)
+        waiting = next(iter(self.experiments.values())).env if self.experiments else prepare(self.config()).env
         for (name, (label, _)), ax, text in zip(self.sides.items(), sides[0::2], sides[1::2]):
             text.axis("off")
             experiment = (self.experiments or {}).get(name)
             if experiment is None:
-                env = prepare(self.config()).env if not self.experiments else next(iter(self.experiments.values())).env
-                plotting.plot_gridworld(ax, env.layout(), legend=False, title=f"{label}: press Run")
+                plotting.plot_gridworld(ax, waiting.layout(), legend=False, title=f"{label}: press Run")
                 numbers = ()
             else:
                 plotting.plot_gridworld(ax, experiment.env.layout(), trajectory=experiment.trajectory,

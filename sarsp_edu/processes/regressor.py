@@ -178,17 +178,20 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         is exactly that of all the rows.
         """
         data = group_rows(X, y)
-        G = data.counts.shape[0]
-        K = self.kernel_.from_squared_distances(squared_distances(data.X))
-        K.flat[:: G + 1] += self.noise_variance_ / data.counts
         try:
-            L, jitter = cholesky_with_jitter(K)
+            L, jitter = cholesky_with_jitter(self._training_covariance(data))
         except np.linalg.LinAlgError as exc:
             raise np.linalg.LinAlgError(
                 f"{type(self).__name__} could not factorise the training covariance "
                 f"(kernel_={self.kernel_!r}, noise_variance_={self.noise_variance_:.3g}): {exc}"
             ) from None
         self._adopt_factor(X, y, data, L, jitter)
+
+    def _training_covariance(self, data):
+        """K_y of the folded rows ``data`` under the fitted hyperparameters (a group's noise over its count)."""
+        K = self.kernel_.from_squared_distances(squared_distances(data.X))
+        K.flat[:: data.counts.shape[0] + 1] += self.noise_variance_ / data.counts
+        return K
 
     def _adopt_factor(self, X, y, data, L, jitter):
         """The fitted state from the training rows (``data``: folded) and their covariance's Cholesky factor."""

@@ -14,7 +14,14 @@ import signal
 import warnings
 from pathlib import Path
 
-from .._io import StoredResultError, atomic_write_text, lock_folder, one_line_warning, read_json, staging_directory
+from .._io import (
+    StoredResultError,
+    atomic_write_text,
+    lock_folder,
+    one_line_warning,
+    read_json,
+    staging_directory,
+)
 from .._validation import check_fraction, check_int, check_positive
 from .._version import __version__
 from ..config import (
@@ -32,11 +39,11 @@ from .cells import (
     StoredResultWarning,
     _as_key,
     _cell_name,
-    cell_seed,
     _check_cell,
     _shared_fields,
     _stored_base,
     cell_config,
+    cell_seed,
     finished_cells,
 )
 from .stored import SweepResults, load_cell, stored_sweep
