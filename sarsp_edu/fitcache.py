@@ -106,8 +106,8 @@ def _steps_taken(experiment) -> int:
     return len(experiment.act_seconds)
 
 
-def _path(config) -> Path | None:
-    directory = cache_directory()
+def _path(config, directory=None) -> Path | None:
+    directory = cache_directory() if directory is None else Path(directory)
     if directory is None:
         return None
     key = hashlib.sha256(f"{fingerprint()}\n{config!r}".encode()).hexdigest()[:32]
@@ -217,14 +217,16 @@ def _check_factor(name: str, model, data, L, jitter: float) -> None:
         raise ValueError(f"the {name} model's factor is not that of its covariance on these data")
 
 
-def load(config, prepared):
+def load(config, prepared, directory=None):
     """The :class:`~sarsp_edu.experiment.Experiment` of ``config`` rebuilt from a stored fit, or None.
 
-    ``prepared`` is the world and data of ``config`` (:func:`~sarsp_edu.preparation.prepare`).
+    ``prepared`` is the world and data of ``config`` (:func:`~sarsp_edu.preparation.prepare`);
+    ``directory``, a folder in the cache's place (the live dashboard's fits in other processes
+    hand their fits over through one where the cache is off).
     """
     from .experiment import Experiment
 
-    path = _path(config)
+    path = _path(config, directory)
     if path is None or not os.path.lexists(path):
         return None
     if path.is_symlink() or not path.is_file():
@@ -254,12 +256,13 @@ def load(config, prepared):
     return experiment
 
 
-def store(experiment) -> Path | None:
-    """Keep a just-fitted ``experiment`` (before its first step) for its settings; the entry's path."""
+def store(experiment, directory=None) -> Path | None:
+    """Keep a just-fitted ``experiment`` (before its first step) for its settings; the entry's path
+    (None if it could not be written).  ``directory``: a folder in the cache's place, as for :func:`load`."""
     if _steps_taken(experiment):
         raise ValueError(f"only a just-fitted experiment is stored, this one has taken {_steps_taken(experiment)} "
                          "steps")
-    path = _path(experiment.config)
+    path = _path(experiment.config, directory)
     if path is None:
         return None
     arrays, meta = _contents(experiment)
@@ -271,13 +274,14 @@ def store(experiment) -> Path | None:
     except OSError as exc:  # a full or read-only disk, a folder in the way: a later fit, nothing else
         _warn_once(f"{path} cannot be written ({exc.strerror or exc})")
         return None
-    _prune()
+    _prune(path.parent)
     return path
 
 
-def entries() -> list:
-    """The stored fits, most recently used first: ``(path, bytes)`` (regular files only)."""
-    directory = cache_directory()
+def entries(directory=None) -> list:
+    """The stored fits, most recently used first: ``(path, bytes)`` (regular files only); ``directory``:
+    another folder than the cache's."""
+    directory = cache_directory() if directory is None else Path(directory)
     if directory is None or not directory.is_dir():
         return []
     found = []
@@ -292,9 +296,9 @@ def entries() -> list:
     return [(path, size) for _, path, size in sorted(found, reverse=True)]
 
 
-def _prune() -> None:
+def _prune(directory) -> None:
     total = 0
-    for path, size in entries():
+    for path, size in entries(directory):
         total += size
         if total > CACHE_BYTES:
             try:

@@ -281,7 +281,7 @@ def _course(args, parser) -> int:
                 if args.out is None:
                     parser.error("pages needs --out DIR")
                 _check_pages_out(parser, Path(args.out), args.overwrite)
-                written = [write_pages(args.tutorials, args.out, mathjax=args.mathjax)]
+                written = [write_pages(args.tutorials, args.out)]
         except (FileNotFoundError, ValueError) as exc:
             parser.error(str(exc))
         for path in written:
@@ -339,4 +339,17 @@ def _cache(args, parser) -> int:
     found = fitcache.entries()
     print(f"{directory}: {len(found)} stored fits, {sum(size for _, size in found) / 2**20:.0f} MB "
           f"(at most {fitcache.CACHE_BYTES / 2**20:.0f} MB are kept; {fitcache.CACHE_VARIABLE}=off turns it off)")
+    return 0
+
+
+def _prefit(args, parser) -> int:
+    from ..live import prefit
+
+    if any(n < 0 for n in args.nss):
+        parser.error(f"--nss takes whole numbers from 0 to the world's unsafe states, got {args.nss}")
+    try:
+        prefit(args.nss, nu=args.nu, magnitude=args.magnitude, proportion=args.proportion, seed=args.seed,
+               episodes=args.episodes)
+    except RuntimeError as exc:  # the cache is off
+        parser.error(str(exc))
     return 0

@@ -8,7 +8,7 @@ import sys
 
 from .._version import __version__
 from .arguments import add_config_arguments
-from .commands import _ablation, _cache, _compare, _course, _info, _run, _sweep
+from .commands import _ablation, _cache, _compare, _course, _info, _prefit, _run, _sweep
 from .reading import _check_cell, _tables
 
 
@@ -19,7 +19,9 @@ def build_parser() -> argparse.ArgumentParser:
         DEFINITION_4_A,
         PAPER_MAGNITUDES,
         PAPER_PROPORTIONS,
+        NU,
         PAPER_SWITCH_STATES,
+        DataSettings,
     )
 
     parser = argparse.ArgumentParser(
@@ -153,10 +155,11 @@ def build_parser() -> argparse.ArgumentParser:
         description="'sources': execute the source notebooks in tutorials/source/ in place (answers in). "
         "'student': write the student notebooks tutorials/NN_*.ipynb from the sources (nbgrader's format: solution "
         "regions become '# YOUR CODE HERE', hidden tests go) and execute them. 'pages': static HTML pages of the "
-        "student notebooks, dashboards' pictures included, to project with no Python running. 'handout': copy the "
-        "student notebooks, the glossary and the stored results they read, never the sources, into a new folder "
-        "or a zip file to hand out. Notebooks are stored without widget state, so that a reader without a "
-        "kernel sees each dashboard's picture.",
+        "student notebooks, dashboards' pictures included, to project with no Python running and no network "
+        "(the maths is written into them as MathML). 'handout': copy the student notebooks, the glossary and "
+        "the stored results they read, never the sources, into a new folder or a zip file to hand out. "
+        "Notebooks are stored without widget state, so that a reader without a kernel sees each dashboard's "
+        "picture.",
     )
     course.add_argument("action", choices=["sources", "student", "pages", "handout"])
     course.add_argument("--tutorials", default="tutorials", metavar="DIR",
@@ -167,9 +170,6 @@ def build_parser() -> argparse.ArgumentParser:
     course.add_argument("--root", default=".", metavar="DIR",
                         help="handout: the repository, holding tutorials/ and results/ [default: .]")
     course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder; pages: the pages' folder")
-    course.add_argument("--mathjax", metavar="DIR",
-                        help="pages: a MathJax 2 folder (holding MathJax.js) to copy beside the pages "
-                        "[default: Debian's libjs-mathjax where installed, else a CDN]")
     course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
     course.add_argument("--overwrite", action="store_true",
                         help="pages: replace pages already in --out; handout: replace an existing --zip file")
@@ -184,6 +184,23 @@ def build_parser() -> argparse.ArgumentParser:
                     "next time (sarsp_edu.fitcache); compare, the sweeps and the tests always fit afresh.")
     cache.add_argument("--clear", action="store_true", help="remove every stored fit")
     cache.set_defaults(func=_cache, parser=cache)
+
+    prefit = sub.add_parser(
+        "prefit", help="fit the live dashboard's runs before class, so that Tutorial 4 starts at once",
+        description="Fits both sides of Tutorial 4's live dashboard (sliders at nu, m, p, seed and episodes as "
+                    "given) for each nss, at once, as the dashboard does, and keeps them in the cache of fits "
+                    "(see 'sarsp-edu cache'): the dashboard then loads them instead of fitting. Run it on the "
+                    "machine and in the environment the lecture uses.")
+    prefit.add_argument("--nss", type=int, nargs="+", default=[2, 10], metavar="N",
+                        help="the nss slider's values to fit (default: 2 10, the lecture plan's)")
+    prefit.add_argument("--nu", type=float, default=NU, help=f"the nu slider (default {NU:g})")
+    prefit.add_argument("--m", type=float, default=DataSettings.outlier_magnitude, dest="magnitude",
+                        help=f"the m slider (default {DataSettings.outlier_magnitude:g})")
+    prefit.add_argument("--p", type=float, default=DataSettings.outlier_proportion, dest="proportion",
+                        help=f"the p slider (default {DataSettings.outlier_proportion:g})")
+    prefit.add_argument("--seed", type=int, default=0, help="the seed slider (default 0)")
+    prefit.add_argument("--episodes", type=int, default=30, help="the episodes slider (default 30, Tutorial 4's)")
+    prefit.set_defaults(func=_prefit, parser=prefit)
     return parser
 
 

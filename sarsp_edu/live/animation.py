@@ -180,13 +180,10 @@ class Animation:
         if self.experiments is not None:
             return
         config = self.config()
-        ahead = self._preparer.busy_with(config)
-        self.status.value = ("Preparing: " + ("the fits begun in the background are finishing" if ahead else
-                                              f"{self.base_config.offline_episodes} offline episodes, outliers, "
-                                              "fitting the agents' models")
-                             + "; each agent starts as soon as its models are fitted ...")
-        if not ahead:
+        if not self._preparer.busy_with(config):
             self._preparer.request(config)
+        self.status.value = ("Preparing both agents: a side fitted before is loaded, the others are fitted, both "
+                             "at once; each agent starts as soon as its models are ready (progress above its grid).")
         preparation = self._preparer.claim(config)
         if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
             return
@@ -205,7 +202,6 @@ class Animation:
         self._claim_preparation(generation)
         if generation != self._generation:
             return
-        self.status.value = "Running ..."
         if self._pool is None:  # the sides and the watch on them
             self._pool = ThreadPoolExecutor(max_workers=len(self.sides) + 1, thread_name_prefix="sarsp-edu-side")
         self._frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
@@ -218,17 +214,30 @@ class Animation:
         self._say_where_it_stands(generation)
 
     def _await_side(self, name, generation):
-        """A side's run, waiting for its models to be fitted (in the background) if they are not yet."""
+        """A side's run, waiting for its models to be fitted (in the background) if they are not yet; meanwhile
+        its header says what the fit is doing."""
         if name in self.experiments:
             return self.experiments[name]
-        self._say_waiting(name, "fitting its models ...")
-        experiment = self._preparation.wait_for(name)
+        preparation = self._preparation
+        said = None
+        while not preparation.ready(name):
+            progress = preparation.progress.get(name, "waiting for its fit to begin ...")
+            if progress != said and generation == self._generation:
+                self._say_waiting(name, progress)
+                said = progress
+            preparation.wait_for(name, timeout=0.25)
+        experiment = preparation.wait_for(name)
         if experiment is None:  # abandoned part-way: only when newer settings were asked for, so stale
             return None
         with self._draw_lock:
             if generation == self._generation:
                 self.experiments[name] = experiment
                 self._draw_side(name)
+                if self._running and len(self.experiments) == len(self.sides):
+                    self.status.value = "Running: both agents step."
+                elif self._running:
+                    self.status.value = (f"Running: the {html.escape(self.sides[name][0])} agent steps, the other "
+                                         "starts when its models are fitted.")
         return experiment
 
     def _run_side(self, name, generation) -> None:
@@ -268,14 +277,13 @@ class Animation:
             for name, since in list(self._stepping_since.items()):
                 if since is not None and now - since > WAIT_SHOWN_AFTER and name in self.experiments:
                     agent = self.experiments[name].agent
-                    why = ("retraining the cost model after a corrective update" if agent.retraining
-                           else "deciding")
-                    self._say_waiting(name, f"{why} ({now - since:.1f} s); the other side goes on")
+                    why = "retraining its cost model" if agent.retraining else "deciding"
+                    self._say_waiting(name, f"{why} ({now - since:.1f} s) ...")
             time.sleep(0.1)
 
     def _say_waiting(self, name, why: str) -> None:
-        self.headers[name].value = (f"<b>{html.escape(self.sides[name][0])}</b> "
-                                    f"<span style='color:#b35900'>⏳ {html.escape(why)}</span>")
+        """The side's header line says why it waits (one line, cut short rather than wrapped: nothing moves)."""
+        self.headers[name].value = self._header(name, f"<span style='color:#a04c00'>{html.escape(why)}</span>")
 
     def _forward_quietly(self, episodes):  # every side is there: fast-forward waits for them
         with one_blas_thread():

@@ -15,21 +15,19 @@ from .. import markup, plotting
 from .._threads import one_blas_thread
 from ..config import NU, DataSettings
 from ..dashboard import (
-    SNAPSHOT_WIDTH_PX,
     control_row,
     fixed_layout_axes,
-    readable_png,
     render_figure,
     slider,
     wipe_axes,
 )
 from ..projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
 from .animation import Animation
-from .background import Preparer, changed_settings
+from .background import Preparer, changed_settings, slider_config
+from .snapshot import LIVE_METRICS, first_episode, picture
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
-_LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
 
 #: tutorial 4's two sides: name -> (title, the settings that side changes)
 TP_AND_GP = {
@@ -133,7 +131,9 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self.buttons["forward"].on_click(lambda _: self.start(episodes=10))
         self.buttons["new"].on_click(lambda _: self.reset())
         self.status = widgets.HTML("Press <b>Run</b> to start both agents.")
-        self.headers = {name: widgets.HTML() for name in self.sides}
+        # one line of fixed height: a side's "fitting ..." or "retraining ..." never moves its grid
+        self.headers = {name: widgets.HTML(layout=widgets.Layout(height="1.6em", overflow="hidden", width="100%"))
+                        for name in self.sides}
         self.worlds = {name: widgets.HTML(layout=widgets.Layout(flex="0 0 auto")) for name in self.sides}
         self.decisions = {name: widgets.HTML() for name in self.sides}
         # beside the grid where there is room for it, under it on a narrow screen
@@ -142,7 +142,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         # A fixed layout and plain-text titles: constrained layout and mathtext
         # would cost several times the whole agent step at each redraw.
         self.metrics_figure = Figure(figsize=(14, 2.5))
-        self.metrics_axes = fixed_layout_axes(self.metrics_figure, ncols=len(_LIVE_METRICS))
+        self.metrics_axes = fixed_layout_axes(self.metrics_figure, ncols=len(LIVE_METRICS))
         # SVG: the browser draws the text, sharp at any size
         self.metrics_image = widgets.Image(format="svg+xml", layout=widgets.Layout(width="100%"))
         pictures, tables = [], []
@@ -177,7 +177,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self._metrics_drawn_at = -float("inf")
         self._offline = {}  # seed -> the offline world and its clean data (a slider move reuses them)
         self._generation = 0  # counts setting changes: a preparation begun before one is discarded
-        self._preparer = Preparer(self.sides)
+        self._preparer = Preparer(self.sides, offline=self._offline)
         self._pool = None
         self._preparation = None
         self._draw_lock = threading.RLock()  # the sides' threads draw; one picture at a time
@@ -193,17 +193,18 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
 
     # -- configuration ------------------------------------------------------
     def config(self):
-        # a slider's float carries its steps' rounding (40 + 1.0 moves to 41.00000000000001): round it away
-        values = {k: round(c.value, 10) if isinstance(c.value, float) else c.value for k, c in self.controls.items()}
-        return self.base_config.replace(
-            nu=float(values["nu"]), outlier_magnitude=float(values["magnitude"]),
-            outlier_proportion=float(values["proportion"]), n_switch_states=int(values["n_switch_states"]),
-            seed=int(values["seed"]), episodes=int(values["episodes"]),
-        )
+        """The settings the sliders imply (:func:`~sarsp_edu.live.background.slider_config`)."""
+        values = {k: c.value for k, c in self.controls.items()}
+        return slider_config(self.base_config, n_switch_states=values.pop("n_switch_states"), **values)
 
     @property
     def _text_px(self) -> int:
         return PROJECTOR_TEXT_PX if self.projector else 13
+
+    def _header(self, name, note: str = "") -> str:
+        """A side's title line, with ``note`` (HTML) after it: one line, cut short with an ellipsis if too long."""
+        return (f"<div style='white-space:nowrap;overflow:hidden;text-overflow:ellipsis'>"
+                f"<b>{html.escape(self.sides[name][0])}</b> {note}</div>")
 
     def _small(self, text: str) -> str:
         return f"<span style='font-size:{self._text_px - 1}px'>{text}</span>"
@@ -223,7 +224,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         if config.seed not in self._offline:
             self._offline[config.seed] = offline_world(config)
         prepared = prepare(config, offline=self._offline[config.seed])
-        picture = markup.gridworld_svg(prepared.env.layout(), title="the world after the shift: press Run",
+        picture = markup.gridworld_svg(first_episode(prepared), title="the world after the shift: press Run",
                                        font_size=self._text_px)
         rows = len(prepared.data.cost)
         outliers = len(prepared.data.outlier_indices)
@@ -231,8 +232,8 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             f"nss = {config.n_switch_states}: {len(prepared.env.moved_indices)} unsafe states moved (outlined; "
             f"dashed: where they were).<br>Outliers: {outliers} of {rows} rows of the cost model's data "
             f"multiplied by m = {config.outlier_magnitude:g}.")
-        for name, (label, _) in self.sides.items():
-            self.headers[name].value = f"<b>{html.escape(label)}</b>"
+        for name in self.sides:
+            self.headers[name].value = self._header(name)
             self.worlds[name].value = picture
             self.decisions[name].value = ""
             self.summaries[name].value = note
@@ -305,34 +306,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         is :data:`~sarsp_edu.dashboard.SNAPSHOT_WIDTH_PX` wide, its text at
         least 14 pt at that width.
         """
-        from ..preparation import prepare
-
-        figure = Figure(figsize=(SNAPSHOT_WIDTH_PX / 100, 9.4 if self.experiments else 5.6), layout="constrained")
-        top, bottom = (figure.subfigures(2, 1, height_ratios=(5.6, 3.8)) if self.experiments else (figure, None))
-        sides = top.subplots(1, 4, width_ratios=(3, 1.9, 3, 1.9))
-        key = ("circle: start, star: goal\nred: unsafe; outlined: moved\nby the shift (dashed: before)"
-               "\nred ticks: moves in S_u\nline: this episode's path")
-        # the world of a side not running yet: a running side's, else the sliders' (built once, without fits)
-        waiting = next(iter(self.experiments.values())).env if self.experiments else prepare(self.config()).env
-        for (name, (label, _)), ax, text in zip(self.sides.items(), sides[0::2], sides[1::2]):
-            text.axis("off")
-            experiment = (self.experiments or {}).get(name)
-            if experiment is None:
-                plotting.plot_gridworld(ax, waiting.layout(), legend=False, title=f"{label}: press Run")
-                numbers = ()
-            else:
-                plotting.plot_gridworld(ax, experiment.env.layout(), trajectory=experiment.trajectory,
-                                        unsafe_pairs=sorted(experiment.agent.unsafe_pairs), legend=False,
-                                        title=f"{label}: episode {len(experiment.episodes)} done")
-                numbers = self.key_numbers(name)
-            text.text(0, 0.97, "\n".join(f"{label_}: {value}" for label_, value in numbers), va="top",
-                      linespacing=1.6, transform=text.transAxes)
-            text.text(0, 0.0, key, va="bottom", linespacing=1.4, color="0.3", transform=text.transAxes)
-        if bottom is not None and self._drawn_episodes > 0:
-            axes = bottom.subplots(1, len(_LIVE_METRICS))
-            plotting.plot_live_metrics(axes, {m: e.records() for m, e in self.experiments.items()},
-                                       _LIVE_METRICS, labels=self._legend_labels())
-        return readable_png([figure])
+        return picture(self)
 
     def _snapshot_run(self) -> None:
         """In a batch run that asks for it (SARSP_EDU_SNAPSHOT_EPISODES), run that many episodes for the picture."""
@@ -387,7 +361,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         experiment = self.experiments[name]
         record = self._last[name]
         episode = len(experiment.episodes) + (0 if record is None or record.done else 1)
-        self.headers[name].value = f"<b>{html.escape(self.sides[name][0])}</b>"
+        self.headers[name].value = self._header(name)
         self.worlds[name].value = markup.gridworld_svg(
             experiment.env.layout(), trajectory=experiment.trajectory,
             unsafe_pairs=sorted(experiment.agent.unsafe_pairs),
@@ -398,8 +372,9 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             decision, experiment.config.d, experiment.config.variance_threshold, font_size=self._text_px - 1)
         numbers = self.key_numbers(name)
         self.summaries[name].value = (
-            f"<table style='font-size:{self._text_px}px;border-collapse:collapse;margin-left:8px'>"
-            + "".join(f"<tr><td style='padding:1px 8px 1px 0'>{label}</td><td style='text-align:right'>"
+            f"<table style='font-size:{self._text_px}px;border-collapse:collapse;margin:0 16px 0 8px'>"
+            + "".join(f"<tr><td style='padding:1px 8px 1px 0;white-space:nowrap'>{label}</td>"
+                      f"<td style='text-align:right;white-space:nowrap'>"
                       f"<b>{value}</b></td></tr>" for label, value in numbers)
             + "</table>")
 
@@ -431,7 +406,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         for ax in self.metrics_axes:
             wipe_axes(ax)
         plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
-                                   _LIVE_METRICS, labels=self._legend_labels())
+                                   LIVE_METRICS, labels=self._legend_labels())
         self.metrics_image.value = render_figure(self.metrics_figure, "svg")
 
     def _legend_labels(self) -> dict | None:

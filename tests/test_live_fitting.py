@@ -1,0 +1,147 @@
+"""The live dashboard's fits in processes of their own (sarsp_edu.live.fitting and background.Preparer).
+
+Both sides fitted at once, each in a worker process, must give the very runs
+a fit in the kernel gives; a newer request must stop the fits it replaces at
+once; a script's end must end the workers; and where no process can be
+started the sides are fitted in the thread.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+
+import pytest
+
+from sarsp_edu.config import ExperimentConfig
+from sarsp_edu.experiment import paired_experiments
+from sarsp_edu.live import TP_AND_GP, fitting, prefit
+from sarsp_edu.live.background import Preparer, _describe
+
+SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
+             optimizer_steps=5, k_prior=30, episodes=3)
+
+
+@pytest.fixture(params=["cache", "off"])
+def cache(request, monkeypatch, tmp_path):
+    """With the fit cache on (a fresh folder) and off (the fits are handed over through a folder of its own)."""
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits") if request.param == "cache" else "off")
+    return request.param
+
+
+def prepared_runs(preparer, config):
+    preparer.request(config)
+    preparation = preparer.claim(config)
+    return {name: preparation.wait_for(name) for name in preparer.sides}
+
+
+def test_fits_in_worker_processes_give_the_runs_a_fit_in_the_kernel_gives(cache):
+    config = ExperimentConfig(**SMALL)
+    runs = prepared_runs(Preparer(dict(TP_AND_GP)), config)
+    expected = paired_experiments(config)
+    for name in ("tp", "gp"):
+        assert not runs[name].loaded_from_cache  # fitted now, in a worker
+        assert runs[name].timings["offline_fit_seconds"] > 0
+        while not expected[name].finished:
+            runs[name].run_episode()
+            expected[name].run_episode()
+        assert runs[name].records().equals(expected[name].records()), name
+    assert runs["tp"].agent.cost_model.theta_.tolist() == expected["tp"].agent.cost_model.theta_.tolist()
+
+
+def test_settings_fitted_before_are_loaded_and_a_newer_request_stops_the_fits_it_replaces(monkeypatch, tmp_path):
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits"))
+    started = []
+    plain = fitting.take_worker
+    monkeypatch.setattr(fitting, "take_worker", lambda: started.append(plain()) or started[-1])
+    preparer = Preparer(dict(TP_AND_GP))
+    fitted = ExperimentConfig(**SMALL)
+    prepared_runs(preparer, fitted)
+    abandoned = fitted.replace(n_switch_states=2, optimizer_steps=2000)  # a fit that would take minutes
+    preparer.request(abandoned)
+    deadline = time.monotonic() + 60
+    while len(started) < 4 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    slow = started[2:]
+    assert len(slow) == 2, "the abandoned settings' fits should have begun in two workers"
+    back = prepared_runs(preparer, fitted)  # back to the settings fitted before
+    assert all(run.loaded_from_cache for run in back.values())
+    for worker in slow:  # stopped, not left running behind the wanted settings
+        assert worker.process.wait(timeout=30) is not None
+        assert worker.process.returncode != 0
+
+
+def test_progress_is_said_in_words():
+    class Worker:
+        started_at = None
+        steps = (0, 0)
+
+    config = ExperimentConfig(**SMALL)
+    assert _describe(Worker(), config) == "starting the fit (its data and imports) ..."
+    Worker.started_at = time.perf_counter() - 2.0
+    Worker.steps = (10, 100)
+    assert _describe(Worker(), config).startswith("fitting its cost model: step 10 of 100, 2 s, about 18 s left")
+    Worker.steps = (60, 100)
+    assert "reward model: step 60 of 100" in _describe(Worker(), config)
+    Worker.steps = (7, 0)  # L-BFGS: the total is not known
+    assert _describe(Worker(), config) == "fitting its models: step 7, 2 s so far ..."
+
+
+def test_where_no_process_can_be_started_the_sides_are_fitted_in_the_thread(monkeypatch, cache):
+    def refused():
+        raise OSError("no processes here")
+
+    monkeypatch.setattr(fitting, "take_worker", refused)
+    config = ExperimentConfig(**SMALL)
+    runs = prepared_runs(Preparer(dict(TP_AND_GP)), config)
+    expected = paired_experiments(config)
+    for name in ("tp", "gp"):
+        runs[name].run_episode()
+        expected[name].run_episode()
+        assert runs[name].records().equals(expected[name].records())
+
+
+def test_a_worker_fails_with_its_message_and_ends_with_its_kernel(tmp_path):
+    worker = fitting.FitWorker()
+    worker.submit("not a config", tmp_path)
+    word, message = worker.answer(timeout=60)
+    assert word == "error" and "AttributeError" in message, message
+    worker.process.stdin.close()  # the kernel has gone
+    assert worker.process.wait(timeout=30) == 0
+
+
+def test_a_script_that_starts_fits_ends_when_it_reaches_its_end(tmp_path):
+    script = ("from sarsp_edu.config import ExperimentConfig\n"
+              "from sarsp_edu.live import TP_AND_GP\nfrom sarsp_edu.live.background import Preparer\n"
+              f"Preparer(dict(TP_AND_GP)).request(ExperimentConfig(**{dict(SMALL, optimizer_steps=5000)!r}))\n"
+              "import time; time.sleep(1)\n")
+    start = time.monotonic()
+    subprocess.run([sys.executable, "-c", script], check=True, timeout=120,
+                   env={"SARSP_EDU_CACHE": str(tmp_path), "PATH": "/usr/bin:/bin"})
+    assert time.monotonic() - start < 100  # not the minutes the fits would take
+    left = subprocess.run(["pgrep", "-f", "sarsp_edu.live.fitting"], capture_output=True, text=True).stdout.split()
+    assert not [pid for pid in left if _parent_gone(pid)], "a worker outlived its script"
+
+
+def _parent_gone(pid: str) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            return stat.read().split()[3] == "1"  # re-parented to init: its kernel has gone
+    except OSError:
+        return False
+
+
+def test_prefit_fits_each_nss_once_and_then_finds_it_stored(monkeypatch, tmp_path):
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path))
+    said = []
+    config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
+    first = prefit((0, 1), episodes=3, config=config, report=said.append)
+    assert [(nss, side) for nss, side, _ in first] == [(0, "tp"), (0, "gp"), (1, "tp"), (1, "gp")]
+    assert all(what.startswith("fitted in") for *_, what in first), first
+    again = prefit((0, 1), episodes=3, config=config, report=said.append)
+    assert all(what == "stored before" for *_, what in again), again
+    assert said[0].startswith("nss = 0, Student-t process: fitted in")
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    with pytest.raises(RuntimeError, match="cache of fits is off"):
+        prefit(0, config=config)
