@@ -25,6 +25,8 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from .pages import write_pages  # the static pages are built in pages.py
+
 __all__ = [
     "BEGIN_SOLUTION",
     "END_SOLUTION",
@@ -280,62 +282,6 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
         atomic_write_text(target, nbformat.writes(notebook) + "\n")
         written.append(target)
     return written
-
-
-#: where Debian's libjs-mathjax puts MathJax 2 (apt-get install libjs-mathjax): pages then render maths offline
-DEBIAN_MATHJAX = Path("/usr/share/javascript/mathjax")
-
-
-def write_pages(tutorials="tutorials", out="pages", mathjax=None) -> Path:
-    """Static HTML pages of the student notebooks, with every output and dashboard picture, and an index.
-
-    A lecturer can project them with no Python running: the dashboards show
-    the picture their outputs carry (the notebooks store no widget state).
-    The maths is rendered by MathJax: a local copy (``mathjax``, a folder
-    holding ``MathJax.js``; by default Debian's libjs-mathjax where it is
-    installed) is copied beside the pages, so they need no network;
-    without one they load it from a CDN, and the index says so.
-
-    Returns the index page.
-    """
-    import html
-
-    import nbformat
-    from nbconvert import HTMLExporter
-
-    from ._io import atomic_write_text
-
-    tutorials, out = Path(tutorials), Path(out)
-    notebooks = _student_notebooks(tutorials)
-    mathjax = Path(mathjax) if mathjax is not None else (DEBIAN_MATHJAX if (DEBIAN_MATHJAX / "MathJax.js").exists()
-                                                           else None)
-    if mathjax is not None and not (mathjax / "MathJax.js").exists():
-        raise FileNotFoundError(f"mathjax must be a folder holding MathJax.js, got mathjax={str(mathjax)!r}")
-    out.mkdir(parents=True, exist_ok=True)
-    exporter = HTMLExporter(template_name="lab")
-    if mathjax is not None:
-        shutil.copytree(mathjax, out / "mathjax", dirs_exist_ok=True)
-        exporter.mathjax_url = "mathjax/MathJax.js?config=TeX-AMS_HTML"
-    entries = []
-    for path in notebooks:
-        notebook = nbformat.read(path, as_version=4)
-        notebook.metadata.pop("widgets", None)  # the dashboards' pictures, not a widget loader from the network
-        body, _ = exporter.from_notebook_node(notebook)
-        page = out / f"{path.stem}.html"
-        atomic_write_text(page, body)
-        title = next((c.source.split("\n")[0].lstrip("# ") for c in notebook.cells if c.cell_type == "markdown"),
-                     path.stem)
-        entries.append(f'<li><a href="{page.name}">{html.escape(title)}</a></li>')
-    maths = ("MathJax is copied beside these pages: they need no network." if mathjax is not None else
-             "The maths is rendered by MathJax from a CDN: offline it shows as LaTeX source "
-             "(install Debian's libjs-mathjax, or pass a MathJax folder, and build the pages again).")
-    index = out / "index.html"
-    atomic_write_text(index, "<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>sarsp_edu tutorials</title>"
-                      "<style>body{font:20px/1.5 sans-serif;max-width:50em;margin:2em auto}</style></head><body>"
-                      "<h1>sarsp_edu: the tutorials, as static pages</h1><ol>" + "".join(entries) + "</ol>"
-                      f"<p>Every output and dashboard picture is stored in the pages; no Python runs. {maths}</p>"
-                      "</body></html>\n")
-    return index
 
 
 def write_handout(root=".", out=None, zip_path=None) -> Path:
