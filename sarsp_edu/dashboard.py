@@ -12,8 +12,10 @@ without rebuilding its ticks), :func:`fixed_layout_axes` (labels at fixed
 places, nothing measured) and :func:`render_figure`.  The tutorials'
 dashboards are in :mod:`sarsp_edu.widgets` and :mod:`sarsp_edu.live`.
 
-Projector size (text for the back of a lecture room) is in
-:mod:`sarsp_edu.projector`; every dashboard takes it from there.
+Projector size (text for the back of a lecture room, the default) is in
+:mod:`sarsp_edu.projector`; every dashboard takes it from there.  A static
+copy's picture carries alt text, built from each panel's ``alt``, in the
+output's metadata (``{"image/png": {"alt": ...}}``), for a screen reader.
 """
 
 from __future__ import annotations
@@ -32,7 +34,8 @@ from matplotlib.transforms import ScaledTranslation
 
 from ._threads import one_blas_thread
 from ._validation import check_choice, check_int, check_positive, check_range
-from .projector import PROJECTOR_PX_PER_PT, ProjectorMixin, slider_width
+from .plotting.display import alt_metadata
+from .projector import PROJECTOR_MAX_PX_PER_PT, PROJECTOR_PX_PER_PT, ProjectorMixin, slider_width
 
 __all__ = ["Dashboard", "Panel", "control_row", "fixed_layout_axes", "readable_png", "render_figure", "slider",
            "stitch_png", "wipe_axes"]
@@ -59,6 +62,10 @@ class Panel:
         Distance in points from the Axes to the x label (below) and to the
         y label (left), room for the tick labels the panel can show.  Fixed
         rather than measured at each redraw, which cost a tenth of it.
+    alt : str or callable
+        What the picture shows, for someone who cannot see it (axes, curves,
+        what to notice), or ``alt(**values)`` giving it for the controls'
+        values.  Numbers only where the picture shows them.
     """
 
     draw: Callable
@@ -66,9 +73,14 @@ class Panel:
     inputs: tuple | None = None
     margins: dict | None = None
     label_offsets: tuple = (24.0, 42.0)
+    alt: str | Callable = ""
 
     def __post_init__(self):
         check_positive("width", self.width)
+
+    def describe(self, values: dict) -> str:
+        """The panel's alt text at these control values."""
+        return (self.alt(**values) if callable(self.alt) else self.alt).strip()
 
     def depends_on(self, changed) -> bool:
         return changed is None or self.inputs is None or bool(set(changed) & set(self.inputs))
@@ -156,29 +168,37 @@ class Dashboard(ProjectorMixin, widgets.VBox):
         rows = layout_rows or [control_row(controls.values())]
         self.pictures = widgets.HBox(self.images, layout=widgets.Layout(width="100%"))
         super().__init__(children=[*rows, self.message, self.pictures, self.info])
-        self._init_projector(projector)
+        self._init_projector(projector, toggle_row=rows[-1])
         self._resize_pictures()
         for control in controls.values():
             control.observe(self._on_change, names="value")
         self.refresh()
 
     def _resize_pictures(self) -> None:
-        """Notebook size: the pictures share one row.  Projector size: each is shown at PROJECTOR_PX_PER_PT
-        CSS px per point (its 10 pt text at 14.5 px), and the row wraps where they do not fit side by side.
+        """Compact size: the pictures share one row.  Projector size: each is at least PROJECTOR_PX_PER_PT CSS px
+        per point wide (its 10 pt text at 14.2 px), the row wraps where they do not fit side by side, and the
+        pictures of a row share its width in proportion to their own, up to PROJECTOR_MAX_PX_PER_PT.
 
-        The figures themselves are the same in both: only the space they are
-        given changes, so every legend and label stays where it was placed.
+        The browser decides the rows, so the same dashboard reads alike in
+        JupyterLab beside its file browser (about 850 px), in Voila and on a
+        wide screen; on a screen narrower than a picture, it shrinks to fit.
+        The figures themselves are the same in both sizes: only the space
+        they are given changes, so every legend and label stays where it was
+        placed.
         """
         total = sum(panel.width for panel in self.panels)
         for panel, image in zip(self.panels, self.images):
             if self.projector:
-                image.layout = widgets.Layout(width=f"{panel.width * 72 * PROJECTOR_PX_PER_PT:.0f}px",
-                                              max_width="100%", height="auto")
+                points = panel.width * 72
+                image.layout = widgets.Layout(
+                    flex=f"{panel.width:g} 1 0px", height="auto",
+                    min_width=f"min({points * PROJECTOR_PX_PER_PT:.0f}px, 100%)",
+                    max_width=f"{points * PROJECTOR_MAX_PX_PER_PT:.0f}px")
             else:
                 image.layout = widgets.Layout(width=f"{100 * panel.width / total:.3f}%",
                                               max_width=f"{panel.width * 72 * self.max_scale:.0f}px")
         self.pictures.layout = widgets.Layout(
-            width="100%", flex_flow="row wrap" if self.projector else "row",
+            width="100%", flex_flow="row wrap" if self.projector else "row", align_items="flex-start",
             max_width="none" if self.projector else f"{total * 72 * self.max_scale:.0f}px")
 
     def snapshot(self) -> bytes:
@@ -188,12 +208,24 @@ class Dashboard(ProjectorMixin, widgets.VBox):
         """
         return readable_png(self.figures)
 
+    def alt_text(self) -> str:
+        """What the pictures on show draw, panel by panel, for a screen reader (the static copy's alt text)."""
+        values = self.values()
+        described = [panel.describe(values) for panel in self.panels]
+        if len(described) == 1 or not any(described):  # "" where no panel has an alt
+            return described[0] if len(described) == 1 else ""
+        places = {2: ("Left", "Right"), 3: ("Left", "Middle", "Right")}.get(
+            len(described), [f"Picture {i + 1}" for i in range(len(described))])
+        return f"{len(described)} pictures side by side. " + " ".join(
+            f"{place}: {text}" for place, text in zip(places, described))
+
     def _repr_mimebundle_(self, **kwargs):
         # A live front end (JupyterLab, Voila) renders the widget view; a static
-        # one (GitHub, nbviewer, a printed handout) falls back to the PNG.
+        # one (GitHub, nbviewer, a printed handout) falls back to the PNG, whose
+        # alt text is in the metadata.
         bundle = dict(super()._repr_mimebundle_(**kwargs))
         bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
-        return bundle
+        return bundle, alt_metadata(self.alt_text() or "The dashboard's pictures (no description was given).")
 
     def _on_change(self, change):
         self.refresh(changed=(self._names[id(change["owner"])],))

@@ -7,6 +7,9 @@ matplotlib redraw costs tens of milliseconds).
 
 from __future__ import annotations
 
+import html
+import math
+
 from .config import ACTION_MOVES
 from .plotting import COLOURS
 
@@ -20,16 +23,19 @@ def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, t
     """The world as an SVG string: unsafe states, moved states, S_u, path, agent, goal.
 
     The same picture as :func:`sarsp_edu.plotting.plot_gridworld`, cheap enough to redraw at
-    every agent step.  ``font_size`` is the title's, in px (18 on a projector).
+    every agent step.  ``font_size`` is the title's, in px (18 on a projector).  The SVG
+    carries a description for a screen reader (``role="img"`` and ``aria-label``), and its
+    marks are shapes, none a character that a font may lack.
     """
     n = layout.size
     size = n * cell
     top = round(font_size * 1.7) if title else 0
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{size + 2}" height="{size + 2 + top}" '
-             f'viewBox="-1 {-1 - top} {size + 2} {size + 2 + top}" font-family="sans-serif">']
+             f'viewBox="-1 {-1 - top} {size + 2} {size + 2 + top}" font-family="sans-serif" role="img" '
+             f'aria-label="{html.escape(_describe(layout, title, trajectory, unsafe_pairs))}">']
     if title:
         parts.append(f'<text x="{size / 2}" y="{-round(font_size * 0.55)}" text-anchor="middle" '
-                     f'font-size="{font_size}">{title}</text>')
+                     f'font-size="{font_size}">{html.escape(title)}</text>')
     parts.append(f'<rect x="0" y="0" width="{size}" height="{size}" fill="#fafafa" stroke="#999"/>')
     for k in range(1, n):
         parts.append(f'<line x1="{k * cell}" y1="0" x2="{k * cell}" y2="{size}" stroke="{COLOURS["grid"]}"/>')
@@ -58,14 +64,38 @@ def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, t
                      f'stroke="{COLOURS["start"]}" stroke-width="3"/>')
     if layout.goal is not None:
         gx, gy = layout.goal
-        parts.append(f'<text x="{gx * cell + half}" y="{gy * cell + half + 7}" text-anchor="middle" '
-                     f'font-size="{int(cell * 0.8)}" fill="{COLOURS["goal"]}">★</text>')
+        parts.append(f'<polygon points="{_star(gx * cell + half, gy * cell + half + 1, cell * 0.42)}" '
+                     f'fill="{COLOURS["goal"]}" stroke="black" stroke-width="0.7"/>')
     if layout.agent is not None:
         ax_, ay = layout.agent
         parts.append(f'<circle cx="{ax_ * cell + half}" cy="{ay * cell + half}" r="{cell * 0.22}" '
                      f'fill="{COLOURS["agent"]}" stroke="white" stroke-width="2"/>')
     parts.append("</svg>")
     return "".join(parts)
+
+
+def _star(cx: float, cy: float, radius: float) -> str:
+    """The corners of a five-pointed star, point up, as an SVG polygon's ``points``."""
+    corners = []
+    for k in range(10):
+        r = radius if k % 2 == 0 else 0.45 * radius
+        angle = math.pi * (k / 5 - 0.5)
+        corners.append(f"{cx + r * math.cos(angle):.1f},{cy + r * math.sin(angle):.1f}")
+    return " ".join(corners)
+
+
+def _describe(layout, title: str, trajectory, unsafe_pairs) -> str:
+    """What :func:`gridworld_svg` draws, in words: its alt text."""
+    parts = [f"{title}: " if title else "", f"a {layout.size} by {layout.size} grid world; red squares are "
+             "unsafe states (outlined in black: moved by the shift; dashed outlines: where they were), "
+             "a ring is the start, a star the goal"]
+    if layout.agent is not None:
+        parts.append(", a filled circle the agent")
+    if trajectory is not None and len(trajectory) > 1:
+        parts.append(", a line its path this episode")
+    if len(unsafe_pairs):
+        parts.append(", red ticks the moves it has learned are unsafe (S_u)")
+    return "".join(parts) + "."
 
 
 def decision_table_html(decision, d: float, variance_threshold: float, font_size: int = 12) -> str:
@@ -88,6 +118,6 @@ def decision_table_html(decision, d: float, variance_threshold: float, font_size
         f'<table style="font-size:{font_size}px;border-collapse:collapse" cellpadding="2">'
         "<tr><th>a</th><th>cost μ</th><th>cost σ²</th><th>reward μ</th><th>status</th></tr>"
         + "".join(rows)
-        + f'</table><div style="font-size:{font_size}px">safe ⇔ σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
+        + f'</table><div style="font-size:{font_size}px">safe: σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
         f"chosen: {_ACTION_ARROWS[decision.action]} ({rule})</div>"
     )

@@ -1,17 +1,24 @@
-"""Projector size: text the back of a lecture room can read, for every dashboard, with one switch.
+"""Projector size: text the back of a lecture room can read, the default of every dashboard.
 
-:func:`projector` switches every dashboard of the
-kernel, those on show and those to come, to text the back of a lecture room
-can read: widget labels, readouts, buttons and tables at
-``PROJECTOR_TEXT_PX`` (18 px), and pictures shown at ``PROJECTOR_PX_PER_PT``
-CSS px per point, so that their 10 pt text is 14.5 px, wrapping onto a
-second row where they no longer fit side by side (the figures themselves do
-not change, so no legend or label moves).  The live agent dashboard's
-metric curves, one wide figure, are drawn ``PROJECTOR_SCALE`` times smaller
-in inches instead, their text keeping its points.  Projector size is on by
-default in Voila (which sets ``VOILA_KERNEL_ID`` in the kernel) and wherever
-``SARSP_EDU_PROJECTOR=1``; each dashboard's ``set_projector`` switches it
-alone.
+In projector size, widget labels, readouts, buttons and tables are
+``PROJECTOR_TEXT_PX`` (18 px) and every picture is shown at
+``PROJECTOR_PX_PER_PT`` CSS px per point of its figure or more (its 10 pt
+text at 14.2 px or more), so that a lecturer need not know any switch: in
+JupyterLab at 1280x720 with the file browser open (a notebook output about
+850 px wide), in Voila and on a wide screen alike.  Pictures that no longer
+fit side by side wrap onto the next row and share the row's width, up to
+``PROJECTOR_MAX_PX_PER_PT``; the figures themselves do not change, so no
+legend or label moves.  The live agent dashboard's metric curves, one wide
+figure, are drawn ``PROJECTOR_SCALE`` times smaller in inches instead, their
+text keeping its points.
+
+Every dashboard carries a visible button, *Large text: on*, that switches it
+alone to the compact notebook size and back (``set_projector``);
+:func:`projector` switches every dashboard of the kernel, and
+``SARSP_EDU_PROJECTOR=0`` in the environment starts them compact.  Whatever
+the size, a slider's knob, a readout and a button that has the keyboard's
+focus are outlined (``FOCUS_OUTLINE``), so that a keyboard user sees where
+they are.
 """
 
 from __future__ import annotations
@@ -21,18 +28,29 @@ import weakref
 
 import ipywidgets as widgets
 
-__all__ = ["PROJECTOR_PX_PER_PT", "PROJECTOR_SCALE", "PROJECTOR_TEXT_PX", "ProjectorMixin", "projector", "projector_default",
-           "slider_width"]
+__all__ = ["FOCUS_OUTLINE", "PROJECTOR_MAX_PX_PER_PT", "PROJECTOR_PX_PER_PT", "PROJECTOR_SCALE", "PROJECTOR_TEXT_PX",
+           "ProjectorMixin", "projector", "projector_default", "slider_width"]
 
 #: how much larger the agent dashboard's metric curves' text is against the same space in projector size
 PROJECTOR_SCALE = 1.6
-#: a dashboard picture's display size in projector size, CSS px per point of the figure: its 10 pt text at 14.5 px
-PROJECTOR_PX_PER_PT = 1.45
+#: a dashboard picture's smallest display size in projector size, CSS px per point of the figure: 10 pt at 14.2 px
+PROJECTOR_PX_PER_PT = 1.42
+#: and its largest, where a picture has a row to itself: 10 pt at 16 px
+PROJECTOR_MAX_PX_PER_PT = 1.6
 #: widget labels, readouts, buttons and tables in projector size, in CSS px
 PROJECTOR_TEXT_PX = 18
+#: the outline of a control that has the keyboard's focus: dark blue on the white page, 10:1 against it
+FOCUS_OUTLINE = "3px solid #0b3d91"
 
 _CLASS = "sarsp-projector"
 _SCOPE = f".{_CLASS}"
+#: on every dashboard, whatever its size: the focus outline is scoped to it
+_DASHBOARD_CLASS = "sarsp-dashboard"
+_FOCUSABLE = ("button", "input", "select", "textarea", ".noUi-handle", ".widget-readout", ".widget-toggle-button")
+_FOCUS_CSS = (
+    ", ".join(f".{_DASHBOARD_CLASS} {selector}:focus-visible" for selector in _FOCUSABLE)
+    + f" {{outline: {FOCUS_OUTLINE} !important; outline-offset: 2px !important;}}"
+)
 _PROJECTOR_CSS = (
     "<style>"
     f"{_SCOPE} .widget-label, {_SCOPE} .widget-readout, {_SCOPE} .widget-button, {_SCOPE} .widget-toggle-button,"
@@ -44,35 +62,34 @@ _PROJECTOR_CSS = (
     f" {{height: 36px !important; line-height: 36px !important;}}"
     f" {_SCOPE} .widget-html-content, {_SCOPE} .widget-htmlmath-content {{line-height: 1.35 !important;}}"
     f" {_SCOPE} .widget-checkbox {{width: auto !important;}}"  # its label whole, not cut at 300 px
+    f" {_FOCUS_CSS}"
     "</style>"
 )
 
-_SWITCH = {"on": None}  # None: automatic (on in Voila or with SARSP_EDU_PROJECTOR=1)
+_SWITCH = {"on": None}  # None: automatic (on, unless SARSP_EDU_PROJECTOR=0)
 _DASHBOARDS: "weakref.WeakSet" = weakref.WeakSet()
 
 
 def projector_default() -> bool:
     """Whether a new dashboard starts in projector size: as :func:`projector` last set it, else automatic.
 
-    Automatic means on in Voila (its kernels have ``VOILA_KERNEL_ID``) or
-    where the environment variable ``SARSP_EDU_PROJECTOR`` is ``1``, off
-    otherwise.
+    Automatic means on, unless the environment variable
+    ``SARSP_EDU_PROJECTOR`` is ``0`` (``1`` also means on).
     """
     if _SWITCH["on"] is not None:
         return _SWITCH["on"]
-    switch = os.environ.get("SARSP_EDU_PROJECTOR", "")
-    if switch in ("0", "1"):
-        return switch == "1"
-    return "VOILA_KERNEL_ID" in os.environ
+    return os.environ.get("SARSP_EDU_PROJECTOR", "") != "0"
 
 
 def projector(on: bool | None = True) -> None:
-    """Switch every dashboard of this kernel, on show and to come, to projector size (or back with ``False``).
+    """Switch every dashboard of this kernel, on show and to come, to projector size (or compact with ``False``).
 
     Projector size: widget labels, readouts, buttons and tables at 18 px, and
-    plot text at 14.5 px or more, for the back row of a lecture room at
-    1280x720.  One call at the top of a notebook switches all of its
-    dashboards.  ``None`` makes it automatic again (:func:`projector_default`).
+    plot text at 14.2 px or more, for the back row of a lecture room at
+    1280x720.  It is the default; ``projector(False)`` once at the top of a
+    notebook makes all of its dashboards compact.  ``None`` makes it
+    automatic again (:func:`projector_default`).  Each dashboard's *Large
+    text* button switches it alone.
     """
     if on is not None and not isinstance(on, bool) and on not in (0, 1):
         raise TypeError(f"on must be True, False or None (automatic), got on={on!r}")
@@ -81,32 +98,52 @@ def projector(on: bool | None = True) -> None:
         dashboard.set_projector(projector_default())
 
 
-class ProjectorMixin:
-    """What every dashboard shares for projector size: the CSS, the slider widths, the switch.
+def _toggle_description(on: bool) -> str:
+    return f"Large text: {'on' if on else 'off'}"
 
-    A subclass calls ``_init_projector(on)`` once its children exist and
-    implements ``_resize_pictures()``, which redraws its pictures at the size
-    ``self.projector`` asks for.
+
+class ProjectorMixin:
+    """What every dashboard shares for projector size: the CSS, the slider widths, the switch and its button.
+
+    A subclass calls ``_init_projector(on, toggle_row=row)`` once its
+    children exist and implements ``_resize_pictures()``, which redraws its
+    pictures at the size ``self.projector`` asks for.  The button that
+    switches the size, ``self.size_toggle``, is added at the end of
+    ``toggle_row`` (a row of the dashboard's controls); without one the
+    subclass places it itself.
     """
 
     projector: bool = False
 
-    def _init_projector(self, on) -> None:
+    def _init_projector(self, on, toggle_row=None) -> None:
         self.projector = projector_default() if on is None else bool(on)
+        self.size_toggle = widgets.ToggleButton(
+            value=self.projector, description=_toggle_description(self.projector),
+            tooltip="Large text and pictures, for the back row of a lecture room; "
+                    "press for the compact notebook size (and back)",
+            layout=widgets.Layout(width="auto", flex="0 0 auto"))
+        self.size_toggle.observe(lambda change: self.set_projector(change["new"]), names="value")
+        if toggle_row is not None:
+            toggle_row.children = (*toggle_row.children, self.size_toggle)
         # last, so that the children's places stay as the dashboard laid them out
         self.children = (*self.children, widgets.HTML(_PROJECTOR_CSS, layout=widgets.Layout(display="none")))
+        self.add_class(_DASHBOARD_CLASS)
         _DASHBOARDS.add(self)
         self._apply_projector_classes()
 
     def _apply_projector_classes(self) -> None:
         (self.add_class if self.projector else self.remove_class)(_CLASS)
+        toggle = getattr(self, "size_toggle", None)
+        if toggle is not None:
+            toggle.value = self.projector  # its observer returns at once: the size is already set
+            toggle.description = _toggle_description(self.projector)
         for control in _walk(self):
             if isinstance(control, (widgets.FloatSlider, widgets.IntSlider)):
                 width = slider_width(control.description, self.projector)
                 control.layout.width = control.layout.min_width = width
 
     def set_projector(self, on: bool = True) -> None:
-        """This dashboard alone in projector size (text for the back row) or back to notebook size."""
+        """This dashboard alone in projector size (text for the back row) or back to the compact notebook size."""
         on = bool(on)
         if on == self.projector:
             return

@@ -87,13 +87,23 @@ def tail_decay_dashboard(nu: float = NU, lam: float = 5.0) -> Dashboard:
         )
         return {"densities": densities, "ratios": ratios}, info
 
+    # The two density panels are 4 inches wide: side by side in projector size in an 850 px notebook.
     panels = [
-        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"]), 4.3, inputs=("nu",),
-              label_offsets=(24, 34)),
-        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"], log=True), 4.3,
-              inputs=("nu",), label_offsets=(24, 40)),
+        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"]), 4.0, inputs=("nu",),
+              label_offsets=(24, 34), alt=lambda nu, **_: (
+                  f"Linear scale: the density f(x) against x of the Gaussian N(0, 1) (dashed) and of the Student-t "
+                  f"with nu = {nu:g} (solid). Both peak at x = 0; the Student-t is lower at the peak and higher in "
+                  "the flanks.")),
+        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"], log=True), 4.0,
+              inputs=("nu",), label_offsets=(24, 40), alt=lambda nu, **_: (
+                  "Log scale: the same two densities on a logarithmic y axis, where the tails show. The Gaussian's "
+                  f"falls away as a downward parabola; the Student-t's (nu = {nu:g}) falls slowly and stays orders "
+                  "of magnitude above it far from 0.")),
         Panel(lambda ax, result, nu, **_: plotting.plot_tail_ratio_comparison(ax, result["ratios"], nu), 4.4,
-              inputs=("nu", "lam"), label_offsets=(24, 40)),
+              inputs=("nu", "lam"), label_offsets=(24, 40), alt=lambda nu, lam, **_: (
+                  f"The Karamata ratio f(lambda x)/f(x) for lambda = {lam:g} against x, on a logarithmic y axis. "
+                  f"The Student-t's ratio (nu = {nu:g}, solid) levels off at its limit lambda^(-1-nu), a thin "
+                  "dashed line; the Gaussian's (dotted) falls steeply and leaves the bottom of the axis.")),
     ]
     return Dashboard(controls, compute, panels, height=3.8)
 
@@ -142,12 +152,26 @@ def posterior_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: flo
             plotting.plot_posterior(ax, data, model, ylim=(-3 * span, 3 * span))
         return draw
 
-    # The GP does not depend on nu: moving nu redraws the TP and the variances only.
+    def describe_posterior(model):
+        def describe(nu, **_):
+            name = "the Gaussian process" if model == "gp" else f"the Student-t process (nu = {nu:g})"
+            return (f"The posterior of {name} against x: its mean ({'dashed' if model == 'gp' else 'solid'} line), "
+                    "a darker band of the latent function's mean plus and minus 2 sd and a paler, wider band for a "
+                    "new observation y* with the fitted noise; the data are black dots, the outliers red crosses "
+                    "(triangles on the top or bottom edge where they lie beyond it).")
+        return describe
+
+    # The GP does not depend on nu: moving nu redraws the TP and the variances only.  The GP and TP
+    # panels are 4 inches wide: side by side in projector size in an 850 px notebook.
     gp_inputs = ("magnitude", "proportion", "seed", "fit", "scale_inputs")
     panels = [
-        Panel(draw_posterior("gp"), 5.0, inputs=gp_inputs, margins={"left": 0.6}, label_offsets=(24, 30)),
-        Panel(draw_posterior("tp"), 5.0, margins={"left": 0.6}, label_offsets=(24, 30)),
-        Panel(lambda ax, data, **_: plotting.plot_variances(ax, data), 5.0, label_offsets=(24, 38)),
+        Panel(draw_posterior("gp"), 4.0, inputs=gp_inputs, margins={"left": 0.55}, label_offsets=(24, 28),
+              alt=describe_posterior("gp")),
+        Panel(draw_posterior("tp"), 4.0, margins={"left": 0.55}, label_offsets=(24, 28), alt=describe_posterior("tp")),
+        Panel(lambda ax, data, **_: plotting.plot_variances(ax, data), 5.0, label_offsets=(24, 38), alt=(
+            "Both posterior variances against x on a logarithmic axis: the GP's (paper eq. 5, dashed) and the "
+            "TP's (eq. 6, solid), thick for the latent function and thin for a new observation y* with the "
+            "noise; thin red vertical lines mark the outliers' inputs.")),
     ]
     return Dashboard(controls, compute, panels, height=4.2, layout_rows=rows)
 
@@ -182,8 +206,15 @@ def robust_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: float 
         plotting.plot_robust(ax, data, ylim=(-2.5 * span, 2.5 * span))
 
     panels = [
-        Panel(draw_means, 6.5, margins={"left": 0.6}, label_offsets=(24, 30)),
-        Panel(lambda ax, data, **_: plotting.plot_outlier_weights(ax, data), 4.5, label_offsets=(24, 30)),
+        Panel(draw_means, 6.5, margins={"left": 0.6}, label_offsets=(24, 30), alt=(
+            "The posterior means against x of the GP (dashed), the TP (solid) and the GP with a Student-t "
+            "likelihood (dash-dotted, its latent 2-sd band shaded), with the function without noise (dotted "
+            "grey), the data (black dots) and the outliers (red crosses, triangles on the edge where off scale); "
+            "the legend gives each mean's rmse.")),
+        Panel(lambda ax, data, **_: plotting.plot_outlier_weights(ax, data), 4.5, label_offsets=(24, 30), alt=(
+            "How much each point pulls the Student-t-likelihood GP's mean, against x: a black bar per data "
+            "point, a red bar with a cross per outlier, and a dashed grey line at 1, a Gaussian likelihood's "
+            "pull.")),
     ]
     return Dashboard(controls, compute, panels, height=4.2)
 
@@ -213,18 +244,29 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
                 f"by m = {magnitude:g}. States moved by the shift: {len(world['moved'])}.")
         return world, info
 
+    # The two worlds are 7.8 inches wide together: side by side in projector size in an 850 px notebook.
     panels = [
         Panel(lambda ax, world, **_: plotting.plot_gridworld(
             ax, world["before"], visits=world["visits"], legend=False, title="offline world and its coverage"),
-            4.0, inputs=("seed",), margins={"left": 0.5, "right": 0.2}, label_offsets=(16, 16)),
+            3.2, inputs=("seed",), margins={"left": 0.45, "right": 0.2}, label_offsets=(16, 16), alt=(
+                "The offline world, a grid of cells 0 to 9 in x (across) and in y (down): red squares are the "
+                "unsafe states, a blue ring the start, a green star the goal; grey shading shows how often the "
+                "offline episodes visited each cell, darker for more visits.")),
         Panel(lambda ax, world, n_switch_states, **_: plotting.plot_gridworld(
             ax, world["after"], title=f"after the shift, nss = {n_switch_states}"),
-            5.6, inputs=("seed", "n_switch_states"), margins={"left": 0.5, "right": 1.8}, label_offsets=(16, 16)),
+            4.6, inputs=("seed", "n_switch_states"), margins={"left": 0.45, "right": 1.7}, label_offsets=(16, 16),
+            alt=lambda n_switch_states, **_: (
+                f"The same world after the covariate shift with nss = {n_switch_states}: the unsafe states that "
+                "moved are outlined in black at their new cells, their old cells are dashed red outlines, and a "
+                "curved arrow runs from each old cell to its new one; a legend beside the grid names each mark.")),
         Panel(lambda ax, world, **_: plotting.plot_outlier_scatter(
-            ax, world, title="cost-model data, outliers in red"),
-            5.0, inputs=("seed", "magnitude", "proportion"), margins={"left": 0.7}, label_offsets=(24, 30)),
+            ax, world, title="cost-model data, outliers as red triangles"),
+            5.0, inputs=("seed", "magnitude", "proportion"), margins={"left": 0.7}, label_offsets=(24, 30), alt=(
+                "The cost model's data on logarithmic axes: the size of each row's input (1 + its norm) across, "
+                "its target (1 + the distance to danger) up; clean rows are black dots and outlier rows red "
+                "triangles, each marker's area growing with the rows at that point.")),
     ]
-    return Dashboard(controls, compute, panels, height=4.4)
+    return Dashboard(controls, compute, panels, height=3.6)
 
 
 # --------------------------------------------------------------------------
@@ -270,13 +312,22 @@ def ablation_dashboard(results, prior: str = "per step", fits: str = "500 rows")
                 f"of {int(part[part.model == 'GP'].failures.sum())}.")
         return part, info
 
+    def describe(what):
+        return lambda prior, fits, **_: (
+            f"{what} in the setting where the prior is drawn {prior} and the models are fitted "
+            f"{'on 500 rows' if fits == '500 rows' else 'as by default'}: a bar at "
+            "the mean of the TP's runs and one at the GP's, with a dot per run (the TP's circles, the GP's squares).")
+
     panels = [
         Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
-            ax, part, "task_success_rate", title="reaching the goal", ylim=limits["task_success_rate"]), 3.6),
+            ax, part, "task_success_rate", title="reaching the goal", ylim=limits["task_success_rate"]), 3.6,
+            alt=describe("The task success rate (%)")),
         Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
-            ax, part, "total_cost", title="violations", ylim=limits["total_cost"]), 3.6),
+            ax, part, "total_cost", title="violations", ylim=limits["total_cost"]), 3.6,
+            alt=describe("The total cost (violations)")),
         Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
-            ax, part, "stuck_share", title="trapped", ylim=limits["stuck_share"]), 3.6),
+            ax, part, "stuck_share", title="trapped", ylim=limits["stuck_share"]), 3.6,
+            alt=describe("The share of failures that ended trapped (%)")),
     ]
     return Dashboard(controls, compute, panels, height=3.4)
 

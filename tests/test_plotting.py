@@ -76,7 +76,7 @@ def test_tutorial_1s_legends_cover_no_curve():
 
     for nu, lam in ((3.0, 5.0), (30.0, 5.0), (0.5, 1.5), (10.0, 2.0)):
         for log in (False, True):  # the dashboard's density panels
-            figure = Figure(figsize=(4.3, 3.8))
+            figure = Figure(figsize=(4.0, 3.8))  # the dashboard's density panels
             ax = figure.subplots()
             plotting.plot_densities(ax, tails.compute_densities(nu), log=log)
             figure.canvas.draw()

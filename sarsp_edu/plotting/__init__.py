@@ -2,7 +2,8 @@
 
 One module per subject, all re-exported here (``sarsp_edu.plotting.plot_*``):
 
-- ``style``: the shared colours, log axes with plain labels, the usual finish;
+- ``style``: the shared colours and line styles, log axes with plain labels, the usual finish;
+- ``display``: ``show_figure(figure, alt)``, a figure shown with a description for a screen reader;
 - ``models``: densities and tail ratios (tutorial 1), GP and TP posteriors (tutorial 2);
 - ``world``: the gridworld and the cost model's data (tutorials 3 and 4);
 - ``results``: the paper's Figures 2-9, the live dashboard's curves and ours beside the authors' runs (tutorials 4 and 5).
@@ -10,6 +11,7 @@ One module per subject, all re-exported here (``sarsp_edu.plotting.plot_*``):
 
 from __future__ import annotations
 
+from .display import show_figure
 from .models import (
     plot_densities,
     plot_gaussian_ratio,
@@ -31,11 +33,13 @@ from .results import (
     plot_metric_curves,
     plot_paper_figure,
 )
-from .style import COLOURS, PlainLogFormatter, log_scale
+from .style import COLOURS, LINESTYLES, MARKERS, PlainLogFormatter, log_scale
 from .world import plot_gridworld, plot_outlier_scatter
 
 __all__ = [
     "COLOURS",
+    "LINESTYLES",
+    "MARKERS",
     "METRIC_LABELS",
     "PlainLogFormatter",
     "log_scale",
@@ -57,4 +61,5 @@ __all__ = [
     "plot_tail_ratio_comparison",
     "plot_tail_ratios",
     "plot_variances",
+    "show_figure",
 ]

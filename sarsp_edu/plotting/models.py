@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.transforms import Bbox, TransformedBbox
 
-from .style import COLOURS, SMALL, finish_axes, log_scale
+from .style import COLOURS, SMALL, finish_axes, log_scale, model_style
 
 __all__ = [
     "plot_densities",
@@ -20,9 +20,12 @@ __all__ = [
 
 
 def plot_densities(ax, data, *, log: bool = False):
-    """Student-t and Gaussian densities (``tails.compute_densities``), linear or log scale."""
-    ax.plot(data["x"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian N(0, 1)")
-    ax.plot(data["x"], data["student_t"], color=COLOURS["tp"], lw=2, label=f"Student-t, nu = {data['nu']:g}")
+    """Student-t and Gaussian densities (``tails.compute_densities``), linear or log scale.
+
+    The Gaussian is dashed (drawn on top, so that both show where they meet), the Student-t solid.
+    """
+    ax.plot(data["x"], data["gaussian"], lw=2, zorder=2.5, label="Gaussian N(0, 1)", **model_style("gp"))
+    ax.plot(data["x"], data["student_t"], lw=2, label=f"Student-t, nu = {data['nu']:g}", **model_style("tp"))
     if log:
         log_scale(ax)
         ax.set_ylim(1e-16, 1.0)
@@ -113,9 +116,9 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     sd = np.sqrt(post["var"])
     ax.fill_between(x, post["mean"] - 2 * sd, post["mean"] + 2 * sd, color=colour, alpha=0.25,
                     label="mean ± 2 sd (latent f)")
-    ax.plot(x, post["mean"], color=colour, lw=2, label="posterior mean")
+    ax.plot(x, post["mean"], lw=2, label="posterior mean", **model_style(model))  # the GP's dashed, the TP's solid
     inliers = ~data["outliers"]
-    ax.scatter(data["X"][inliers], data["y"][inliers], s=14, color="black", zorder=3, label="data")
+    ax.scatter(data["X"][inliers], data["y"][inliers], s=14, color=COLOURS["data"], zorder=3, label="data")
     if ylim is not None:
         ax.set_ylim(*ylim)
     low, high = ax.get_ylim()
@@ -125,7 +128,7 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     if inside.any():
         ax.scatter(data["X"][inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4,
                    label="outliers")
-    label = "outliers off scale"
+    label = "off scale"  # under "outliers" in the legend's column; short, for a 4-inch panel
     for mask, edge, marker in ((in_view & (ys > high), high, "^"), (in_view & (ys < low), low, "v")):
         if mask.any():
             ax.scatter(data["X"][mask], np.full(mask.sum(), edge), s=60, marker=marker, color=COLOURS["unsafe"],
@@ -144,20 +147,26 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     ax.set_ylim(low, high + 0.55 * (high - low))
     ax.set_yticks(ticks)
     ax.axhline(high, color="grey", lw=0.6, ls=":")
-    ax.legend(fontsize=SMALL, frameon=False, loc="upper left", ncols=2, handlelength=1.2, columnspacing=0.8)
+    # tight spacing: the two columns fit a 4-inch panel (the dashboard's, side by side on a projector)
+    ax.legend(fontsize=SMALL, frameon=False, loc="upper left", ncols=2, handlelength=1.0, handletextpad=0.4,
+              columnspacing=0.6, borderaxespad=0.3)
     ax.set_title(title or {"gp": "Gaussian process", "tp": f"Student-t process, nu = {data['nu']:g}"}[model])
     return ax
 
 
 def plot_variances(ax, data, *, title: str | None = None):
-    """The two posterior variances on one log axis: paper eq. 5 (GP) against eq. 6 (TP)."""
+    """The two posterior variances on one log axis: paper eq. 5 (GP) against eq. 6 (TP).
+
+    The GP's curves are dashed and drawn on top, the TP's solid; the latent
+    variances thick, those of a new observation y* (with the noise) thin.
+    """
     x = data["x_grid"]
-    ax.plot(x, data["gp"]["var"], color=COLOURS["gp"], lw=2, label="GP, eq. 5")
-    ax.plot(x, data["tp"]["var"], color=COLOURS["tp"], lw=2, label="TP, eq. 6 (corrected)")
+    ax.plot(x, data["gp"]["var"], lw=2, zorder=2.5, label="GP, eq. 5", **model_style("gp"))
+    ax.plot(x, data["tp"]["var"], lw=2, label="TP, eq. 6 (corrected)", **model_style("tp"))
     for model in ("gp", "tp"):
         if "var_noisy" in data[model]:
-            ax.plot(x, data[model]["var_noisy"], color=COLOURS[model], lw=1.2, ls="--",
-                    label=f"{model.upper()}, of y* (with noise)")
+            ax.plot(x, data[model]["var_noisy"], lw=1.1, zorder=2.5 if model == "gp" else 2,
+                    label=f"{model.upper()}, of y* (with noise)", **model_style(model))
     ax.vlines(data["X"][data["outliers"] & (data["X"] <= x[-1])], 0, 1, transform=ax.get_xaxis_transform(),
               color=COLOURS["unsafe"], lw=0.8, alpha=0.5, label="outlier inputs")
     log_scale(ax)
@@ -172,22 +181,23 @@ def plot_variances(ax, data, *, title: str | None = None):
 
 
 def plot_robust(ax, data, *, ylim=None):
-    """The posterior means of the GP, the TP and the Student-t-likelihood GP on one data set, the truth dashed.
+    """The posterior means of the GP, the TP and the Student-t-likelihood GP on one data set, the truth dotted.
 
     ``data`` is ``demos.compute_robust``'s output; the Student-t-likelihood
-    GP's latent 2-sd band is shaded.  Outliers beyond ``ylim`` are drawn as
-    triangles on its edge.
+    GP's latent 2-sd band is shaded.  The GP's mean is dashed and drawn over
+    the TP's solid one (the two often coincide), the Student-t likelihood's
+    dash-dotted.  Outliers beyond ``ylim`` are drawn as triangles on its edge.
     """
     x = data["x_grid"]
-    ax.plot(x, data["truth"], color="grey", lw=1.2, ls="--", label="the function without noise")
+    ax.plot(x, data["truth"], color="grey", lw=1.5, ls=":", label="the function without noise")
     mean, sd = data["mean"]["robust"], data["robust_sd"]
-    ax.fill_between(x, mean - 2 * sd, mean + 2 * sd, color=COLOURS["robust"], alpha=0.2)
+    ax.fill_between(x, mean - 2 * sd, mean + 2 * sd, color=COLOURS["robust"], alpha=0.15)
     names = {"gp": "GP", "tp": "TP", "robust": "Student-t likelihood"}
     for name in ("gp", "tp", "robust"):
-        ax.plot(x, data["mean"][name], color=COLOURS[name], lw=2 if name == "robust" else 1.5,
-                ls=":" if name == "tp" else "-", label=f"{names[name]} (rmse {data['rmse'][name]:.2f})")
+        ax.plot(x, data["mean"][name], lw=2.2 if name == "robust" else 1.6, zorder=2.5 if name == "gp" else 2,
+                label=f"{names[name]} (rmse {data['rmse'][name]:.2f})", **model_style(name))
     inliers = ~data["outliers"]
-    ax.scatter(data["X"][inliers], data["y"][inliers], s=12, color="black", zorder=3, label="data")
+    ax.scatter(data["X"][inliers], data["y"][inliers], s=12, color=COLOURS["data"], zorder=3, label="data")
     if ylim is not None:
         ax.set_ylim(*ylim)
     low, high = ax.get_ylim()
@@ -221,7 +231,7 @@ def plot_outlier_weights(ax, data):
     posterior mode: an outlier's falls towards 0.
     """
     xs, weights, outliers = data["X"], data["weights"], data["outliers"]
-    ax.vlines(xs[~outliers], 0, weights[~outliers], color="black", lw=1.2, label="data")
+    ax.vlines(xs[~outliers], 0, weights[~outliers], color=COLOURS["data"], lw=1.2, label="data")
     ax.vlines(xs[outliers], 0, weights[outliers], color=COLOURS["unsafe"], lw=2.5, label="outliers")
     ax.scatter(xs[outliers], weights[outliers], s=30, marker="x", color=COLOURS["unsafe"], zorder=3)
     ax.axhline(1.0, color="grey", lw=0.8, ls="--", label="Gaussian (1)")

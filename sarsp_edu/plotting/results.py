@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import COLOURS, SMALL
+from .style import COLOURS, LINESTYLES, MARKERS, SMALL
 
 __all__ = [
     "METRIC_LABELS",
@@ -85,6 +85,10 @@ def plot_live_metrics(axes, records, metrics, *, labels=None, colours=None):
         Name -> legend label and colour; by default the name in capitals and
         the package's colour of that name (``"tp"``, ``"gp"``), else the
         matplotlib cycle.
+
+    Each run has its own line style and marker as well as its colour: the
+    package's of ``"tp"`` and ``"gp"`` (the GP dashed, drawn on top), else
+    solid then dashed in the order of ``records``.
     """
     labels = labels or {}
     colours = colours or {}
@@ -92,8 +96,10 @@ def plot_live_metrics(axes, records, metrics, *, labels=None, colours=None):
         for i, (name, frame) in enumerate(records.items()):
             if len(frame):
                 colour = colours.get(name, COLOURS.get(name, f"C{i}"))
-                ax.plot(frame["episode"], frame[metric], color=colour, lw=2,
-                        marker="o" if len(frame) < 15 else None, ms=3, label=labels.get(name, name.upper()))
+                key = name if name in LINESTYLES else ("tp", "gp")[i % 2]
+                ax.plot(frame["episode"], frame[metric], color=colour, lw=2, ls=LINESTYLES[key],
+                        zorder=2 + 0.5 * (key == "gp"), marker=MARKERS[key] if len(frame) < 15 else None, ms=4,
+                        label=labels.get(name, name.upper()))
         ax.set_title(metric.replace("_", " "), fontsize=10)
         ax.set_xlabel("episode", fontsize=SMALL)
         ax.tick_params(labelsize=SMALL)
@@ -199,7 +205,8 @@ def plot_macro(ax, frame, *, metric: str, title: str | None = None):
     """
     for model in ("TP", "GP"):
         if model in frame:
-            ax.plot(frame.index, frame[model], marker="o", lw=2, color=COLOURS[model.lower()], label=model)
+            ax.plot(frame.index, frame[model], marker=MARKERS[model.lower()], ls=LINESTYLES[model.lower()], lw=2,
+                    color=COLOURS[model.lower()], label=model)
     # the axis reaches 0, so that the gap between the lines is read against the values themselves
     low, high = ax.get_ylim()
     ax.set_ylim(min(low, 0.0), max(high, 0.0))
@@ -255,7 +262,7 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
             mean = float(np.nanmean(values))
         ax.bar(i, mean, width=0.6, color=COLOURS[model.lower()], alpha=0.35)
         jitter = np.linspace(-0.15, 0.15, len(values)) if len(values) > 1 else np.zeros(1)
-        ax.scatter(i + jitter, values, s=18, color=COLOURS[model.lower()], zorder=3)
+        ax.scatter(i + jitter, values, s=18, color=COLOURS[model.lower()], marker=MARKERS[model.lower()], zorder=3)
         ax.text(i, mean, f"{mean:.0f}", ha="center", va="bottom", fontsize=SMALL)
     ax.set_xticks([0, 1])
     ax.set_xticklabels(["TP", "GP"])
@@ -297,7 +304,7 @@ def plot_beside_authors(ax, table, *, metric: str, label: str = "ours"):
             label="ours = the authors'")
     for model in ("TP", "GP"):
         ax.scatter(table[f"authors {model}"], table[f"ours {model}"], s=22, alpha=0.8,
-                   color=COLOURS[model.lower()], label=model, zorder=3)
+                   color=COLOURS[model.lower()], marker=MARKERS[model.lower()], label=model, zorder=3)
     ax.set_xlim(low - pad, high + pad)
     ax.set_ylim(low - pad, high + pad)
     ax.set_aspect("equal")
@@ -320,7 +327,8 @@ def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str =
     Each model's band runs from its lowest to its highest seed.  It is drawn
     translucent with its edges outlined, and the GP's is hatched, so where the
     two models' bands overlap both stay visible; the legend names every line
-    and band.
+    and band.  Our means are solid, the authors' dashed; the model's marker
+    (the TP's circles, the GP's squares) sits on both at a tenth of the episodes.
 
     Parameters
     ----------
@@ -339,16 +347,18 @@ def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str =
     """
     from matplotlib.colors import to_rgba
 
+    every = max(len(curves) // 10, 1)
     for model in ("TP", "GP"):
         colour = COLOURS[model.lower()]
+        marks = {"marker": MARKERS[model.lower()], "ms": 5, "markevery": (every // 2 if model == "GP" else 0, every)}
         low, high = curves[f"ours {model} low"], curves[f"ours {model} high"]
         if not np.allclose(low, high, equal_nan=True):
             ax.fill_between(curves.index, low, high, facecolor=to_rgba(colour, 0.12),
                             edgecolor=to_rgba(colour, 0.55), lw=0.7, hatch=_BAND_HATCH[model],
                             label=f"{model}, {label}: lowest to highest seed")
-        ax.plot(curves.index, curves[f"ours {model}"], color=colour, lw=2, label=f"{model}, {label}: mean")
+        ax.plot(curves.index, curves[f"ours {model}"], color=colour, lw=2, label=f"{model}, {label}: mean", **marks)
         ax.plot(curves.index, curves[f"authors {model}"], color=colour, lw=1.6, ls="--",
-                label=f"{model}, the authors' runs")
+                label=f"{model}, the authors' runs", markerfacecolor="white", **marks)
     if settle:
         _settled_ylim([ax], [curves], settle)
     ax.set_xlabel("episode")

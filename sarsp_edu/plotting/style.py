@@ -1,16 +1,26 @@
-"""The look every figure shares: colours, log axes with plain labels, the usual finish."""
+"""The look every figure shares: colours, line styles, log axes with plain labels, the usual finish.
+
+The GP and the TP are told apart without colour as well: the GP's lines are
+dashed with square markers, the TP's solid with round ones (``LINESTYLES``,
+``MARKERS``), so that a greyscale print or a reader with a red-green colour
+deficiency sees which is which.  The colours themselves are chosen to stay
+apart in greyscale and under simulated protanopia and deuteranopia (the
+tests measure both).
+"""
 
 from __future__ import annotations
 
 import numpy as np
 from matplotlib import ticker
 
-__all__ = ["COLOURS", "SMALL", "PlainLogFormatter", "finish_axes", "log_scale"]
+__all__ = ["COLOURS", "LINESTYLES", "MARKERS", "SMALL", "PlainLogFormatter", "finish_axes", "log_scale",
+           "model_style"]
 
 #: the smallest text of any figure, in points (legends, tick labels, notes): readable on a projector
 SMALL = 10
 
-#: colours shared by every figure of the package
+#: colours shared by every figure of the package; the pairs that a figure contrasts (GP and TP, the
+#: Student-t likelihood beside them, data and outliers) differ in lightness and under colour-vision deficiency
 COLOURS = {
     "unsafe": "#d62728",
     "moved": "#ff9896",
@@ -20,9 +30,21 @@ COLOURS = {
     "path": "#17becf",
     "gp": "#ff7f0e",
     "tp": "#1f77b4",
-    "robust": "#2ca02c",
+    "robust": "#00441b",  # dark: a mid green and the GP's orange look alike to a protanope
+    "data": "#000000",
     "grid": "#c8c8c8",
 }
+
+#: line styles of the models, so that they differ in more than colour
+LINESTYLES = {"gp": "--", "tp": "-", "robust": "-."}
+#: markers of the models, where their points or lines carry markers
+MARKERS = {"gp": "s", "tp": "o", "robust": "D"}
+
+
+def model_style(name: str) -> dict:
+    """``color`` and ``ls`` of a model ("gp", "tp", "robust", any case) for ``Axes.plot``."""
+    key = name.lower()
+    return {"color": COLOURS[key], "ls": LINESTYLES[key]}
 
 
 class PlainLogFormatter(ticker.Formatter):

@@ -211,19 +211,21 @@ def plot_path_direction(ax, path, *, numbers: bool = False, size: int | None = N
 
 
 def plot_outlier_scatter(ax, world, *, title: str | None = None):
-    """The cost model's data (``demos.compute_world``): input size against target, outliers in red.
+    """The cost model's data (``demos.compute_world``): input size against target, outliers as red triangles.
 
     Many rows share an input (the buffers keep up to 12 copies), so each
     distinct point is drawn once, its area growing with the rows behind it.
+    Clean rows are black dots: black and red differ in lightness as well as
+    hue, and the triangles in shape.
     """
     X, y = world["dirty"]["X"], world["dirty"]["y"]
     size = np.linalg.norm(X[:, 1:], axis=1) + 1.0
     rows = np.zeros(len(y), dtype=bool)
     rows[world["outlier_rows"]] = True
-    for mask, colour, label in ((~rows, COLOURS["tp"], "clean rows"),
-                                (rows, COLOURS["unsafe"], f"outliers (x {world['magnitude']:g})")):
+    for mask, colour, marker, label in ((~rows, COLOURS["data"], "o", "clean rows"),
+                                        (rows, COLOURS["unsafe"], "^", f"outliers (x {world['magnitude']:g})")):
         points, counts = np.unique(np.column_stack([size[mask], y[mask] + 1.0]), axis=0, return_counts=True)
-        ax.scatter(points[:, 0], points[:, 1], s=4 + 3 * counts, alpha=0.5, color=colour, linewidths=0,
+        ax.scatter(points[:, 0], points[:, 1], s=4 + 3 * counts, alpha=0.5, color=colour, marker=marker, linewidths=0,
                    label=f"{label}: {int(mask.sum())}", rasterized=True)  # pixels even in an SVG: hundreds of dots
     log_scale(ax, "x")
     log_scale(ax, "y")
