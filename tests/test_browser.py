@@ -39,6 +39,8 @@ def free_port() -> int:
 
 
 def wait_for_http(url: str, timeout: float = 60.0) -> None:
+    """Wait until ``url`` answers. Give a URL whose request starts no kernel: a Voila server renders its
+    notebook, starting a kernel that runs every cell, at any path its static handlers do not serve."""
     deadline = time.time() + timeout
     while time.time() < deadline:
         try:
@@ -64,8 +66,9 @@ def browser():
         instance.close()
 
 
-def serve(command, cwd, url):
-    env = dict(os.environ, MPLBACKEND="Agg")
+def serve(command, cwd, url, env: dict | None = None):
+    """Start a server and wait until ``url`` answers (a URL whose request starts no kernel)."""
+    env = dict(os.environ, MPLBACKEND="Agg", **(env or {}))
     process = subprocess.Popen(command, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         wait_for_http(url)
@@ -86,10 +89,36 @@ def stop(server: subprocess.Popen) -> None:
         server.wait()
 
 
+#: Voila's own script, served by its static handler: requesting it starts no kernel, where in one-notebook mode
+#: every path that handler does not serve ("/", "/api", ...) renders the notebook in a new kernel
+VOILA_READY = "/voila/static/voila.js"
+#: the repository's Voila template (share/jupyter/voila/templates/sarsp_edu, as tutorials/LECTURER.md serves
+#: the tutorials): no stylesheet from a CDN, no exercise cells
+VOILA_TEMPLATE = "sarsp_edu"
+JUPYTER_DATA = ROOT / "share" / "jupyter"
+
+
 def voila(notebook: Path, port: int):
+    """A Voila server of ``notebook`` with the repository's template, ready: no kernel started yet."""
     binary = shutil.which("voila") or str(Path(sys.prefix, "bin", "voila"))
-    return serve([binary, notebook.name, "--no-browser", f"--port={port}", "--Voila.ip=127.0.0.1"],
-                 notebook.parent, f"http://127.0.0.1:{port}/")
+    data = os.pathsep.join(p for p in (str(JUPYTER_DATA), os.environ.get("JUPYTER_PATH", "")) if p)
+    return serve([binary, notebook.name, "--no-browser", f"--port={port}", "--Voila.ip=127.0.0.1",
+                  f"--template={VOILA_TEMPLATE}"],
+                 notebook.parent, f"http://127.0.0.1:{port}{VOILA_READY}", env={"JUPYTER_PATH": data})
+
+
+def kernels(server: subprocess.Popen) -> list[int]:
+    """The process ids of the kernels a server runs."""
+    import psutil
+
+    found = []
+    for child in psutil.Process(server.pid).children(recursive=True):
+        try:
+            if any("ipykernel" in part for part in child.cmdline()):
+                found.append(child.pid)
+        except psutil.Error:  # ended meanwhile
+            pass
+    return found
 
 
 def image_settled(page, selector: str, timeout: float = 30.0, changed_from: str | None = None) -> str:
@@ -518,3 +547,168 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
         assert page.locator(loaded).count() == 2
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
 
+
+
+# --------------------------------------------------------------------------
+# The live dashboard on a page of its own, served by Voila offline (issue 44, section 2)
+# --------------------------------------------------------------------------
+#: requests to any host but this machine: aborted in these tests, as on a projector with no network
+OUTSIDE = re.compile(r"^https?://(?!(127\.0\.0\.1|localhost)[:/])")
+#: the time (ms, from now) at which each side's grid first shows its agent's first step: a grid is titled
+#: "episode N of M" once its run is on show, with N = 0 until the first step; null for a side not seen stepping
+#: within ``seconds``
+FIRST_STEPS = """(seconds) => new Promise(resolve => {
+  const start = performance.now(), seen = [null, null];
+  const poll = () => {
+    const worlds = [...document.querySelectorAll('.widget-html-content')].filter(e => e.querySelector('svg'));
+    worlds.slice(0, 2).forEach((world, i) => {
+      const title = [...world.querySelectorAll('svg text')].map(t => t.textContent)
+        .find(t => /^episode \\d+ of \\d+$/.test(t));
+      if (seen[i] === null && title && !title.startsWith('episode 0 ')) seen[i] = performance.now() - start;
+    });
+    if ((seen[0] !== null && seen[1] !== null) || performance.now() - start > seconds * 1000) resolve(seen);
+    else setTimeout(poll, 50);
+  };
+  poll();
+})"""
+
+
+@contextlib.contextmanager
+def offline_voila_page(name: str, tmp_path, browser, width: int = 1280, height: int = 720):
+    """A copy of a tutorial in Voila, ready and with no kernel yet, and a page whose requests to other hosts are
+    aborted: yields (server, page, the page's URL, the outside URLs requested); the page is not loaded yet."""
+    notebook = tmp_path / name
+    shutil.copy(ROOT / "tutorials" / name, notebook)
+    port = free_port()
+    server = voila(notebook, port)
+    context = browser.new_context(viewport={"width": width, "height": height})
+    try:
+        assert kernels(server) == [], "waiting for the server started a kernel"
+        page = context.new_page()
+        outside = []
+        page.route(OUTSIDE, lambda route: (outside.append(route.request.url), route.abort()))
+        yield server, page, f"http://127.0.0.1:{port}/", outside
+    finally:
+        context.close()
+        stop(server)
+
+
+def test_the_live_dashboard_page_is_interactive_within_10_s_in_voila(tmp_path, browser, shots, monkeypatch):
+    """From the page's request: the dashboard shown at the top and a slider that the kernel answers, in 10 s,
+    while the agents' models are being fitted for autoplay."""
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
+    with offline_voila_page("live_dashboard.ipynb", tmp_path, browser) as (server, page, url, outside):
+        started = time.time()
+        page.goto(url, wait_until="commit", timeout=60_000)
+        handle = slider_handle(page, "nss")
+        handle.wait_for(timeout=60_000)
+        shown = time.time() - started
+        assert "nss = 3" not in page.inner_text("body")
+        handle.focus()
+        page.keyboard.press("ArrowRight")  # nss 2 -> 3: the kernel redraws the world and says so
+        page.wait_for_function("() => document.body.innerText.includes('nss = 3')", timeout=60_000)
+        answered = time.time() - started
+        page.screenshot(path=str(shots / "voila-live-dashboard-interactive.png"))
+        assert len(kernels(server)) == 1  # the page's, and no other
+        top = page.evaluate("() => document.querySelector('.widget-slider').getBoundingClientRect().top")
+        (shots / "voila-live-dashboard-interactive.json").write_text(json.dumps(
+            {"request_to_dashboard_s": shown, "request_to_slider_answered_s": answered, "first_slider_top_px": top},
+            indent=1))
+        assert not outside, f"the page asked other hosts for {outside}"
+        assert top < 200, f"the dashboard starts {top} px down the page"
+        assert answered <= 10, f"the dashboard answered a slider {answered:.1f} s after the page was requested"
+
+
+def test_the_live_dashboards_agents_start_without_a_click_in_voila(tmp_path, browser, shots, monkeypatch):
+    """Autoplay: each agent's first step shown with no click, within a minute of the page's request."""
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
+    with offline_voila_page("live_dashboard.ipynb", tmp_path, browser) as (server, page, url, outside):
+        started = time.time()
+        page.goto(url, wait_until="commit", timeout=60_000)
+        page.wait_for_selector(".widget-slider .noUi-handle", timeout=60_000)
+        shown = time.time() - started
+        first_steps = page.evaluate(FIRST_STEPS, 180)  # ms after this call
+        waited = shown + 0.001 * max(ms if ms is not None else float("inf") for ms in first_steps)
+        page.screenshot(path=str(shots / "voila-live-dashboard-stepping.png"))
+        (shots / "voila-live-dashboard-autoplay.json").write_text(json.dumps(
+            {"request_to_dashboard_s": shown, "request_to_first_step_s": {
+                name: None if ms is None else shown + ms / 1000 for name, ms in zip(("left", "right"), first_steps)}},
+            indent=1))
+        assert not outside, f"the page asked other hosts for {outside}"
+        assert waited <= 60, f"both agents' first steps showed {waited:.0f} s after the page was requested"
+
+
+def test_voila_shows_no_exercise_cells(tmp_path, browser, shots):
+    """Tutorial 2's student copy in Voila: its seven unanswered checks say "not yet" in the notebook, nothing
+    on the page; the exercises' statements and the dashboards stay."""
+    import nbformat
+
+    stored = nbformat.read(ROOT / "tutorials" / "02_gp_vs_tp_outliers.ipynb", as_version=4)
+    verdicts = [output["text"] for cell in stored.cells for output in cell.get("outputs", [])
+                if output.get("output_type") == "stream" and output["text"].startswith("Exercise 2.")]
+    assert len(verdicts) == 7 and all("not yet" in text for text in verdicts)
+    with offline_voila_page("02_gp_vs_tp_outliers.ipynb", tmp_path, browser) as (server, page, url, outside):
+        page.goto(url, timeout=300_000)
+        page.wait_for_selector("#rendered_cells", state="visible", timeout=300_000)
+        page.wait_for_selector("img.widget-image", timeout=60_000)
+        outputs = page.locator(".jp-OutputArea-output").all_inner_texts()
+        text = page.inner_text("body")
+        page.screenshot(path=str(shots / "voila-tutorial2-top.png"))
+        page.get_by_text("Exercise 2.1.").scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / "voila-tutorial2-exercises.png"))
+        assert "Tutorial 2" in text and "Exercise 2.1." in text  # the tutorial and its exercises' statements
+        assert not [o for o in outputs if "Exercise" in o or "NotImplementedError" in o], outputs
+        assert "YOUR ANSWER HERE" not in text  # nor a written answer's place holder
+        assert not outside, f"the page asked other hosts for {outside}"
+
+
+# --------------------------------------------------------------------------
+# Readable in JupyterLab without a switch, with a button to go compact (issue 44, section 3)
+# --------------------------------------------------------------------------
+def test_a_dashboard_in_jupyterlab_is_readable_without_a_switch_and_its_button_makes_it_compact(tmp_path, browser,
+                                                                                                  shots):
+    """Tutorial 2's posterior dashboard in JupyterLab at 1280x720 with the file browser open (an output about
+    850 px wide), JupyterLab set up as binder/postBuild sets it up: widget text 18 px and all plot text 14 px or
+    more with no switch, no news pop-up over it; its *Large text* button makes it compact, and back."""
+    import nbformat
+
+    work = tmp_path / "lab"
+    work.mkdir()
+    notebook = nbformat.v4.new_notebook()
+    notebook.cells.append(nbformat.v4.new_code_cell(PROJECTED["posterior"]))
+    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(notebook, work / "dashboard.ipynb")
+    overrides = tmp_path / "app-settings" / "overrides.d"  # where binder/postBuild puts binder/overrides.json
+    overrides.mkdir(parents=True)
+    shutil.copy(ROOT / "binder" / "overrides.json", overrides / "sarsp-edu.json")
+    port = free_port()
+    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
+               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
+               f"--ServerApp.root_dir={work}", f"--LabApp.workspaces_dir={tmp_path / 'lab-workspaces'}",
+               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}",
+               f"--LabApp.app_settings_dir={tmp_path / 'app-settings'}"]
+    server = serve(command, work, f"http://127.0.0.1:{port}/lab", env={"SARSP_EDU_PROJECTOR": ""})  # automatic
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 720})
+        page.goto(f"http://127.0.0.1:{port}/lab/tree/dashboard.ipynb", timeout=120_000)
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+        run_all(page, "img.widget-image")
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+        page.wait_for_timeout(1500)
+        width = page.evaluate("() => document.querySelector('.jp-OutputArea-output').getBoundingClientRect().width")
+        sizes = page.evaluate(SIZES)
+        page.screenshot(path=str(shots / "jupyterlab-posterior-1280.png"))
+        assert 700 < width < 950, f"the output is {width} px wide: is the file browser open?"
+        assert sizes["text"] >= 18, f"widget text of {sizes['text']} px"
+        assert len(sizes["plots"]) == 3 and min(sizes["plots"]) >= 14, f"plot text of {sizes['plots']} px"
+        assert page.get_by_text("official Jupyter news").count() == 0, "JupyterLab's news pop-up is on show"
+        page.get_by_role("button", name="Large text: on").click()
+        page.get_by_role("button", name="Large text: off").wait_for(timeout=30_000)
+        page.wait_for_function("() => !document.querySelector('.sarsp-projector')", timeout=30_000)
+        page.wait_for_timeout(500)
+        compact = page.evaluate(SIZES)
+        (shots / "jupyterlab-posterior-1280.json").write_text(json.dumps(
+            {"output_width_px": width, "large": sizes, "compact": compact}, indent=1))
+        assert compact["text"] < 18 and max(compact["plots"]) < 14  # one row of pictures again
+    finally:
+        stop(server)

@@ -24,7 +24,8 @@ from ..dashboard import (
 from ..projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
 from .animation import Animation
 from .background import Preparer, changed_settings, slider_config
-from .snapshot import LIVE_METRICS, first_episode, picture
+from ..plotting.display import alt_metadata
+from .snapshot import LIVE_METRICS, first_episode, picture, picture_alt_text
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
@@ -144,7 +145,8 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self.metrics_figure = Figure(figsize=(14, 2.5))
         self.metrics_axes = fixed_layout_axes(self.metrics_figure, ncols=len(LIVE_METRICS))
         # SVG: the browser draws the text, sharp at any size
-        self.metrics_image = widgets.Image(format="svg+xml", layout=widgets.Layout(width="100%"))
+        # hidden until first drawn: an empty image shows as a broken one
+        self.metrics_image = widgets.Image(format="svg+xml", layout=widgets.Layout(width="100%", display="none"))
         pictures, tables = [], []
         for name in self.sides:
             pictures.append(widgets.VBox(
@@ -184,7 +186,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self.autoplay = bool(autoplay)
         self._autoplayed = False
         self.last_preview_seconds = float("nan")
-        self._init_projector(projector)
+        self._init_projector(projector, toggle_row=self.settings_rows[-1])
         self._size_metrics_figure()
         for control in self.controls.values():
             control.observe(self._on_setting, names="value")
@@ -267,6 +269,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self._drawn_episodes = -1
         self._drawn_key = None
         self.metrics_image.value = b""
+        self.metrics_image.layout.display = "none"
 
     def prepare(self):
         """Build the paired runs from the sliders (offline data, outliers, fits, shift).
@@ -308,6 +311,10 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         """
         return picture(self)
 
+    def alt_text(self) -> str:
+        """What the static picture (``snapshot``) shows, for a screen reader: its alt text."""
+        return picture_alt_text(self)
+
     def _snapshot_run(self) -> None:
         """In a batch run that asks for it (SARSP_EDU_SNAPSHOT_EPISODES), run that many episodes for the picture."""
         episodes = int(os.environ.get(SNAPSHOT_VARIABLE, "0") or 0)
@@ -316,14 +323,16 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             self.fast_forward(min(episodes, self.config().episodes))
 
     def _repr_mimebundle_(self, **kwargs):
-        # the widget view for live front ends, a PNG for static ones (GitHub, nbviewer): the world before the run
+        # the widget view for live front ends; for static ones (GitHub, nbviewer, the course's pages) a PNG with
+        # its alt text.  Voila shows the live view only, and its page waits for this cell: no PNG there.
         bundle = dict(super()._repr_mimebundle_(**kwargs))
         self._snapshot_run()
-        bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
+        if not os.environ.get("VOILA_KERNEL_ID"):
+            bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
         if self.autoplay and not self._autoplayed and os.environ.get(AUTOPLAY_VARIABLE, "1") != "0":
             self._autoplayed = True
             self.play_in_background()
-        return bundle
+        return bundle, alt_metadata(self.alt_text())
 
     @property
     def finished(self) -> bool:
@@ -408,6 +417,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
                                    LIVE_METRICS, labels=self._legend_labels())
         self.metrics_image.value = render_figure(self.metrics_figure, "svg")
+        self.metrics_image.layout.display = None
 
     def _legend_labels(self) -> dict | None:
         return None if self.sides == TP_AND_GP else {name: name for name in self.sides}

@@ -7,7 +7,7 @@ from matplotlib.figure import Figure
 from .. import plotting
 from ..dashboard import SNAPSHOT_WIDTH_PX, readable_png
 
-__all__ = ["first_episode", "picture"]
+__all__ = ["first_episode", "picture", "picture_alt_text"]
 
 #: the metrics the live dashboard draws, episode by episode
 LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
@@ -51,3 +51,20 @@ def picture(dashboard) -> bytes:
         plotting.plot_live_metrics(axes, {m: e.records() for m, e in dashboard.experiments.items()},
                                    LIVE_METRICS, labels=dashboard._legend_labels())
     return readable_png([figure])
+
+
+def picture_alt_text(dashboard) -> str:
+    """What :func:`picture` shows, for a screen reader: the dashboard picture's alt text."""
+    labels = [label for label, _ in dashboard.sides.values()]
+    text = (f"Two grid worlds side by side, {labels[0]} on the left and {labels[1]} on the right, each the world "
+            f"after the shift with nss = {dashboard.config().n_switch_states}: red squares are unsafe states "
+            "(outlined in black: moved by the shift; dashed outlines: where they were), a ring is the start, a "
+            "star the goal; a key beside each grid names the marks")
+    if dashboard.experiments is not None:
+        text += ("; on each grid, the agent's path in its current episode and red ticks for the moves it has "
+                 "learned are unsafe (S_u), its key numbers beside it")
+        if dashboard._drawn_episodes > 0:
+            text += ("; below, both agents' running metrics against the episode ("
+                     + ", ".join(metric.replace("_", " ") for metric in LIVE_METRICS)
+                     + "), the left side's solid with circles, the right side's dashed with squares")
+    return text + "."

@@ -1,0 +1,116 @@
+"""Tutorial 4's live dashboard in JupyterLab, as a lecturer drives it (issue 44, section 1).
+
+Cold (nothing fitted), back to settings fitted a moment ago after a slider
+was moved away, and new settings (nss = 10, the lecture plan's step): the
+time from a click on *Run* to each agent's first step shown, and what the
+dashboard says meanwhile.  The times are written to the screenshots folder
+for the notes; the test asserts what the lecturer sees (each side's progress
+in words, a status line that says what is true, fits loaded where they were
+made before) and the order of the times, not their size.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import sys
+import time
+
+import pytest
+
+from tests.test_browser import FIRST_STEPS, browser, button, free_port, run_all, serve, shots, stop  # noqa: F401
+
+DASHBOARD = ("from sarsp_edu.widgets import agent_dashboard\n\n"
+             "live = agent_dashboard(nu=3.0, magnitude=40, proportion=0.2, n_switch_states=2, seed=0, episodes=30,\n"
+             "                       autoplay=True)\n"
+             "live")
+#: each side's header line (its title, and while it waits what it waits for)
+HEADERS = """() => [...document.querySelectorAll('.widget-html-content')].map(e => e.innerText.trim())
+  .filter(t => /^(Student-t|Gaussian) process/.test(t))"""
+
+
+@pytest.fixture
+def lab(tmp_path, browser, monkeypatch):  # noqa: F811
+    import nbformat
+
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits"))  # nothing fitted yet
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # as Tutorial 4 opens (the test run keeps it off elsewhere)
+    work = tmp_path / "lab"
+    work.mkdir()
+    notebook = nbformat.v4.new_notebook()
+    notebook.cells.append(nbformat.v4.new_code_cell(DASHBOARD))
+    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(notebook, work / "live.ipynb")
+    port = free_port()
+    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
+               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
+               f"--ServerApp.root_dir={work}", f"--LabApp.workspaces_dir={tmp_path / 'lab-workspaces'}",
+               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}"]
+    server = serve(command, work, f"http://127.0.0.1:{port}/lab")
+    try:
+        page = browser.new_page(viewport={"width": 1280, "height": 720})
+        page.goto(f"http://127.0.0.1:{port}/lab/tree/live.ipynb", timeout=120_000)
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+        yield page, run_all(page, ".widget-slider .noUi-handle")
+    finally:
+        stop(server)
+        shutil.rmtree(tmp_path / "fits", ignore_errors=True)
+
+
+def first_steps(page, since: float, seen: list) -> list:
+    """Seconds from ``since`` (a time.time()) to each side's first step shown (None: not within 3 minutes).
+    Every header and status line shown meanwhile is appended to ``seen``."""
+    watch = page.evaluate_handle(FIRST_STEPS, 180)  # a promise, resolved once both sides have stepped
+    offset = time.time() - since  # FIRST_STEPS counts from its own start
+    while True:
+        seen.extend(page.evaluate(HEADERS))
+        seen.append(page.locator(".widget-html-content").nth(0).inner_text())
+        done = page.evaluate("(p) => Promise.race([p, new Promise(r => setTimeout(() => r(null), 250))])", watch)
+        if done is not None:
+            return [None if ms is None else round(offset + ms / 1000, 2) for ms in done]
+
+
+def click_run(page, seen: list) -> list:
+    """Click Run: :func:`first_steps` from the click."""
+    button(page, "Run").click()
+    return first_steps(page, time.time(), seen)
+
+
+def set_nss(page, value: int) -> None:
+    readout = page.locator(".widget-slider", has_text="nss").locator(".widget-readout")
+    readout.fill(str(value))
+    readout.press("Enter")
+    page.wait_for_function(f"() => document.body.innerText.includes('nss = {value}: ')", timeout=60_000)
+
+
+def test_run_starts_each_side_as_its_fit_ends_back_to_fitted_settings_at_once(lab, shots):  # noqa: F811
+    page, started = lab
+    seen = []
+    cold = first_steps(page, started, seen)  # Run All with nothing fitted: the agents start by themselves
+    page.screenshot(path=str(shots / "jupyterlab-live-cold-stepping.png"))
+    assert None not in cold, f"a side never stepped: {cold}"
+    progress = [text for text in seen if re.search(r"fitting its (cost|reward) model: step \d+ of \d+", text)]
+    assert progress, f"no side said how its fit progressed: {sorted(set(seen))[:20]}, first steps {cold}"
+    assert not [t for t in seen if t.startswith("Running") and "both agents step" not in t
+                and "steps shown" not in t and "agent steps" not in t], "a status said 'Running' before a step"
+
+    # away and back: nss 2 -> 3 starts a fit for 3; back to 2 before it ends, then Run
+    set_nss(page, 3)
+    time.sleep(2.0)
+    set_nss(page, 2)
+    back = click_run(page, [])
+    loaded = page.locator(".widget-html-content td:has-text('loaded, fitted earlier')")
+    loaded.nth(1).wait_for(timeout=30_000)
+
+    # new settings, as the lecture plan asks: nss = 10
+    set_nss(page, 10)
+    fresh = click_run(page, [])
+    page.screenshot(path=str(shots / "jupyterlab-live-nss10-stepping.png"))
+    times = {"to_first_step_s": {"cold_from_run_all": cold, "back_to_fitted_from_run": back,
+                                 "new_nss_10_from_run": fresh},
+             "sides": ["Student-t process", "Gaussian process"]}
+    (shots / "jupyterlab-live-start.json").write_text(json.dumps(times, indent=1))
+    assert None not in back and None not in fresh, times
+    assert max(back) < min(min(cold), min(fresh)), f"settings fitted before should start first: {times}"
+    assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
