@@ -519,7 +519,7 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
     monkeypatch.setenv("SARSP_EDU_CACHE", str(cache))  # empty: the rehearsal fits
     moving = ("() => [...document.querySelectorAll('.widget-html-content svg text')]"
               ".some(t => t.textContent.startsWith('episode'))")
-    loaded = ".widget-html-content td:has-text('loaded, fitted earlier')"
+    loaded = ".widget-html-content td:has-text('loaded')"
     with tutorial_in_jupyterlab("04_sarsp_live.ipynb", tmp_path, browser, 1280, 720) as page:
         started = run_all(page, ".widget-html-content svg")
         page.wait_for_function(moving, timeout=180_000)

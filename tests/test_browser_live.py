@@ -100,7 +100,7 @@ def test_run_starts_each_side_as_its_fit_ends_back_to_fitted_settings_at_once(la
     time.sleep(2.0)
     set_nss(page, 2)
     back = click_run(page, [])
-    loaded = page.locator(".widget-html-content td:has-text('loaded, fitted earlier')")
+    loaded = page.locator(".widget-html-content td:has-text('loaded')")
     loaded.nth(1).wait_for(timeout=30_000)
 
     # new settings, as the lecture plan asks: nss = 10

@@ -600,7 +600,7 @@ def test_the_live_dashboards_static_picture_before_and_after_a_run(monkeypatch):
     dashboard.fast_forward(1)
     after = dashboard.snapshot()
     assert _png_size(after)[1] > _png_size(before)[1]  # the metric curves are added below the worlds
-    assert [label for label, _ in dashboard.key_numbers("tp")][:3] == ["episodes done", "reached the goal",
+    assert [label for label, _ in dashboard.key_numbers("tp")][:3] == ["episodes", "reached goal",
                                                                         "violations"]
     monkeypatch.setenv(SNAPSHOT_VARIABLE, "2")  # a course build: the stored picture shows the agents at work
     built = agent_dashboard(episodes=3, n_switch_states=1, config=ExperimentConfig(**SMALL))

@@ -30,6 +30,10 @@ from .snapshot import LIVE_METRICS, first_episode, picture, picture_alt_text
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
 
+#: a grid cell's side in the live grids, px: both grids and their key numbers side by side in JupyterLab's
+#: notebook at 1280 px with the file browser open (about 850 px), in projector size
+_CELL = 22
+
 #: tutorial 4's two sides: name -> (title, the settings that side changes)
 TP_AND_GP = {
     "tp": ("Student-t process", {"model": "tp"}),
@@ -138,7 +142,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self.worlds = {name: widgets.HTML(layout=widgets.Layout(flex="0 0 auto")) for name in self.sides}
         self.decisions = {name: widgets.HTML() for name in self.sides}
         # beside the grid where there is room for it, under it on a narrow screen
-        self.summaries = {name: widgets.HTML(layout=widgets.Layout(flex="1 1 180px", min_width="180px"))
+        self.summaries = {name: widgets.HTML(layout=widgets.Layout(flex="1 1 150px", min_width="150px"))
                           for name in self.sides}
         # A fixed layout and plain-text titles: constrained layout and mathtext
         # would cost several times the whole agent step at each redraw.
@@ -226,7 +230,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         if config.seed not in self._offline:
             self._offline[config.seed] = offline_world(config)
         prepared = prepare(config, offline=self._offline[config.seed])
-        picture = markup.gridworld_svg(first_episode(prepared), title="the world after the shift: press Run",
+        picture = markup.gridworld_svg(first_episode(prepared), title="after the shift: press Run", cell=_CELL,
                                        font_size=self._text_px)
         rows = len(prepared.data.cost)
         outliers = len(prepared.data.outlier_indices)
@@ -372,7 +376,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         episode = len(experiment.episodes) + (0 if record is None or record.done else 1)
         self.headers[name].value = self._header(name)
         self.worlds[name].value = markup.gridworld_svg(
-            experiment.env.layout(), trajectory=experiment.trajectory,
+            experiment.env.layout(), cell=_CELL, trajectory=experiment.trajectory,
             unsafe_pairs=sorted(experiment.agent.unsafe_pairs),
             title=f"episode {episode} of {experiment.config.episodes}", font_size=self._text_px,
         )
@@ -381,8 +385,9 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             decision, experiment.config.d, experiment.config.variance_threshold, font_size=self._text_px - 1)
         numbers = self.key_numbers(name)
         self.summaries[name].value = (
-            f"<table style='font-size:{self._text_px}px;border-collapse:collapse;margin:0 16px 0 8px'>"
-            + "".join(f"<tr><td style='padding:1px 8px 1px 0;white-space:nowrap'>{label}</td>"
+            f"<table style='font-size:{self._text_px - 2}px;border-collapse:collapse;margin:0 12px 0 6px'>"
+            + "".join(f"<tr><td style='padding:1px 8px 1px 0;white-space:nowrap'>"
+                      f"{label.replace('S_u', 'S<sub>u</sub>')}</td>"
                       f"<td style='text-align:right;white-space:nowrap'>"
                       f"<b>{value}</b></td></tr>" for label, value in numbers)
             + "</table>")
@@ -391,12 +396,12 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         """A side's key numbers, (label, value) pairs: what its run has done so far."""
         experiment = self.experiments[name]
         records = experiment.episodes
-        return (("episodes done", len(records)),
-                ("reached the goal", sum(e["task_completed"] for e in records)),
+        return (("episodes", len(records)),
+                ("reached goal", sum(e["task_completed"] for e in records)),
                 ("violations", sum(e["episode_cost"] for e in records)),
-                ("moves known unsafe (S_u)", len(experiment.agent.unsafe_pairs)),
-                ("corrective updates", experiment.agent.corrective_updates),
-                ("offline fit", "loaded, fitted earlier" if experiment.loaded_from_cache
+                ("S_u moves", len(experiment.agent.unsafe_pairs)),
+                ("corrections", experiment.agent.corrective_updates),
+                ("offline fit", "loaded" if experiment.loaded_from_cache
                  else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
 
     def _draw_metrics_if_new_episode(self, throttle: bool = False) -> None:
