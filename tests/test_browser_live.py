@@ -61,14 +61,17 @@ def lab(tmp_path, browser, monkeypatch):  # noqa: F811
 def first_steps(page, since: float, seen: list) -> list:
     """Seconds from ``since`` (a time.time()) to each side's first step shown (None: not within 3 minutes).
     Every header and status line shown meanwhile is appended to ``seen``."""
-    watch = page.evaluate_handle(FIRST_STEPS, 180)  # a promise, resolved once both sides have stepped
+    # FIRST_STEPS's promise is kept in the page (evaluate would wait for it): its value lands in window.__steps
+    page.evaluate(f"(s) => {{ window.__steps = null; ({FIRST_STEPS})(s).then(v => {{ window.__steps = v; }}); }}",
+                  180)
     offset = time.time() - since  # FIRST_STEPS counts from its own start
     while True:
         seen.extend(page.evaluate(HEADERS))
         seen.append(page.locator(".widget-html-content").nth(0).inner_text())
-        done = page.evaluate("(p) => Promise.race([p, new Promise(r => setTimeout(() => r(null), 250))])", watch)
+        done = page.evaluate("() => window.__steps")
         if done is not None:
             return [None if ms is None else round(offset + ms / 1000, 2) for ms in done]
+        time.sleep(0.25)
 
 
 def click_run(page, seen: list) -> list:
