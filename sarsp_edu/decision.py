@@ -1,9 +1,11 @@
 """Algorithm 1's decision rule and the records of what the agent decided and learned.
 
 :func:`choose_action` is the rule as a pure function of the per-action
-predictions (the exercises grade against it); :class:`Decision` and
-:class:`LearnOutcome` are what :class:`~sarsp_edu.sarsp.SARSPAgent`'s ``act``
-and ``learn`` return.
+predictions (the exercises grade against it); :func:`safe_actions`,
+:func:`choose_with_backup` and :func:`corrects` are its parts as the
+exercises ask for them, the defaults of :class:`~sarsp_edu.parts.DecisionParts`;
+:class:`Decision` and :class:`LearnOutcome` are what
+:class:`~sarsp_edu.sarsp.SARSPAgent`'s ``act`` and ``learn`` return.
 """
 
 from __future__ import annotations
@@ -12,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Decision", "LearnOutcome", "choose_action", "override_known_unsafe"]
+__all__ = ["Decision", "LearnOutcome", "choose_action", "choose_with_backup", "corrects", "override_known_unsafe",
+           "safe_actions"]
 
 
 @dataclass
@@ -108,3 +111,36 @@ def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance
     if safe.any():
         return int(np.argmax(np.where(safe, mu_reward, -np.inf))), safe, False
     return int(np.argmax(mu_reward)), safe, True
+
+
+def safe_actions(mu_cost, var_cost, known_unsafe, d: float, variance_threshold: float) -> np.ndarray:
+    """Algorithm 1's safe set: not known unsafe, variance at most sigma*^2, predicted distance at least d.
+
+    Returns
+    -------
+    ndarray of bool, shape (n_actions,)
+        The ``safe`` of :func:`choose_action`.
+    """
+    return choose_action(mu_cost, var_cost, np.zeros(np.shape(mu_cost)), known_unsafe, d, variance_threshold)[1]
+
+
+def choose_with_backup(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
+    """Algorithm 1's choice as ``(action, backup)``: :func:`choose_action` without its safe set."""
+    action, _, backup = choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
+    return action, backup
+
+
+def corrects(mu_cost, var_cost, action: int, d: float, was_backup: bool) -> bool:
+    """Whether a violation corrects the cost model's data (the reference code's condition).
+
+    After a step that violated the constraint, with the cost model's
+    re-predicted ``mu_cost`` and ``var_cost`` of the four actions: the model
+    called the action taken safe (a predicted distance of at least ``d``,
+    whatever its variance), or the action was its most certain one (every
+    action tied for the lowest variance counts) and not taken as the backup.
+    The reference code's precedence reads ``cost >= d or (variance ==
+    min(variances) and not backup)``.
+    """
+    model_said_safe = mu_cost[action] >= d
+    lowest_variance = var_cost[action] <= np.min(var_cost) and not was_backup
+    return bool(model_said_safe or lowest_variance)

@@ -86,10 +86,12 @@ class Experiment:
 
     ``run_experiment`` drives it to the end; the live dashboard drives it a
     step at a time.  Construction collects the offline data, injects the
-    outliers, fits both models and shifts the world.
+    outliers, fits both models and shifts the world.  ``parts`` (a
+    :class:`~sarsp_edu.parts.DecisionParts`) gives the agent other functions
+    to assemble its decisions from (:class:`~sarsp_edu.sarsp.SARSPAgent`).
     """
 
-    def __init__(self, config: ExperimentConfig, *, prepared: Prepared | None = None, fit=None):
+    def __init__(self, config: ExperimentConfig, *, prepared: Prepared | None = None, fit=None, parts=None):
         if not isinstance(config, ExperimentConfig):
             raise TypeError(f"config must be an ExperimentConfig, got {type(config).__name__}")
         self.config = config
@@ -98,7 +100,7 @@ class Experiment:
         self.data = prepared.data
         self._episode_seeds = prepared.episode_seeds
         self.agent = SARSPAgent(make_model(config), make_model(config), prepared.data, config.agent_settings,
-                                rng=prepared.agent_seed)
+                                parts=parts, rng=prepared.agent_seed)
         start = time.perf_counter()
         with one_blas_thread():  # fit: a function that gives the agent its fitted models (the fit cache's)
             self.agent.fit() if fit is None else fit(self.agent)
@@ -291,7 +293,7 @@ def _finish(experiment: "Experiment", progress: bool, position: int = 0) -> Expe
 
 
 def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False,
-                             progress: bool = False) -> dict:
+                             progress: bool = False, parts: dict | None = None) -> dict:
     """Experiments of ``config`` with some settings changed, all on one prepared world.
 
     Every experiment shares the world, its shift, the offline data with its
@@ -311,17 +313,22 @@ def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bo
         Load and store the fits in :mod:`sarsp_edu.fitcache`.
     progress : bool, default False
         Show each side's offline fits as a progress bar.
+    parts : dict, optional
+        Name -> the :class:`~sarsp_edu.parts.DecisionParts` (or a mapping of
+        some parts) of that side's agent, e.g. ``{"yours": student_parts}``;
+        a side not named uses the package's own.  A fit does not depend on
+        the parts: a side loaded from the cache gets them as well.
 
     Returns
     -------
     dict
         Name -> :class:`Experiment`.
     """
-    return dict(each_experiment_on_one_world(config, sides, cache=cache, progress=progress))
+    return dict(each_experiment_on_one_world(config, sides, cache=cache, progress=progress, parts=parts))
 
 
 def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache: bool = False,
-                                 progress: bool = False):
+                                 progress: bool = False, parts: dict | None = None):
     """:func:`experiments_on_one_world` one experiment at a time: yields ``(name, Experiment)`` as each is fitted.
 
     The live dashboard starts a side as soon as its models are fitted, while
@@ -331,10 +338,15 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache
     fitted here is stored there.
     """
     from . import fitcache
+    from .parts import DecisionParts
     from .preparation import PREPARATION_FIELDS
 
     if not isinstance(sides, dict) or not sides:
         raise ValueError(f"sides must be a non-empty dict of name -> changed settings, got sides={sides!r}")
+    unknown = sorted(set(parts or {}) - set(sides), key=str)
+    if unknown:
+        raise ValueError(f"parts names sides {unknown} that sides does not have ({sorted(sides, key=str)})")
+    parts = {name: DecisionParts.of(side_parts) for name, side_parts in (parts or {}).items()}
     shared = sorted({name for changes in sides.values() for name in changes if name in PREPARATION_FIELDS})
     if shared:
         raise ValueError(
@@ -346,9 +358,12 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache
     for name, side in configs.items():
         experiment = fitcache.load(side, prepared) if cache else None
         if experiment is None:
-            experiment = Experiment(side, prepared=prepared, fit=_fit_showing_progress(side, progress))
+            experiment = Experiment(side, prepared=prepared, fit=_fit_showing_progress(side, progress),
+                                    parts=parts.get(name))
             if cache:
                 fitcache.store(experiment)
+        elif name in parts:  # the stored fit is the same whatever the parts: the agent gets them before its first step
+            experiment.agent.parts = parts[name]
         yield name, experiment
 
 

@@ -22,6 +22,11 @@ Where the paper's text and its reference implementation differ, the agent
 follows the reference implementation by default and makes the difference a
 parameter (``prior_draw``, ``k_prior``, ``predictive``, ``retrain``, the fit
 sizes); :class:`SARSPAgent`'s parameters say which is which.
+
+The functions a decision is assembled from (the kernel, the GP posterior,
+the TP's factor, the safe set, the choice with its backup, the corrective
+test) are the agent's plug-in point: ``parts``, a
+:class:`~sarsp_edu.parts.DecisionParts`, whose defaults are the package's own.
 """
 
 from __future__ import annotations
@@ -37,6 +42,7 @@ from .config import AgentSettings  # Algorithm 1's settings, defined once
 from .decision import Decision, LearnOutcome, choose_action, override_known_unsafe
 from .kernels import KernelTable, whole_distance_bound
 from .offline import OfflineData, cost_inputs, reward_inputs
+from .parts import DecisionParts, corrective_applies, decide, predict_from_parts
 from .rng import as_generator, draw_row_mask, draw_subset
 
 #: the most distinct inputs a buffer may have for the agent to keep its kernel table (8 G**2 bytes: 32 MB)
@@ -100,6 +106,14 @@ class SARSPAgent:
         corrective update, or never.
     unsafe_pairs : iterable of ((x, y), action), optional
         An initial ``S_u``; default empty.
+    parts : DecisionParts or mapping, optional
+        The functions each decision is assembled from (a mapping names some
+        of them: ``{"choose": my_choose}``); default the package's own.  With
+        the package's kernel, posterior and TP factor the agent predicts
+        through its cached, vectorised path; with any of them replaced, from
+        the parts, one strategic prior at a time (:mod:`sarsp_edu.parts`).
+        The random draws are the same either way, so two agents whose parts
+        compute the same values take the same decisions.
     rng : None, int or numpy.random.Generator
         Draws the priors, the fit subsets and the samples.
 
@@ -131,6 +145,7 @@ class SARSPAgent:
         settings: AgentSettings | None = None,
         *,
         unsafe_pairs=None,
+        parts=None,
         rng=None,
         **changes,
     ):
@@ -144,6 +159,9 @@ class SARSPAgent:
         for name, value in dataclasses.asdict(self.settings).items():
             setattr(self, name, value)
         self.rng = as_generator(rng)
+        #: the functions each decision is assembled from (:class:`~sarsp_edu.parts.DecisionParts`); the fits do not
+        #: use them, so a fitted agent may be given others (``agent.parts = DecisionParts.of(...)``) before it acts
+        self.parts = DecisionParts.of(parts)
         data = data.copy()
         self.cost_data = data.cost
         self.reward_data = data.reward
@@ -154,6 +172,9 @@ class SARSPAgent:
         self.retrains = 0
         #: True while a corrective update refits the cost model (a live view shows the wait)
         self.retraining = False
+        #: ``refit_model(model, X, y)`` in place of ``model.fit(X, y)`` in a corrective update's refit (None:
+        #: ``model.fit``); the capstone's check lets an agent whose data equal another's take that one's refit
+        self.refit_model = None
 
     # -- training -------------------------------------------------------------
     def _fit(self, model, buffer, fit_points, fit_model=None):
@@ -243,6 +264,10 @@ class SARSPAgent:
         else:
             sets = priors[:1]
             query_sets = queries[None, :, :]  # the four queries share one prior
+        if not self.parts.package_models:  # the parts' own kernel, posterior or factor: assembled per prior
+            mean, var, df = predict_from_parts(self.parts, model, [X[r] for r in sets], [y[r] for r in sets],
+                                               query_sets, include_noise=True)
+            return self._moments(mean, var, df, query_sets, priors)
         bound = self._whole_bound(buffer, queries)
         table = self._kernel_table(model, buffer, bound)
         kernels = None
@@ -252,6 +277,10 @@ class SARSPAgent:
             kernels = [table.gather(r, cross[a: a + 1] if per_action else cross) for a, r in enumerate(sets)]
         mean, var, df = model.predict_batch([X[r] for r in sets], [y[r] for r in sets], query_sets,
                                             include_noise=True, whole_bound=bound, kernels=kernels)
+        return self._moments(mean, var, df, query_sets, priors)
+
+    def _moments(self, mean, var, df, query_sets, priors):
+        """Per-query mean, variance (sampled with ``predictive="sample"``) and prior sizes."""
         mean, var = mean.reshape(-1), var.reshape(-1)
         df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
         if self.predictive == "sample":
@@ -333,8 +362,8 @@ class SARSPAgent:
         mu_cost, var_cost, n_cost = self._predict(self.cost_model, self.cost_data, x_cost)
         mu_reward, var_reward, n_reward = self._predict(self.reward_model, self.reward_data, x_reward)
         known_unsafe = np.array([(position, a) in self.unsafe_pairs for a in range(4)])
-        action, safe, backup = choose_action(
-            mu_cost, var_cost, mu_reward, known_unsafe, self.d, self.variance_threshold
+        action, safe, backup = decide(
+            self.parts, mu_cost, var_cost, mu_reward, known_unsafe, self.d, self.variance_threshold
         )
         decision = Decision(
             position=position,
@@ -380,9 +409,7 @@ class SARSPAgent:
         x_cost = cost_inputs(observation)
         mu_cost, var_cost, _ = self._predict(self.cost_model, self.cost_data, x_cost)
         was_backup = decision.backup if decision is not None else False
-        model_said_safe = mu_cost[action] >= self.d
-        lowest_variance = var_cost[action] <= var_cost.min() and not was_backup
-        if model_said_safe or lowest_variance:
+        if corrective_applies(self.parts, mu_cost, var_cost, int(action), self.d, was_backup):
             outcome.corrected = True
             outcome.buffer_update = self.cost_data.update(x_cost[action], info["distance_to_unsafe"])
             self.corrective_updates += 1
@@ -391,7 +418,7 @@ class SARSPAgent:
                 start = time.perf_counter()
                 self.retraining = True  # read by the live dashboard, which shows the wait
                 try:
-                    self._fit(self.cost_model, self.cost_data, self.cost_fit_points)
+                    self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
                 finally:
                     self.retraining = False
                 outcome.retrain_seconds = time.perf_counter() - start

@@ -678,3 +678,17 @@ def test_exercise_6_1_has_one_rule_where_eq_12_divides_by_zero():
 
     right, message = grade("6.1", CODING["6.1"], as_nan)
     assert not right and "the question asks for 0" in message
+
+
+def test_in_a_voila_page_check_prints_nothing(monkeypatch, capsys):
+    """A dashboard served by Voila shows no 'Exercise 2.1: not yet' line: check stays silent in its kernel."""
+    def rbf(X, Y, amplitude, length_scale):
+        raise NotImplementedError
+
+    monkeypatch.setenv("VOILA_KERNEL_ID", "a-kernel-id")
+    for exercise, answer in (("2.1", rbf), ("3.4", 49), ("7.1", {}), ("4.1", ...)):
+        check(exercise, answer)
+    assert capsys.readouterr().out == ""
+    monkeypatch.setenv("VOILA_KERNEL_ID", "")  # an empty value is no Voila kernel
+    check("2.1", rbf)
+    assert capsys.readouterr().out.startswith("Exercise 2.1: not yet. Not written yet")

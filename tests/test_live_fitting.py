@@ -154,3 +154,29 @@ def test_prefit_fits_each_nss_once_and_then_finds_it_stored(monkeypatch, tmp_pat
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     with pytest.raises(RuntimeError, match="cache of fits is off"):
         prefit(0, config=config)
+
+
+def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkeypatch):
+    """Tutorial 7's "your agent" beside the package's: the same fits (in the workers), each side given its parts
+    in the kernel before its first step; parts that name no side are refused."""
+    from sarsp_edu.live import agent_dashboard
+    from sarsp_edu.parts import DecisionParts
+
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    calls = []
+
+    def counted_choose(*args):
+        calls.append(1)
+        return DecisionParts().choose(*args)
+
+    sides = {"yours": ("your agent", {"model": "tp"}), "package": ("the package's agent", {"model": "tp"})}
+    config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=config, sides=sides,
+                           parts={"yours": {"choose": counted_choose}})
+    live.fast_forward(2)
+    assert live.experiments["yours"].agent.parts.replaced() == ["choose"]
+    assert live.experiments["package"].agent.parts.replaced() == []
+    assert calls and len(calls) == len(live.experiments["yours"].act_seconds)  # every decision of "yours" only
+    assert live.experiments["yours"].records().equals(live.experiments["package"].records())  # the same choice
+    with pytest.raises(ValueError, match=r"parts names sides \['theirs'\]"):
+        agent_dashboard(config=config, sides=sides, parts={"theirs": {}}, prepare_ahead=False)

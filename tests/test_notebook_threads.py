@@ -28,7 +28,7 @@ BLAS_THREADS = ("import numpy, scipy.linalg\nfrom threadpoolctl import threadpoo
 
 
 def test_the_sources_get_one_blas_thread_and_the_students_copies_the_default():
-    assert len(SOURCES) == len(STUDENTS) == 6
+    assert len(SOURCES) == len(STUDENTS) == 7
     assert all(runs_with_one_blas_thread(p) for p in SOURCES)
     assert not any(runs_with_one_blas_thread(p) for p in STUDENTS)
     # the two copies run the same numeric cells: each source has its student copy

@@ -31,7 +31,7 @@ PNG = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGA
 
 @pytest.fixture(scope="module")
 def pages(tmp_path_factory):
-    """The six tutorials' pages, built once, with the warnings the build gave."""
+    """The seven tutorials' pages, built once, with the warnings the build gave."""
     out = tmp_path_factory.mktemp("pages")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -53,7 +53,7 @@ def metadata_alts(notebook) -> list[str]:
 
 def test_every_tex_fragment_of_the_tutorials_becomes_mathml(pages):
     out, caught = pages
-    assert len(NOTEBOOKS) == 6
+    assert len(NOTEBOOKS) == 7
     assert not [message for message in caught if "TeX" in message]
     for notebook in NOTEBOOKS:
         soup = BeautifulSoup((out / f"{notebook.stem}.html").read_text(encoding="utf-8"), "html.parser")

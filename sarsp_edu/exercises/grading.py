@@ -26,7 +26,7 @@ from . import running
 from .running import TimedOut, call_copies, changed, run_limited
 from .wording import describe, parts, said, several, shape_problem, shown, which_differ
 
-__all__ = ["CodingExercise", "Mistake", "explained", "grade", "raised", "same"]
+__all__ = ["CodingExercise", "Mistake", "explained", "grade", "known_mistake", "raised", "same"]
 
 #: relative tolerance of a right answer; the absolute one is this times the quantity's own scale
 RTOL = 1e-6
@@ -242,11 +242,24 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
     return True, message
 
 
-def _diagnosis(exercise: CodingExercise, cases: list, answers: list, failed: tuple) -> str:
-    """What is wrong: a mistake the answers reproduce, else where they differ first, and the hint."""
+def known_mistake(exercise: CodingExercise, cases: list, answers: list) -> str | None:
+    """The diagnosis of the first usual mistake that gives every one of ``answers`` on its case, or None.
+
+    ``cases`` are the inputs (dicts in the signature's order), ``answers``
+    what the student's function returned on each; the mistakes are the
+    exercise's own, then a number argument written in and rounded results.
+    """
     for mistake in (*exercise.mistakes, *_fixed_arguments(exercise, cases), *_rounding(exercise)):
         if _reproduces(mistake, cases, answers):
             return mistake.diagnosis
+    return None
+
+
+def _diagnosis(exercise: CodingExercise, cases: list, answers: list, failed: tuple) -> str:
+    """What is wrong: a mistake the answers reproduce, else where they differ first, and the hint."""
+    mistake = known_mistake(exercise, cases, answers)
+    if mistake is not None:
+        return mistake
     case, got, expected = failed
     if got is None:  # a right result is never None: a return is missing
         return f"Your function returned None (is its return statement missing?) on {describe(case)}."

@@ -226,7 +226,7 @@ class Animation:
                 self._say_waiting(name, progress)
                 said = progress
             preparation.wait_for(name, timeout=0.25)
-        experiment = preparation.wait_for(name)
+        experiment = self._with_parts(name, preparation.wait_for(name))
         if experiment is None:  # abandoned part-way: only when newer settings were asked for, so stale
             return None
         with self._draw_lock:

@@ -93,12 +93,18 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         runs its later cells, where a click on *Run* waits for the kernel to
         finish them.  ``SARSP_EDU_AUTOPLAY=0`` in the environment keeps it off
         (batch runs of the notebooks, where nobody watches).
+    parts : dict, optional
+        Side name -> the functions its agent decides with
+        (:class:`~sarsp_edu.parts.DecisionParts`, or a mapping of some of
+        them): Tutorial 7's "your agent" beside the package's, on the same
+        world.  The fits do not use them, so each side is fitted (or loaded)
+        as any other and given its parts before its first step.
     """
 
     def __init__(self, nu=NU, magnitude=DataSettings.outlier_magnitude, proportion=DataSettings.outlier_proportion,
                  n_switch_states=2, seed=0, episodes=30,
                  steps_per_second=30.0, config=None, sides=None, prepare_ahead: bool = True,
-                 projector: bool | None = None, autoplay: bool = False):
+                 projector: bool | None = None, autoplay: bool = False, parts=None):
         from ..config import ExperimentConfig
         from ..preparation import PREPARATION_FIELDS
 
@@ -112,6 +118,12 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
                 raise ValueError(f"sides may change only the model and the agent's settings, got {wrong} "
                                  f"in {title!r}; those shape the world: set them in config")
             self.base_config.replace(**changes)  # refused now, not at the first Run
+        from ..parts import DecisionParts
+
+        unknown = sorted(set(parts or {}) - set(self.sides))
+        if unknown:
+            raise ValueError(f"parts names sides {unknown}, but the sides are {sorted(self.sides)}")
+        self.parts = {name: DecisionParts.of(value) for name, value in (parts or {}).items()}
         self.prepare_ahead = bool(prepare_ahead)
         self.controls = {
             "nu": slider("float", "nu", "ν", nu, 2.1, 30.0, 0.1),
@@ -291,8 +303,16 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
                 experiments = experiments_on_one_world(config, changed_settings(self.sides), cache=True)
         self._begin(experiments)
 
+    def _with_parts(self, name, experiment):
+        """The side's run, its agent given the side's decision parts (if it has its own)."""
+        if experiment is not None and name in self.parts:
+            experiment.agent.parts = self.parts[name]
+        return experiment
+
     def _begin(self, experiments) -> None:
         """Show these runs (all sides, or those fitted so far) from their start."""
+        for name, experiment in experiments.items():
+            self._with_parts(name, experiment)
         self.experiments = experiments
         self._last = dict.fromkeys(self.sides)
         self._drawn_episodes = -1
@@ -302,17 +322,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self.longest_wait_seconds = dict.fromkeys(self.sides, 0.0)
 
     def snapshot(self) -> bytes:
-        """A static picture of the dashboard as one PNG: each side's world and key numbers, and the metrics.
-
-        After a run, each agent's path in its current episode, its ``S_u`` and
-        key numbers, and the running metrics; before any run, the world the
-        sliders imply (built as ``prepare`` builds it, without fitting).  Where
-        ``SARSP_EDU_SNAPSHOT_EPISODES`` is set (``sarsp-edu course`` sets 10),
-        a dashboard first shown in a batch run fast-forwards that many episodes
-        first, so that a stored notebook shows the agents at work.  The picture
-        is :data:`~sarsp_edu.dashboard.SNAPSHOT_WIDTH_PX` wide, its text at
-        least 14 pt at that width.
-        """
+        """A static picture of the dashboard as one PNG (:func:`~sarsp_edu.live.snapshot.picture`)."""
         return picture(self)
 
     def alt_text(self) -> str:

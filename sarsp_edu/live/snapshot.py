@@ -21,7 +21,17 @@ def first_episode(prepared):
 
 
 def picture(dashboard) -> bytes:
-    """:meth:`AgentDashboard.snapshot <sarsp_edu.live.AgentDashboard.snapshot>`: the dashboard as one PNG."""
+    """A static picture of the dashboard as one PNG: each side's world and key numbers, and the metrics.
+
+    After a run, each agent's path in its current episode, its ``S_u`` and
+    key numbers, and the running metrics; before any run, the world the
+    sliders imply (built as ``prepare`` builds it, without fitting).  Where
+    ``SARSP_EDU_SNAPSHOT_EPISODES`` is set (``sarsp-edu course`` sets 10),
+    a dashboard first shown in a batch run fast-forwards that many episodes
+    first, so that a stored notebook shows the agents at work.  The picture
+    is :data:`~sarsp_edu.dashboard.SNAPSHOT_WIDTH_PX` wide, its text at
+    least 14 pt at that width.
+    """
     from ..preparation import prepare
 
     figure = Figure(figsize=(SNAPSHOT_WIDTH_PX / 100, 9.4 if dashboard.experiments else 5.6), layout="constrained")
