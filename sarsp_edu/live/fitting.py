@@ -168,6 +168,11 @@ def _serve(stdin, stdout) -> None:
 
 
 if __name__ == "__main__":
+    import signal
+
+    # an interrupt of the kernel (its process group's Ctrl-C) is not for the fits: the kernel ends a worker
+    # itself, by closing its pipe or killing it
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     import sarsp_edu.experiment  # noqa: F401  (the imports done before the first job, while the kernel waits)
 
     _serve(sys.stdin.buffer, sys.stdout.buffer)
