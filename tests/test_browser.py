@@ -461,7 +461,7 @@ WATCH = """(seconds) => new Promise(resolve => {
   const poll = () => {
     const now = performance.now();
     worlds.forEach((w, i) => { if (w.innerHTML !== last[i]) { last[i] = w.innerHTML; times[i].push(now - start); } });
-    retrainingShown = retrainingShown || document.body.innerText.includes('retraining the cost model');
+    retrainingShown = retrainingShown || document.body.innerText.includes('retraining its cost model');
     if (now - start < seconds * 1000) { requestAnimationFrame(poll); return; }
     resolve({times: times, retraining_shown: retrainingShown});
   };

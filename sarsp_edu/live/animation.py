@@ -2,7 +2,7 @@
 
 :class:`Animation` is the half of :class:`~sarsp_edu.live.AgentDashboard`
 that runs the agents: *Run*, *Stop*, *Fast-forward*, autoplay, and the
-"retraining the cost model" message of a side that waits.
+"retraining its cost model" message of a side that waits.
 """
 
 from __future__ import annotations
