@@ -93,7 +93,7 @@ def test_run_starts_each_side_as_its_fit_ends_back_to_fitted_settings_at_once(la
     cold = first_steps(page, started, seen)  # Run All with nothing fitted: the agents start by themselves
     page.screenshot(path=str(shots / "jupyterlab-live-cold-stepping.png"))
     assert None not in cold, f"a side never stepped: {cold}"
-    progress = [text for text in seen if re.search(r"fitting its (cost|reward) model: step \d+ of \d+", text)]
+    progress = [text for text in seen if re.search(r"fitting (cost|reward) model: step \d+ of \d+", text)]
     assert progress, f"no side said how its fit progressed: {sorted(set(seen))[:20]}, first steps {cold}"
     assert not [t for t in seen if t.startswith("Running") and "both agents step" not in t
                 and "steps shown" not in t and "agent steps" not in t], "a status said 'Running' before a step"

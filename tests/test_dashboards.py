@@ -667,7 +667,7 @@ def test_a_slider_move_redraws_the_world_it_implies_and_says_when_the_agents_use
     assert "4 unsafe states moved" in live.summaries["gp"].value
     assert "both agents start on this world at the next <b>Run</b>." in live.status.value
     live.controls["proportion"].value = 0.4
-    assert "Outliers: " in live.summaries["tp"].value and "multiplied by m = 40" in live.summaries["tp"].value
+    assert "Outliers: " in live.summaries["tp"].value and "times m = 40" in live.summaries["tp"].value
     assert math.isfinite(live.last_preview_seconds)  # measured, not judged: benchmarks/bench_dashboards.py times it
 
 

@@ -80,14 +80,14 @@ def test_progress_is_said_in_words():
         steps = (0, 0)
 
     config = ExperimentConfig(**SMALL)
-    assert _describe(Worker(), config) == "starting the fit (its data and imports) ..."
+    assert _describe(Worker(), config) == "starting its fit (imports, data)"
     Worker.started_at = time.perf_counter() - 2.0
     Worker.steps = (10, 100)
-    assert _describe(Worker(), config).startswith("fitting its cost model: step 10 of 100, 2 s, about 18 s left")
+    assert _describe(Worker(), config).startswith("fitting cost model: step 10 of 100, 2 s, 18 s left")
     Worker.steps = (60, 100)
-    assert "reward model: step 60 of 100" in _describe(Worker(), config)
+    assert "fitting reward model: step 60 of 100" in _describe(Worker(), config)
     Worker.steps = (7, 0)  # L-BFGS: the total is not known
-    assert _describe(Worker(), config) == "fitting its models: step 7, 2 s so far ..."
+    assert _describe(Worker(), config) == "fitting models: step 7, 2 s so far"
 
 
 def test_where_no_process_can_be_started_the_sides_are_fitted_in_the_thread(monkeypatch, cache):

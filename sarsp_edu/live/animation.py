@@ -182,8 +182,7 @@ class Animation:
         config = self.config()
         if not self._preparer.busy_with(config):
             self._preparer.request(config)
-        self.status.value = ("Preparing both agents: a side fitted before is loaded, the others are fitted, both "
-                             "at once; each agent starts as soon as its models are ready (progress above its grid).")
+        self.status.value = "Preparing: each agent starts as soon as its models are fitted (progress above its grid)."
         preparation = self._preparer.claim(config)
         if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
             return
@@ -221,7 +220,7 @@ class Animation:
         preparation = self._preparation
         said = None
         while not preparation.ready(name):
-            progress = preparation.progress.get(name, "waiting for its fit to begin ...")
+            progress = preparation.progress.get(name, "waiting for its fit to begin")
             if progress != said and generation == self._generation:
                 self._say_waiting(name, progress)
                 said = progress
@@ -278,7 +277,7 @@ class Animation:
                 if since is not None and now - since > WAIT_SHOWN_AFTER and name in self.experiments:
                     agent = self.experiments[name].agent
                     why = "retraining its cost model" if agent.retraining else "deciding"
-                    self._say_waiting(name, f"{why} ({now - since:.1f} s) ...")
+                    self._say_waiting(name, f"{why} ({now - since:.1f} s)")
             time.sleep(0.1)
 
     def _say_waiting(self, name, why: str) -> None:

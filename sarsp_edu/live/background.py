@@ -108,14 +108,14 @@ def _describe(worker, config) -> str:
     """A fit's progress in words: its phase, its steps, the time it has taken and, once it can tell, how long
     it has left."""
     if worker.started_at is None:
-        return "starting the fit (its data and imports) ..."
+        return "starting its fit (imports, data)"
     done, total = worker.steps
     elapsed = time.perf_counter() - worker.started_at
     if not total:
-        return f"fitting its models: step {done}, {elapsed:.0f} s so far ..."
+        return f"fitting models: step {done}, {elapsed:.0f} s so far"
     model = "cost" if done <= total // 2 else "reward"
-    left = f", about {elapsed / done * (total - done):.0f} s left" if done >= 5 else ""
-    return f"fitting its {model} model: step {done} of {total}, {elapsed:.0f} s{left} ..."
+    left = f", {elapsed / done * (total - done):.0f} s left" if done >= 5 else ""
+    return f"fitting {model} model: step {done} of {total}, {elapsed:.0f} s{left}"
 
 
 class Preparer:
@@ -218,7 +218,7 @@ class Preparer:
                     if self._pending:
                         return
                     with self._condition:
-                        preparation.progress[name] = "fitting its models here (no process for it) ..."
+                        preparation.progress[name] = "fitting its models here (no process for it)"
                     experiment = Experiment(side, prepared=prepared)
                     if fitcache.cache_directory() is not None:
                         fitcache.store(experiment)
@@ -283,7 +283,7 @@ class Preparer:
                             os.unlink(path)
                     if experiment is None:  # not this kernel's bits (its package changed since it started, say)
                         with self._condition:
-                            preparation.progress[name] = "fitting its models here ..."
+                            preparation.progress[name] = "fitting its models here"
                         experiment = Experiment(sides[name], prepared=prepared)
                     else:
                         experiment.loaded_from_cache = False  # fitted just now, for this run: the fit's time

@@ -149,7 +149,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self.buttons["new"].on_click(lambda _: self.reset())
         self.status = widgets.HTML("Press <b>Run</b> to start both agents.")
         # one line of fixed height: a side's "fitting ..." or "retraining ..." never moves its grid
-        self.headers = {name: widgets.HTML(layout=widgets.Layout(height="1.6em", overflow="hidden", width="100%"))
+        self.headers = {name: widgets.HTML(layout=widgets.Layout(height="54px", overflow="hidden", width="100%"))
                         for name in self.sides}
         self.worlds = {name: widgets.HTML(layout=widgets.Layout(flex="0 0 auto")) for name in self.sides}
         self.decisions = {name: widgets.HTML() for name in self.sides}
@@ -220,12 +220,14 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         return PROJECTOR_TEXT_PX if self.projector else 13
 
     def _header(self, name, note: str = "") -> str:
-        """A side's title line, with ``note`` (HTML) after it: one line, cut short with an ellipsis if too long."""
-        return (f"<div style='white-space:nowrap;overflow:hidden;text-overflow:ellipsis'>"
-                f"<b>{html.escape(self.sides[name][0])}</b> {note}</div>")
+        """A side's title, and under it ``note`` (HTML): what the side waits for; each one line, cut short with an
+        ellipsis if too long, in a box of fixed height, so that nothing below moves."""
+        line = "white-space:nowrap;overflow:hidden;text-overflow:ellipsis"
+        return (f"<div style='{line}'><b>{html.escape(self.sides[name][0])}</b></div>"
+                f"<div style='{line}'><small>{note or '&nbsp;'}</small></div>")
 
     def _small(self, text: str) -> str:
-        return f"<span style='font-size:{self._text_px - 1}px'>{text}</span>"
+        return f"<small>{text}</small>"  # a size below the dashboard's text, whichever size that is
 
     def preview(self) -> None:
         """Draw on both sides the world the sliders imply, before any run: the shift, and the outliers' count.
@@ -242,14 +244,14 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         if config.seed not in self._offline:
             self._offline[config.seed] = offline_world(config)
         prepared = prepare(config, offline=self._offline[config.seed])
-        picture = markup.gridworld_svg(first_episode(prepared), title="after the shift: press Run", cell=_CELL,
+        picture = markup.gridworld_svg(first_episode(prepared), title="the world after the shift", cell=_CELL,
                                        font_size=self._text_px)
         rows = len(prepared.data.cost)
         outliers = len(prepared.data.outlier_indices)
         note = self._small(
             f"nss = {config.n_switch_states}: {len(prepared.env.moved_indices)} unsafe states moved (outlined; "
-            f"dashed: where they were).<br>Outliers: {outliers} of {rows} rows of the cost model's data "
-            f"multiplied by m = {config.outlier_magnitude:g}.")
+            f"dashed: before).<br>Outliers: {outliers} of the cost model's {rows} rows, times "
+            f"m = {config.outlier_magnitude:g}.")
         for name in self.sides:
             self.headers[name].value = self._header(name)
             self.worlds[name].value = picture
