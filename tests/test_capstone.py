@@ -330,3 +330,22 @@ def test_the_check_shows_its_progress_on_stderr_only(capsys):
 def test_the_capstones_run_is_the_tp_agent_at_the_package_defaults():
     assert capstone.CONFIG == ExperimentConfig(seed=capstone.CONFIG.seed, episodes=capstone.CONFIG.episodes)
     assert capstone.CONFIG.model == "tp" and capstone.CONFIG.episodes <= 5
+
+
+def test_a_function_wrong_only_where_the_run_never_goes_is_found_by_its_own_check():
+    """A safe set that forgets S_u takes the package's decisions in the run; its exercise's check finds it."""
+    def safe_forgetting(mu_cost, var_cost, known_unsafe, d, variance_threshold):
+        return (np.asarray(var_cost) <= variance_threshold) & (np.asarray(mu_cost) >= d)
+
+    right, message = verdict({**STUDENT, "safe_set": safe_forgetting})
+    assert not right and message.startswith("Your agent took the package's decisions in this run, but")
+    assert "your safe_actions (exercise 4.1)" in message and "A pair in S_u (known unsafe) is never safe" in message
+    assert 'check("4.1", safe_actions)' in message
+
+
+def test_a_single_precision_kernel_is_named_where_it_changes_a_decision():
+    def rbf_float32(X, Y, amplitude, length_scale):
+        return student_rbf(np.float32(X), np.float32(Y), amplitude, length_scale).astype(np.float32)
+
+    right, message = verdict({**STUDENT, "kernel": rbf_float32})
+    assert not right and "Your rbf (exercise 2.1) returns single-precision numbers (float32)" in message

@@ -692,3 +692,66 @@ def test_in_a_voila_page_check_prints_nothing(monkeypatch, capsys):
     monkeypatch.setenv("VOILA_KERNEL_ID", "")  # an empty value is no Voila kernel
     check("2.1", rbf)
     assert capsys.readouterr().out.startswith("Exercise 2.1: not yet. Not written yet")
+
+
+# -- an independent probe of the grader: answers in styles the exercises did not anticipate -----------------
+def test_numbers_held_as_objects_are_numbers_and_an_object_that_raises_is_said():
+    """sympy's Floats in an array (dtype object) are right; an object whose conversion raises gets one line."""
+    import sympy as sp
+
+    def with_sympy(x, nu):
+        return np.array([sp.Float(v) for v in np.ravel(student_t_logpdf(x, nu))], dtype=object).reshape(np.shape(x))
+
+    class Unconvertible:
+        def __array__(self, *args, **kwargs):
+            raise RuntimeError("no array")
+
+    assert grade("1.1", CODING["1.1"], with_sympy)[0]
+    right, message = grade("1.1", CODING["1.1"], lambda x, nu: Unconvertible())
+    assert not right and "cannot be read as numbers" in message
+
+
+def test_two_results_stacked_into_one_array_are_told_to_return_a_tuple():
+    right, message = grade("1.3", CODING["1.3"], lambda residual, nu: np.array(outlier_costs(residual, nu)))
+    assert not right and "returns one array of shape (2, 5): return them as a tuple" in message
+
+
+@pytest.mark.parametrize("exercise, wrong, said", [
+    ("3.3", lambda position, action, size: move(position, action, 10), "size = 10 gives"),
+    ("1.2", lambda x, lam, nu: tail_ratio(x, 5.0, nu), "lam = 5 gives"),
+    ("2.2", lambda K, K_star, k_star_star, y, noise_variance: gp_posterior(K, K_star, k_star_star, y, 0.5),
+     "noise_variance = 0.5 gives"),
+])
+def test_a_notebook_value_written_in_is_named(exercise, wrong, said):
+    """The notebook's size 10, Figure 1's lambda = 5 and section 2's noise 0.5, written into the code."""
+    right, message = grade(exercise, CODING[exercise], wrong)
+    assert not right and said in message, message
+
+
+def test_a_preference_that_is_never_true_is_not_told_to_use_or():
+    """An answer false on every case (total cost for the cost rate, equal here) matches no 'and for or'."""
+    def by_total_cost(summary_1, summary_2, a):
+        return summary_1["total_cost"] < summary_2["total_cost"]
+
+    right, message = grade("6.2", CODING["6.2"], by_total_cost)
+    assert not right and "or, not and" not in message
+
+
+@pytest.mark.parametrize("exercise, answers", [
+    ("2.5", ["less than one", "smaller than one", "lower than 1", "below 1.0", "It is below 1.",
+             "the factor is below 1"]),
+    ("2.6", ["gets narrower", "more narrow", "It gets narrower.", "less wide"]),
+    ("1.4", [{"lambda < 1.0": math.inf, "lambda = 1.0": 1, "lambda > 1.0": 0}]),
+])
+def test_predictions_take_more_spellings(exercise, answers):
+    for answer in answers:
+        assert is_right(exercise, answer), answer
+    assert not is_right(exercise, {"2.5": "not below", "2.6": "gets wider"}.get(exercise, {
+        "lambda < 1.0": 0, "lambda = 1.0": 1, "lambda > 1.0": math.inf}))
+
+
+def test_exercise_4_4_takes_actions_joined_by_and():
+    decision = Decision((4, 4), np.array([1.0, 2.0, 0.4, 1.4]), np.array([5.5, 5.6, 5.4, 11.0]),
+                        np.array([-3.0, -2.0, -1.0, -2.5]), np.array([1.0] * 4), np.array([False] * 4),
+                        np.array([False] * 4), 2, True)
+    assert is_right("4.4", "0 and 1", decision=decision) and is_right("4.4", "RIGHT and DOWN", decision=decision)

@@ -70,6 +70,9 @@ def _distance(position, unsafe):
 def _move_cases(rng):
     cases = [{"position": np.array([0, 0]), "action": a, "size": 4} for a in range(4)]
     cases += [{"position": np.array([3, 3]), "action": a, "size": 4} for a in range(4)]
+    # at the far walls of grids of 10 and 12 cells: a wall at size - 1 from size alone, whatever size is
+    cases += [{"position": np.array([9, 9]), "action": a, "size": 10} for a in (0, 1)]
+    cases += [{"position": np.array([11, 5]), "action": 0, "size": 12}]
     cases += [{"position": rng.integers(0, 10, 2), "action": int(rng.integers(0, 4)), "size": 10} for _ in range(6)]
     return cases
 

@@ -49,13 +49,22 @@ def _words(*spellings: str) -> frozenset:
     return frozenset(_compact(s) for s in spellings)
 
 
+def _compared(words, *others: str) -> frozenset:
+    """Each word alone and compared with 1, as a student spells it ('below', 'below 1.0', 'less than one' ...)."""
+    ones = [f"{than}{one}" for than in ("", "than ") for one in ("1", "1.0", "one")]
+    return _words(*others, *words, *(f"{word} {one}" for word in words for one in ones))
+
+
 #: the spellings of each side, for the predictions that ask 'above' or 'below' 1, 'wider' or 'narrower'
-ABOVE = _words("above", "above 1", "above one", "over", "over 1", ">", "> 1", "greater", "greater than 1",
-               "larger", "larger than 1", "bigger", "higher", "more", "more than 1", "factor > 1")
-BELOW = _words("below", "below 1", "below one", "under", "under 1", "<", "< 1", "less", "less than 1",
-               "smaller", "smaller than 1", "lower", "factor < 1")
-WIDER = _words("wider", "wide", "widens", "broader", "larger", "bigger", "more", ">", "wider band")
-NARROWER = _words("narrower", "narrow", "narrows", "tighter", "thinner", "smaller", "less", "<", "narrower band")
+ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1")
+BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1")
+WIDER = _words("wider", "wide", "widens", "broader", "larger", "bigger", "more", ">", "wider band", "more wide",
+               "less narrow")
+NARROWER = _words("narrower", "narrow", "narrows", "tighter", "thinner", "smaller", "less", "<", "narrower band",
+                  "more narrow", "less wide")
+#: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
+_LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the factor is",
+                                         "it gets", "it becomes", "it is", "it's", "gets", "becomes", "is"))
 
 
 def _text(answer) -> str | None:
@@ -75,8 +84,9 @@ def read_word(answer, options: dict) -> str:
     text = _text(answer)
     if text is not None:
         compact = _compact(text)
+        lead_in = next((lead for lead in _LEAD_INS if compact.startswith(lead)), "")
         for option, spellings in options.items():
-            if compact in spellings:
+            if compact in spellings or compact[len(lead_in):] in spellings:
                 return option
     names = " or ".join(repr(option) for option in options)
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
@@ -122,6 +132,7 @@ def _limit_key(key) -> str | None:
         if compact.startswith(name):
             compact = compact[len(name):]
             break
+    compact = re.sub(r"(?<=[<=>])1\.0*$", "1", compact)  # 'lambda < 1.0'
     return compact if compact in ("<1", "=1", ">1") else None
 
 
@@ -152,7 +163,8 @@ def read_actions(answer) -> list[int]:
     text = _text(answer)
     if text is not None:
         none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]")
-        answer = [] if none else [item for item in re.split(r"[\s,;\[\]\(\){}]+", text.strip()) if item]
+        answer = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", text.strip(), flags=re.I)
+                                  if item]
     elif isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
         answer = [answer]
     try:

@@ -17,7 +17,11 @@ choice with its backup and the corrective test.  The check
 4. at the first difference, says the step, the agent's cell and what
    differs, and calls each of the student's functions that step called,
    and the package's, on the same inputs: the first that differs is named,
-   with its inputs and, where one matches, its exercise's usual mistake.
+   with its inputs and, where one matches, its exercise's usual mistake;
+5. after a run that agreed at every step, checks each function with its
+   own exercise's check, since a run meets few of the edge cases (a
+   known-unsafe action that passes the other tests, a variance of exactly
+   sigma*^2): a right verdict means both.
 
 Each call of a student's function runs within the exercises' time limit; a
 run that takes long shows where it is (a line in a notebook, a bar in a
@@ -226,6 +230,17 @@ def _culprit(calls: list) -> str | None:
     return None
 
 
+def _low_precision(calls: list) -> str | None:
+    """The first of the step's calls that returned numbers of less than double precision (float32), in words."""
+    for name, _, result in calls:
+        kinds = {part.dtype for part in result_parts(result, isinstance(result, (tuple, list)))}
+        if any(kind.kind == "f" and kind.itemsize < 8 for kind in kinds):
+            return (f"{_named(name)[0].upper()}{_named(name)[1:]} returns single-precision numbers (float32): "
+                    "close enough for its own exercise, but the agent solves with matrices near singular, which "
+                    "magnify the rounding. Compute in float64, numpy's default.")
+    return None
+
+
 def _where(record, experiment, decisions: int) -> str:
     goal = tuple(int(v) for v in experiment.env.goal)
     return (f"Episode {record.episode}, step {record.t} (decision {decisions} of the run), the agent at "
@@ -329,9 +344,31 @@ def run_check(answer, config=None, progress: bool = True) -> tuple[bool, str]:
     shown = _Progress(progress, config.episodes)
     try:
         with one_blas_thread():  # as the experiments run: matrices of a few hundred rows, one thread is fastest
-            return _lock_step(config, recorder, shown)
+            right, said_ = _lock_step(config, recorder, shown)
+            if right:  # a run meets few edge cases (a known-unsafe action that passes the other tests, say)
+                shown.say("checking each function on its exercise's inputs ...")
+                wrong = _own_checks(parts)
+                if wrong is not None:
+                    return False, wrong
+            return right, said_
     finally:
         shown.close()
+
+
+def _own_checks(parts) -> str | None:
+    """After a run that agreed: the first function its exercise's own check finds wrong, in words, or None."""
+    from ..parts import EXERCISE_OF
+    from . import CODING
+    from .grading import grade
+
+    for name in PART_FUNCTIONS:
+        exercise = EXERCISE_OF[name]
+        right, said_ = grade(exercise, CODING[exercise], getattr(parts, name))
+        if not right:
+            return (f"Your agent took the package's decisions in this run, but its inputs never tested "
+                    f"{_named(name)} where it goes wrong; its own check says: {said_}\nFix it, run "
+                    f'check("{exercise}", {PART_FUNCTIONS[name]}), then this check again.')
+    return None
 
 
 def _lock_step(config, recorder: _Recorder, shown: _Progress) -> tuple[bool, str]:
@@ -353,7 +390,7 @@ def _lock_step(config, recorder: _Recorder, shown: _Progress) -> tuple[bool, str
                 f"\n{culprit}" if culprit else "")
         difference = _difference(mine, theirs)
         if difference is not None:
-            culprit = _culprit(recorder.calls) or (
+            culprit = _culprit(recorder.calls) or _low_precision(recorder.calls) or (
                 "Each of your functions gives the package's values on the inputs this step gave it: does one of "
                 "them keep something from call to call, or draw random numbers?")
             return False, f"{_where(mine, package, decisions)}: {difference}.\n{culprit}"

@@ -184,6 +184,7 @@ MODEL_EXERCISES = {
     "1.2": CodingExercise(
         question="the Student-t tail ratio f(lambda x) / f(x) at finite x",
         signature="tail_ratio(x, lam, nu) -> ndarray like x",
+        examples={"lam": 5.0, "nu": (3.0, 6.0)},  # Figure 1's
         reference=_tail_ratio,
         cases=_ratio_cases,
         mistakes=(
@@ -219,6 +220,7 @@ MODEL_EXERCISES = {
     "2.1": CodingExercise(
         question="the RBF kernel matrix k(x, x') = amplitude^2 exp(-|x - x'|^2 / (2 length_scale^2))",
         signature="rbf(X, Y, amplitude, length_scale) -> ndarray of shape (len(X), len(Y))",
+        examples={"amplitude": 1.5, "length_scale": 0.5},  # section 2's kernel
         reference=_rbf,
         cases=_rbf_cases,
         mistakes=(
@@ -243,6 +245,7 @@ MODEL_EXERCISES = {
     "2.2": CodingExercise(
         question="the GP's posterior mean and latent variance at test points from a Cholesky factor (eqs. 4-5)",
         signature="gp_posterior(K, K_star, k_star_star, y, noise_variance) -> (mean, variance), each of shape (m,)",
+        examples={"noise_variance": 0.5},
         reference=_gp_posterior,
         cases=_gp_cases,
         mistakes=(
@@ -286,6 +289,7 @@ MODEL_EXERCISES = {
         question="the TP's variance factor (nu + beta - 2) / (nu + n - 2), beta = y^T K_y^-1 y, K_y = K + sigma^2 I "
                  "(eq. 6, corrected)",
         signature="tp_variance_factor(K, y, noise_variance, nu) -> float",
+        examples={"noise_variance": 0.5, "nu": 3.0},
         reference=_tp_factor,
         cases=_tp_cases,
         mistakes=(
@@ -320,6 +324,7 @@ MODEL_EXERCISES = {
         question="the TP's log marginal likelihood: y ~ multivariate t, covariance K_y = K + sigma^2 I, "
                  "nu degrees of freedom",
         signature="tp_log_marginal_likelihood(K, y, noise_variance, nu) -> float",
+        examples={"noise_variance": 0.5, "nu": 3.0},
         reference=_tp_lml,
         cases=_tp_cases,
         mistakes=(

@@ -94,6 +94,7 @@ def _summaries_cases(rng):
         {"summary_1": summary(-90, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # equal reward
         {"summary_1": summary(-100, 0.01, 90), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # equal TSR
         {"summary_1": summary(-100, 0.01, 40), "summary_2": summary(-90, 0.02, 60), "a": 1.0},    # the lowest a
+        {"summary_1": summary(-80, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # every branch
     ]
     for _ in range(6):
         cases.append({"summary_1": summary(-rng.uniform(50, 150), rng.uniform(0.001, 0.03), rng.uniform(50, 100)),

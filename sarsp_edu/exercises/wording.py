@@ -45,15 +45,26 @@ def parts(value, many: bool) -> list:
     A part that numpy cannot read as an array (ragged lists, say) becomes an array of one object.
     """
     values = list(value) if many and isinstance(value, (tuple, list)) else [value]
-    out = []
-    for v in values:
-        try:
-            out.append(np.asarray(v))
-        except (TypeError, ValueError, OverflowError):
-            holder = np.empty((), dtype=object)
-            holder[()] = v
-            out.append(holder)
-    return out
+    return [_array(v) for v in values]
+
+
+def _array(value) -> np.ndarray:
+    """One part as an array: numbers held as objects (sympy's Floats, say) as floats; else an array of one object."""
+    try:
+        array = np.asarray(value)
+    except Exception:  # ragged lists, or a student's object that fails to convert itself
+        array = None
+    if array is not None and array.dtype == object and array.size:
+        items = array.ravel().tolist()
+        if not any(item is None or isinstance(item, (str, bytes)) for item in items):
+            try:
+                return np.array([float(item) for item in items]).reshape(array.shape)
+            except Exception:  # not numbers: said as such
+                pass
+    if array is None:
+        array = np.empty((), dtype=object)
+        array[()] = value
+    return array
 
 
 def said(value) -> str | None:
@@ -72,7 +83,7 @@ def said(value) -> str | None:
         return "(" + ", ".join(items) + ")" if items and all(items) else None
     try:
         array = np.asarray(value)
-    except (TypeError, ValueError, OverflowError):
+    except Exception:  # a student's object may fail to convert itself
         return None
     if array.dtype.kind in "biuf" and array.ndim == 1 and array.size <= SMALL:
         items = [said(item.item()) for item in array]
@@ -96,6 +107,9 @@ def shape_problem(got, expected) -> str | None:
     """A sentence about a result of the wrong structure or shape, or None."""
     got_parts, expected_parts = parts(got, several(expected)), parts(expected, several(expected))
     if len(expected_parts) > 1 and len(got_parts) != len(expected_parts):
+        if isinstance(got, np.ndarray) and got.ndim and len(got) == len(expected_parts):
+            return (f"it should return {len(expected_parts)} things (a tuple), but returns one array of shape "
+                    f"{got.shape}: return them as a tuple, not stacked into one array.")
         return f"it should return {len(expected_parts)} things (a tuple), but returns {len(got_parts)}."
     for i, (g, e) in enumerate(zip(got_parts, expected_parts)):
         if g.shape != e.shape:
