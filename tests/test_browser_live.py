@@ -19,7 +19,16 @@ import time
 
 import pytest
 
-from tests.test_browser import FIRST_STEPS, browser, button, free_port, run_all, serve, shots, stop  # noqa: F401
+from tests.test_browser import (  # noqa: F401
+    FIRST_STEPS,
+    browser,
+    button,
+    free_port,
+    run_all,
+    serve,
+    shots,
+    stop,
+)
 
 DASHBOARD = ("from sarsp_edu.widgets import agent_dashboard\n\n"
              "live = agent_dashboard(nu=3.0, magnitude=40, proportion=0.2, n_switch_states=2, seed=0, episodes=30,\n"
@@ -28,6 +37,18 @@ DASHBOARD = ("from sarsp_edu.widgets import agent_dashboard\n\n"
 #: each side's header line (its title, and while it waits what it waits for)
 HEADERS = """() => [...document.querySelectorAll('.widget-html-content')].map(e => e.innerText.trim())
   .filter(t => /^(Student-t|Gaussian) process/.test(t))"""
+
+
+#: where the notebook, the dashboard, its two grids and their key-number tables are on the page (CSS px)
+GEOMETRY = """() => {
+  const notebook = document.querySelector('.jp-WindowedPanel-outer').getBoundingClientRect();
+  const dashboard = document.querySelector('.sarsp-dashboard').getBoundingClientRect();
+  const grids = [...document.querySelectorAll('.widget-html-content svg')].slice(0, 2).map(s => s.getBoundingClientRect());
+  const numbers = [...document.querySelectorAll('.widget-html-content table')].slice(0, 2)
+    .map(t => t.getBoundingClientRect()).map(r => ({top: r.top, right: r.right}));
+  return {notebook_height: notebook.height, dashboard_top: dashboard.top, dashboard_right: dashboard.right,
+          grids_bottom: Math.max(...grids.map(g => g.bottom)), numbers: numbers};
+}"""
 
 
 @pytest.fixture
@@ -98,6 +119,11 @@ def test_run_starts_each_side_as_its_fit_ends_back_to_fitted_settings_at_once(la
     assert not [t for t in seen if t.startswith("Running") and "both agents step" not in t
                 and "steps shown" not in t and "agent steps" not in t], "a status said 'Running' before a step"
 
+    # the grids and their key numbers side by side, within the notebook's height once the dashboard is at the top
+    fit = page.evaluate(GEOMETRY)
+    assert fit["grids_bottom"] - fit["dashboard_top"] <= fit["notebook_height"], fit
+    assert all(t["top"] < fit["grids_bottom"] and t["right"] <= fit["dashboard_right"] + 1 for t in fit["numbers"]), fit
+
     # away and back: nss 2 -> 3 starts a fit for 3; back to 2 before it ends, then Run
     set_nss(page, 3)
     time.sleep(2.0)
@@ -113,6 +139,7 @@ def test_run_starts_each_side_as_its_fit_ends_back_to_fitted_settings_at_once(la
     times = {"to_first_step_s": {"cold_from_run_all": cold, "back_to_fitted_from_run": back,
                                  "new_nss_10_from_run": fresh},
              "sides": ["Student-t process", "Gaussian process"]}
+    times["layout_px"] = fit
     (shots / "jupyterlab-live-start.json").write_text(json.dumps(times, indent=1))
     assert None not in back and None not in fresh, times
     assert max(back) < min(min(cold), min(fresh)), f"settings fitted before should start first: {times}"

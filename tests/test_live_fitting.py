@@ -180,3 +180,65 @@ def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkey
     assert live.experiments["yours"].records().equals(live.experiments["package"].records())  # the same choice
     with pytest.raises(ValueError, match=r"parts names sides \['theirs'\]"):
         agent_dashboard(config=config, sides=sides, parts={"theirs": {}}, prepare_ahead=False)
+
+
+# -- the live run's controls: a clean exit, one stepper at a time, no stale run after a slider move -------------
+def test_a_script_that_plays_the_agents_in_the_background_exits_when_it_reaches_its_end(tmp_path):
+    script = ("from sarsp_edu.config import ExperimentConfig\nfrom sarsp_edu.live import agent_dashboard\n"
+              f"config = ExperimentConfig(**{ {k: v for k, v in SMALL.items() if k != 'episodes'}!r})\n"
+              "live = agent_dashboard(episodes=250, n_switch_states=1, config=config, steps_per_second=2)\n"
+              "live.play_in_background()\nimport time; time.sleep(3)\nprint('end', live.running)\n")
+    start = time.monotonic()
+    done = subprocess.run([sys.executable, "-c", script], timeout=120, capture_output=True, text=True, check=False,
+                          env={"SARSP_EDU_CACHE": str(tmp_path), "PATH": "/usr/bin:/bin"})
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == "end True"  # the agents were walking when the script ended
+    assert time.monotonic() - start < 100  # and the script ended with it, not 250 episodes at 2 steps a second
+
+
+def test_stepping_from_a_cell_while_the_agents_walk_is_refused_and_close_stops_everything(monkeypatch):
+    from sarsp_edu.live import agent_dashboard
+
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
+    live = agent_dashboard(episodes=100, n_switch_states=1, config=config, steps_per_second=5)
+    thread = live.play_in_background()
+    deadline = time.monotonic() + 60
+    while live.frames < 2 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert live.running and live.frames >= 2
+    for call in (lambda: live.run_steps(3), lambda: live.fast_forward(1)):
+        with pytest.raises(RuntimeError, match="while the agents are running: press Stop"):
+            call()
+    live.close()
+    thread.join(timeout=30)
+    assert not thread.is_alive() and not live.running and live.experiments is None
+    assert live._preparer._thread is None or not live._preparer._thread.is_alive()
+
+
+def test_a_slider_moved_while_a_run_claims_its_preparation_leaves_no_stale_run(monkeypatch):
+    """The claim checks that the sliders did not move, then takes the preparation: a move between the two must
+    not leave the old settings' run to animate at the next Run."""
+    import threading
+
+    from sarsp_edu.live import agent_dashboard
+
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=config)
+    plain_begin, between = live._begin, threading.Event()
+
+    def slow_begin(experiments):  # the claim is between its check and its write
+        between.set()
+        time.sleep(0.5)
+        plain_begin(experiments)
+
+    monkeypatch.setattr(live, "_begin", slow_begin)
+    claim = threading.Thread(target=live._claim_preparation, args=(live._generation,))
+    claim.start()
+    assert between.wait(60)
+    live.controls["n_switch_states"].value = 2  # a slider move meanwhile
+    claim.join(60)
+    assert live.experiments is None  # the old run is not kept: the next Run prepares nss = 2
+    live.prepare()
+    assert all(len(e.env.moved_indices) == 2 for e in live.experiments.values())

@@ -15,7 +15,13 @@ stop the other; the pictures come from :mod:`sarsp_edu.plotting`
 
 from .animation import WAIT_SHOWN_AFTER
 from .background import changed_settings, prefit, slider_config
-from .dashboard import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE, TP_AND_GP, AgentDashboard, agent_dashboard
+from .dashboard import (
+           AUTOPLAY_VARIABLE,
+           SNAPSHOT_VARIABLE,
+           TP_AND_GP,
+           AgentDashboard,
+           agent_dashboard,
+)
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard",
            "agent_dashboard", "changed_settings", "prefit", "slider_config"]

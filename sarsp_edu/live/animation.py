@@ -10,7 +10,6 @@ from __future__ import annotations
 import html
 import threading
 import time
-from concurrent.futures import ThreadPoolExecutor
 
 from .._threads import one_blas_thread
 
@@ -46,8 +45,14 @@ class Animation:
             if name not in self.experiments:
                 self._await_side(name, self._generation)
 
+    def _refuse_while_animating(self, what: str) -> None:
+        """Stepping from a cell while the agents walk would step one experiment from two threads."""
+        if self._running:
+            raise RuntimeError(f"{what} while the agents are running: press Stop (or call stop()) first")
+
     def run_steps(self, n: int, draw: bool = True) -> None:
-        """``n`` paired steps, synchronously."""
+        """``n`` paired steps, synchronously (refused while the agents are animated)."""
+        self._refuse_while_animating("run_steps")
         with one_blas_thread():
             for _ in range(n):
                 if self.finished:
@@ -55,7 +60,9 @@ class Animation:
                 self.step_pair(draw=draw)
 
     def fast_forward(self, episodes: int = 10) -> None:
-        """Run whole episodes of both agents without drawing each step, synchronously."""
+        """Run whole episodes of both agents without drawing each step, synchronously (refused while the
+        agents are animated: the *Fast-forward* button runs alongside the kernel instead)."""
+        self._refuse_while_animating("fast_forward")
         self._every_side()
         self._forward_quietly(episodes)
         self._draw_world()
@@ -108,6 +115,13 @@ class Animation:
                                   daemon=True)
         thread.start()
         return thread
+
+    def close(self) -> None:
+        """Stop the agents and the fits under way, and close the dashboard's widgets (it cannot be shown again)."""
+        with self._draw_lock:
+            self._discard_run()
+        self._preparer.close()
+        super().close()
 
     def stop(self) -> None:
         with self._draw_lock:  # a side ending its step after this finds the run stopped, and says nothing more
@@ -184,13 +198,14 @@ class Animation:
             self._preparer.request(config)
         self.status.value = "Preparing: each agent starts as soon as its models are fitted (progress above its grid)."
         preparation = self._preparer.claim(config)
-        if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
-            return
-        if preparation is None:  # not found (never expected): prepared here instead
-            self.prepare()
-        else:
-            self._preparation = preparation
-            self._begin({})
+        with self._draw_lock:  # a slider move (which takes the lock) comes wholly before this, or wholly after
+            if generation != self._generation:  # the sliders moved meanwhile: that preparation is stale
+                return
+            if preparation is None:  # not found (never expected): prepared here instead
+                self.prepare()
+            else:
+                self._preparation = preparation
+                self._begin({})
 
     def _play(self, generation) -> None:
         """Animate until stopped or finished, blocking: each side steps in a worker thread of its own.
@@ -201,15 +216,14 @@ class Animation:
         self._claim_preparation(generation)
         if generation != self._generation:
             return
-        if self._pool is None:  # the sides and the watch on them
-            self._pool = ThreadPoolExecutor(max_workers=len(self.sides) + 1, thread_name_prefix="sarsp-edu-side")
         self._frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
         self.frames = 0
         with one_blas_thread():  # entered once for the whole animation, not per step
-            sides = [self._pool.submit(self._run_side, name, generation) for name in self.sides]
-            watch = self._pool.submit(self._show_waits, generation, sides)
-            for future in [*sides, watch]:
-                future.result()
+            # daemon threads: a script or kernel that ends while the agents walk is not kept alive by them
+            sides = [_Side(self._run_side, name, generation) for name in self.sides]
+            watch = _Side(self._show_waits, generation, sides)
+            for side in [*sides, watch]:
+                side.result()
         self._say_where_it_stands(generation)
 
     def _await_side(self, name, generation):
@@ -290,3 +304,26 @@ class Animation:
                 target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
                 while len(experiment.episodes) < target:
                     experiment.run_episode()
+
+
+class _Side(threading.Thread):
+    """A daemon thread running ``target(*args)``; ``result()`` waits for it and raises what it raised."""
+
+    def __init__(self, target, *args):
+        super().__init__(name="sarsp-edu-side", daemon=True)
+        self._call, self._args, self._error = target, args, None
+        self.start()
+
+    def run(self) -> None:
+        try:
+            self._call(*self._args)
+        except BaseException as exc:  # handed to whoever waits, as a future would
+            self._error = exc
+
+    def done(self) -> bool:
+        return not self.is_alive()
+
+    def result(self) -> None:
+        self.join()
+        if self._error is not None:
+            raise self._error

@@ -146,6 +146,16 @@ class Preparer:
     def key(config):
         return repr(config)
 
+    def close(self) -> None:
+        """Abandon what is under way (its fitting processes stopped at once) and keep nothing."""
+        with self._condition:
+            self._wanted, self._pending = None, True  # the thread sees newer wishes: it stops its fits
+            self._preparations = {}
+            self._condition.notify_all()
+        if self._handover is not None:
+            self._handover.cleanup()
+            self._handover = None
+
     def request(self, config) -> None:
         """Prepare ``config`` (again); a preparation under way of other settings is abandoned."""
         with self._condition:
@@ -179,6 +189,10 @@ class Preparer:
                     self._condition.notify_all()
                     return
                 config, self._pending = self._wanted, False
+                if config is None:  # closed
+                    self._thread = None
+                    self._condition.notify_all()
+                    return
                 preparation = Preparation(self._condition)
                 self._preparations = {self.key(config): preparation}  # only the latest settings are kept
                 self._condition.notify_all()

@@ -21,10 +21,10 @@ from ..dashboard import (
     slider,
     wipe_axes,
 )
+from ..plotting.display import alt_metadata
 from ..projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
 from .animation import Animation
 from .background import Preparer, changed_settings, slider_config
-from ..plotting.display import alt_metadata
 from .snapshot import LIVE_METRICS, first_episode, picture, picture_alt_text
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
@@ -196,7 +196,6 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         self._offline = {}  # seed -> the offline world and its clean data (a slider move reuses them)
         self._generation = 0  # counts setting changes: a preparation begun before one is discarded
         self._preparer = Preparer(self.sides, offline=self._offline)
-        self._pool = None
         self._preparation = None
         self._draw_lock = threading.RLock()  # the sides' threads draw; one picture at a time
         self.autoplay = bool(autoplay)
