@@ -361,7 +361,7 @@ class SARSPAgent:
         x_cost, x_reward = cost_inputs(observation), reward_inputs(observation)
         mu_cost, var_cost, n_cost = self._predict(self.cost_model, self.cost_data, x_cost)
         mu_reward, var_reward, n_reward = self._predict(self.reward_model, self.reward_data, x_reward)
-        known_unsafe = np.array([(position, a) in self.unsafe_pairs for a in range(4)])
+        known_unsafe = np.array([(position, a) in self.unsafe_pairs for a in range(len(mu_cost))])
         action, safe, backup = decide(
             self.parts, mu_cost, var_cost, mu_reward, known_unsafe, self.d, self.variance_threshold
         )
@@ -379,7 +379,7 @@ class SARSPAgent:
         )
         return action, decision
 
-    def learn(self, observation, action: int, info: dict, decision: Decision | None = None) -> LearnOutcome:
+    def learn(self, observation, action: int, info: dict, decision: Decision | None) -> LearnOutcome:
         """Update after a step: ``S_u``, and the corrective update of the cost model.
 
         Parameters
@@ -390,8 +390,10 @@ class SARSPAgent:
         info : dict
             ``step``'s info: ``"cost"`` (1 for a violation) and
             ``"distance_to_unsafe"`` (the observed cost signal).
-        decision : Decision, optional
-            ``act``'s record for this step (whether the action was the backup).
+        decision : Decision or None
+            ``act``'s record for this step, which says whether the action was
+            the backup (the corrective test depends on it); ``None`` for an
+            action ``act`` did not choose, which is then taken as no backup.
 
         Returns
         -------
@@ -418,7 +420,8 @@ class SARSPAgent:
                 start = time.perf_counter()
                 self.retraining = True  # read by the live dashboard, which shows the wait
                 try:
-                    self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
+                    with one_blas_thread():  # as the offline fit: the same bits wherever learn is called from
+                        self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
                 finally:
                     self.retraining = False
                 outcome.retrain_seconds = time.perf_counter() - start

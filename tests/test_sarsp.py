@@ -106,7 +106,7 @@ def tiny_agent(cost_target_of_right: float, model_cls=GaussianProcess, data=None
 def test_no_violation_changes_nothing():
     agent = tiny_agent(5.0)
     before = agent.cost_data.y.copy()
-    outcome = agent.learn(OBS, 0, {"cost": 0, "distance_to_unsafe": 1.0})
+    outcome = agent.learn(OBS, 0, {"cost": 0, "distance_to_unsafe": 1.0}, None)
     assert not outcome.violation and not agent.unsafe_pairs
     np.testing.assert_array_equal(agent.cost_data.y, before)
 
@@ -156,7 +156,7 @@ def test_the_agent_works_on_a_copy_of_the_data():
     data = tiny_data(5.0)
     before = data.cost.y.copy()
     agent = tiny_agent(5.0, data=data)
-    agent.learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.0})
+    agent.learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.0}, None)
     assert agent.corrective_updates == 1  # the agent's copy changed ...
     np.testing.assert_array_equal(data.cost.y, before)  # ... the caller's did not
 
@@ -380,3 +380,9 @@ def test_kernels_gathered_from_the_buffers_table_change_no_prediction(monkeypatc
     for with_table, without in zip(*runs):
         for a, b in zip(with_table, without):
             assert np.array_equal(a, b)
+
+
+def test_learn_asks_whether_the_action_was_the_backup():
+    """The corrective test depends on it, so it is never assumed silently."""
+    with pytest.raises(TypeError, match="decision"):
+        tiny_agent(5.0).learn(OBS, 0, {"cost": 1, "distance_to_unsafe": 0.0})
