@@ -24,6 +24,7 @@ from _timing import one_core  # noqa: E402
 from sarsp_edu import ExperimentConfig, compare  # noqa: E402
 from sarsp_edu.paper import TABLE1  # noqa: E402
 
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=250)

@@ -16,9 +16,8 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _timing import one_core  # noqa: E402
-
 import matplotlib  # noqa: E402
+from _timing import one_core  # noqa: E402
 
 matplotlib.use("Agg")
 

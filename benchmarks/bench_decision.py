@@ -13,7 +13,6 @@ import argparse
 import os
 import sys
 
-
 sys.path.insert(0, os.path.dirname(__file__))
 from _timing import median_seconds, one_core  # noqa: E402
 
@@ -27,7 +26,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF
+    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
 
     print("one decision = 2 models x 4 actions, a fresh prior per action; one BLAS thread; "
           f"median of {args.repeats}")

@@ -35,10 +35,10 @@ from _timing import median_seconds, one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig  # noqa: E402
 from sarsp_edu.experiment import Experiment, make_model  # noqa: E402
-from sarsp_edu.preparation import prepare  # noqa: E402
 from sarsp_edu.kernels import squared_distances  # noqa: E402
 from sarsp_edu.linalg import group_rows  # noqa: E402
 from sarsp_edu.offline import cost_inputs, reward_inputs  # noqa: E402
+from sarsp_edu.preparation import prepare  # noqa: E402
 
 
 def decision_floor(agent, observation, repeats):

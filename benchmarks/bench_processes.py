@@ -44,7 +44,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF
+    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
 
     def sk_model():
         kernel = ConstantKernel(1.0, (1e-10, 1e10)) * SkRBF(1.0, (1e-5, 1e5)) + WhiteKernel(1.0, (1e-5, 1e5))
@@ -55,7 +56,8 @@ def main(argv=None):
 
     print("L-BFGS-B fit and predict, 5 features, one BLAS thread, median of "
           f"{args.repeats} fits / 20 predicts")
-    header = f"{'n':>5} | {'sklearn fit':>11} {'ours fit':>9} {'ratio':>6} | {'sklearn LML':>12} {'ours LML':>12} | {'sklearn pred':>12} {'ours pred':>10} {'ratio':>6}"
+    header = (f"{'n':>5} | {'sklearn fit':>11} {'ours fit':>9} {'ratio':>6} | {'sklearn LML':>12} {'ours LML':>12} | "
+              f"{'sklearn pred':>12} {'ours pred':>10} {'ratio':>6}")
     print(header)
     print("-" * len(header))
     for n in args.sizes:

@@ -35,8 +35,8 @@ import pandas as pd
 
 from .metrics import DEFINITION_4_A, SUMMARY_METRICS, better_of, running_metrics
 
-__all__ = ["AUTHORS_EPISODES", "AUTHORS_RUNS_FILE", "AuthorsRuns", "agreement", "agreement_share", "beside_authors", "learning_curves",
-           "load_authors_runs", "tables_beside_authors", "verdicts_beside_authors"]
+__all__ = ["AUTHORS_EPISODES", "AUTHORS_RUNS_FILE", "AuthorsRuns", "agreement", "agreement_share", "beside_authors",
+           "learning_curves", "load_authors_runs", "tables_beside_authors", "verdicts_beside_authors"]
 
 #: the file, inside the package's data, of the authors' per-episode records
 AUTHORS_RUNS_FILE = "authors_runs.csv.gz"

@@ -13,8 +13,8 @@ import numpy as np
 
 from ._validation import check_fraction, check_int, check_positive
 from .config import GRID_SIZE, N_UNSAFE, NU, OFFLINE_EPISODES, ExperimentConfig
-from .preparation import offline_world, prepare
 from .kernels import RBF
+from .preparation import offline_world, prepare
 from .processes import GaussianProcess, StudentTLikelihoodGP, StudentTProcess
 from .rng import as_generator
 

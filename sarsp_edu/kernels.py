@@ -84,7 +84,8 @@ def whole_distance_bound(*arrays: np.ndarray) -> float | None:
 
 
 def _floating(D2) -> np.ndarray:
-    """``D2`` as an array in its own floating dtype (float32 stays float32, as in ``RBF``'s every-entry path), else float64."""
+    """``D2`` as an array in its own floating dtype (float32 stays float32, as in ``RBF``'s every-entry path), else
+    float64."""
     D2 = np.asarray(D2)
     return D2 if np.issubdtype(D2.dtype, np.floating) else D2.astype(float)
 

@@ -46,7 +46,8 @@ RECORD_COLUMNS = {
     "total_cost": "running sum of violations",
     "task_success_rate": "running % of episodes that reached the goal (TSR)",
     "mean_steps": "running mean episode length",
-    "cost_rate": "running total cost / steps of the episodes that reached the goal with zero cost (p_c, eq. 12); 0 while either is 0",
+    "cost_rate": ("running total cost / steps of the episodes that reached the goal with zero cost (p_c, eq. 12); "
+                  "0 while either is 0"),
     "reward_mse": "this episode: mean squared error of the predicted reward of the taken action",
     "cost_prediction_error": "this episode: mean absolute error of the predicted cost signal of the taken action",
     "safe_action_variance": "this episode: mean predicted cost variance of the actions chosen as safe (NaN if none)",

@@ -25,7 +25,9 @@ from .config import COST_DUPLICATES, OFFLINE_EPISODES, REWARD_DUPLICATES
 from .gridworld import ACTIONS, AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY
 from .rng import as_generator
 
-__all__ = ["ObservationBuffer", "OfflineData", "collect_offline_data", "inject_outliers", "cost_inputs", "reward_inputs"]
+__all__ = [
+    "ObservationBuffer", "OfflineData", "collect_offline_data", "inject_outliers", "cost_inputs", "reward_inputs",
+]
 
 
 

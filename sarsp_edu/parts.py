@@ -174,7 +174,8 @@ class DecisionParts:
 
     @classmethod
     def of(cls, parts) -> "DecisionParts":
-        """``parts`` as a DecisionParts: None gives the package's, a mapping names some parts (the rest the package's)."""
+        """``parts`` as a DecisionParts: None gives the package's, a mapping names some parts (the rest the
+        package's)."""
         if parts is None:
             return cls()
         if isinstance(parts, cls):

@@ -18,8 +18,8 @@ from . import demos, plotting, tails
 from ._validation import check_choice
 from .config import N_UNSAFE, NU
 from .dashboard import Dashboard, Panel, control_row, slider
-from .projector import projector
 from .live import AgentDashboard, agent_dashboard
+from .projector import projector
 
 __all__ = [
     "AgentDashboard",
@@ -308,7 +308,8 @@ def ablation_dashboard(results, prior: str = "per step", fits: str = "500 rows")
         info = (f"<b>{html.escape(name)}</b>: {count.get('TP', 0)} TP and {count.get('GP', 0)} GP runs "
                 f"(configurations x seeds, {int(part.episodes.max())} episodes each); "
                 f"trapped failures TP {int(part[part.model == 'TP'].stuck_failures.sum())} of "
-                f"{int(part[part.model == 'TP'].failures.sum())}, GP {int(part[part.model == 'GP'].stuck_failures.sum())} "
+                f"{int(part[part.model == 'TP'].failures.sum())}, "
+                f"GP {int(part[part.model == 'GP'].stuck_failures.sum())} "
                 f"of {int(part[part.model == 'GP'].failures.sum())}.")
         return part, info
 

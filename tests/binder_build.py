@@ -37,7 +37,8 @@ class BinderEnvironment:
 def run(command, cwd, env) -> str:
     """Run a command; its stdout, or an AssertionError with the end of its output."""
     result = subprocess.run(command, cwd=cwd, env=env, capture_output=True, text=True)
-    assert result.returncode == 0, f"{' '.join(map(str, command))} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}"
+    assert result.returncode == 0, (f"{' '.join(map(str, command))} failed:\n"
+                                    f"{result.stdout[-3000:]}\n{result.stderr[-3000:]}")
     return result.stdout
 
 

@@ -37,7 +37,8 @@ def test_settings_are_valid_configs():
     fewer = setting_config(ABLATION_SETTINGS["reference preset, reward fit on 1,000 rows"])
     reference = setting_config(ABLATION_SETTINGS["reference preset"])
     assert fewer.reward_fit_points == 1000 and fewer.replace(reward_fit_points=None) == reference
-    assert setting_config(ABLATION_SETTINGS["default (per action, k=100, whole cost fit, 1,000-row reward fit)"]).preset == "default"
+    assert setting_config(
+        ABLATION_SETTINGS["default (per action, k=100, whole cost fit, 1,000-row reward fit)"]).preset == "default"
 
 
 def test_bad_settings_are_named():
@@ -65,7 +66,8 @@ def test_a_later_call_adds_settings_and_refuses_another_design(tmp_path):
 
 
 def test_500_random_rows_flatten_the_cost_model_because_of_the_outliers():
-    """REPRODUCTION.md's 'Why 500-row fits flatten the cost model', recomputed: long with outliers seen once, short otherwise."""
+    """REPRODUCTION.md's 'Why 500-row fits flatten the cost model', recomputed: long with outliers seen once, short
+    otherwise."""
     import pytest
 
     from sarsp_edu.ablation import cost_fit_length_scales

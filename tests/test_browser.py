@@ -252,7 +252,8 @@ def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
         run_all(page, "img.widget-image")
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
         page.wait_for_function("() => document.querySelectorAll('.jp-InputPrompt').length > 0 && "
-                               "![...document.querySelectorAll('.jp-InputPrompt')].some(e => e.textContent.includes('*'))",
+                               "![...document.querySelectorAll('.jp-InputPrompt')]"
+                               ".some(e => e.textContent.includes('*'))",
                                timeout=300_000)
         assert page.locator('.jp-RenderedText[data-mime-type="application/vnd.jupyter.stderr"]').count() == 0
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
@@ -278,7 +279,9 @@ PIXELS = """(img) => {
   context.drawImage(img, 0, 0);
   const data = context.getImageData(0, 0, canvas.width, canvas.height).data;
   let sum = 0, squares = 0, n = 0;
-  for (let i = 0; i < data.length; i += 4) { const v = (data[i] + data[i + 1] + data[i + 2]) / 3; sum += v; squares += v * v; n++; }
+  for (let i = 0; i < data.length; i += 4) {
+    const v = (data[i] + data[i + 1] + data[i + 2]) / 3; sum += v; squares += v * v; n++;
+  }
   const mean = sum / n;
   return {width: img.naturalWidth, height: img.naturalHeight, mean: mean, spread: Math.sqrt(squares / n - mean * mean)};
 }"""
@@ -323,7 +326,8 @@ def test_a_static_export_shows_every_dashboards_picture_offline(notebook, tmp_pa
 TRACKS = """() => [...document.querySelectorAll('.widget-slider')].map(s => [
   s.querySelector('.widget-label').innerText, s.querySelector('.noUi-target').getBoundingClientRect().width])"""
 RIGHTMOST = """() => Math.max(...[...document.querySelectorAll(
-  '.widget-slider, .widget-readout, .widget-label, .widget-checkbox, .widget-button')].map(e => e.getBoundingClientRect().right))"""
+  '.widget-slider, .widget-readout, .widget-label, .widget-checkbox, .widget-button')]
+  .map(e => e.getBoundingClientRect().right))"""
 
 
 # --------------------------------------------------------------------------
@@ -430,7 +434,8 @@ def test_a_projected_dashboard_is_readable_from_the_back_and_fits(name, tmp_path
         if name == "agent":
             # the grids and the key numbers of both agents on one screen
             bottom = page.evaluate("() => Math.max(...[...document.querySelectorAll('.widget-html-content svg, "
-                                   ".widget-html-content table')].slice(0, 4).map(e => e.getBoundingClientRect().bottom))")
+                                   ".widget-html-content table')].slice(0, 4)"
+                                   ".map(e => e.getBoundingClientRect().bottom))")
             measured["grids_and_numbers_bottom_px"] = bottom
             assert bottom <= 720, f"the grids and key numbers end at {bottom} px, below a 720 px screen"
             measured["slider_to_world_ms"] = move_slider(page, "nss", ".widget-html-content", "innerHTML", 3)

@@ -43,7 +43,8 @@ HEADERS = """() => [...document.querySelectorAll('.widget-html-content')].map(e 
 GEOMETRY = """() => {
   const notebook = document.querySelector('.jp-WindowedPanel-outer').getBoundingClientRect();
   const dashboard = document.querySelector('.sarsp-dashboard').getBoundingClientRect();
-  const grids = [...document.querySelectorAll('.widget-html-content svg')].slice(0, 2).map(s => s.getBoundingClientRect());
+  const grids = [...document.querySelectorAll('.widget-html-content svg')].slice(0, 2)
+    .map(s => s.getBoundingClientRect());
   const numbers = [...document.querySelectorAll('.widget-html-content table')].slice(0, 2)
     .map(t => t.getBoundingClientRect()).map(r => ({top: r.top, right: r.right}));
   return {notebook_height: notebook.height, dashboard_top: dashboard.top, dashboard_right: dashboard.right,

@@ -1,4 +1,5 @@
-"""The agent's plug-in point (``DecisionParts``) and the capstone, exercise 7.1: a student's agent run beside the package's."""
+"""The agent's plug-in point (``DecisionParts``) and the capstone, exercise 7.1: a student's agent run beside the
+package's."""
 
 from __future__ import annotations
 

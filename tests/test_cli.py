@@ -285,7 +285,8 @@ def test_every_commands_help_reads_as_written(command, capsys):
     assert "[default: None]" not in text
 
 
-@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["info"], ["run", "--help"], ["sweep", "--help"], ["ablation", "--help"]])
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["info"], ["run", "--help"], ["sweep", "--help"],
+                                  ["ablation", "--help"]])
 def test_help_and_info_load_no_numerical_library(argv):
     # --help must answer at once: no scipy, pandas or matplotlib behind it (issue 12, item 10)
     code = (f"import sys\nfrom sarsp_edu.cli import main\ntry:\n    main({argv!r})\nexcept SystemExit:\n    pass\n"
@@ -298,10 +299,10 @@ def test_help_and_info_load_no_numerical_library(argv):
 def test_an_undefined_cost_rate_reads_n_a(capsys):
     # d=100: every step violates, so no episode succeeds cleanly and eq. 12 is undefined
     assert main(["run", *TINY, "--d", "100"]) == 0
-    line = [l for l in capsys.readouterr().out.splitlines() if l.startswith("cost_rate")][0]
+    line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("cost_rate")][0]
     assert line.split()[-1] == "n/a"
     assert main(["compare", *TINY, "--d", "100"]) == 0
     out = capsys.readouterr().out
     assert "Definition 4 (a=100) cannot decide: a cost rate is undefined" in out
-    row = [l for l in out.splitlines() if l.startswith("cost_rate")][0]
+    row = [ln for ln in out.splitlines() if ln.startswith("cost_rate")][0]
     assert row.split()[1:] == ["n/a", "n/a", "n/a", "n/a"]

@@ -139,7 +139,8 @@ def test_the_handout_holds_the_student_course_and_no_answer(tmp_path):
         prefix = "sarsp-edu-course/" if made.suffix == ".zip" else ""
         assert sorted(n for n in notebooks) == sorted(f"{prefix}tutorials/{p.name}" for p in SOURCES)
         assert f"{prefix}tutorials/GLOSSARY.md" in names
-        assert f"{prefix}results/sweep-default/sweep.json" in names and f"{prefix}results/ablation/ablation.json" in names
+        assert (f"{prefix}results/sweep-default/sweep.json" in names
+                and f"{prefix}results/ablation/ablation.json" in names)
         assert not any("source" in Path(n).parts for n in names)
         assert not any("BEGIN SOLUTION" in text or "HIDDEN TESTS" in text for text in notebooks.values())
     with pytest.raises(ValueError, match="out must be a new or empty folder"):
@@ -192,7 +193,8 @@ def test_a_tutorial_copied_without_its_results_says_what_is_missing_and_how_to_g
     (tmp_path / "tutorials").mkdir()
     monkeypatch.chdir(tmp_path / "tutorials")  # the tutorials folder copied alone
     with pytest.raises(FileNotFoundError, match=r"the stored results 'sweep-default' were not found .*open the "
-                                                r"notebook inside a clone of it or a course hand-out .*SARSP_EDU_RESULTS"):
+                                                r"notebook inside a clone of it or a course hand-out "
+                                                r".*SARSP_EDU_RESULTS"):
         stored_results("sweep-default")
     monkeypatch.setenv("SARSP_EDU_RESULTS", str(ROOT / "results"))
     assert stored_results("sweep-default") == ROOT / "results" / "sweep-default"
@@ -201,7 +203,8 @@ def test_a_tutorial_copied_without_its_results_says_what_is_missing_and_how_to_g
     assert stored_results("ablation").resolve() == (ROOT / "results" / "ablation").resolve()
 
 
-@pytest.mark.parametrize("path", SOURCES + [student_path(p) for p in SOURCES], ids=lambda p: f"{p.parent.name}/{p.name}")
+@pytest.mark.parametrize("path", SOURCES + [student_path(p) for p in SOURCES],
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
 def test_every_stored_dashboard_picture_is_projector_wide(path):
     """A dashboard's output carries its picture for readers without a kernel: at least 1,600 px wide."""
     import base64

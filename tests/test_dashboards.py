@@ -17,7 +17,13 @@ import pytest
 from matplotlib.figure import Figure
 
 from sarsp_edu import demos, markup, plotting
-from sarsp_edu.widgets import Dashboard, gridworld_dashboard, posterior_dashboard, robust_dashboard, tail_decay_dashboard
+from sarsp_edu.widgets import (
+    Dashboard,
+    gridworld_dashboard,
+    posterior_dashboard,
+    robust_dashboard,
+    tail_decay_dashboard,
+)
 
 
 # --------------------------------------------------------------------------
@@ -301,7 +307,8 @@ def test_after_a_failure_the_next_move_redraws_every_panel():
         ax.plot([0, 1], [0, y])
 
     dashboard = Dashboard({"x": FloatSlider(value=0.5, min=0, max=2), "y": FloatSlider(value=0, min=0, max=1)},
-                          lambda x, y: (None, ""), [Panel(draw_x, 3.0, inputs=("x",)), Panel(draw_y, 3.0, inputs=("y",))],
+                          lambda x, y: (None, ""),
+                          [Panel(draw_x, 3.0, inputs=("x",)), Panel(draw_y, 3.0, inputs=("y",))],
                           height=2.0)
     dashboard.controls["x"].value = 2.0  # the x panel fails and keeps its x = 0.5 picture
     assert "x too large" in dashboard.message.value
@@ -356,7 +363,8 @@ def test_curve_and_macro_plots():
 # --------------------------------------------------------------------------
 # the live agent dashboard
 # --------------------------------------------------------------------------
-SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80, optimizer_steps=5, k_prior=30)
+SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80, optimizer_steps=5,
+             k_prior=30)
 
 
 @pytest.fixture

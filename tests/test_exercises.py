@@ -148,7 +148,8 @@ WRONG = {
     "1.2": [(lambda x, lam, nu: np.exp(student_t_logpdf(lam * np.asarray(x) ** 2, nu) - student_t_logpdf(x, nu)),
              "eq. 8 as printed"),
             (lambda x, lam, nu: 1 / tail_ratio(x, lam, nu), "upside down")],
-    "1.3": [(lambda residual, nu: (np.asarray(residual) ** 2 / 2, (nu + 1) / 2 * np.log1p(np.asarray(residual) ** 2 / nu)),
+    "1.3": [(lambda residual, nu: (np.asarray(residual) ** 2 / 2,
+                                    (nu + 1) / 2 * np.log1p(np.asarray(residual) ** 2 / nu)),
              "The constants are missing"),
             (lambda residual, nu: outlier_costs(residual, nu)[::-1], "swapped")],
     "2.7": [(lambda residual, nu, scale: np.asarray(residual) / scale**2, "Gaussian likelihood's pull"),
@@ -184,7 +185,8 @@ WRONG = {
     "4.1": [(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
              safe_actions(mu_cost, var_cost, [False] * 4, d, variance_threshold), "never safe"),
             (lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
-             safe_actions(mu_cost, np.sqrt(var_cost), known_unsafe, d, variance_threshold), "not the standard deviation")],
+             safe_actions(mu_cost, np.sqrt(var_cost), known_unsafe, d, variance_threshold),
+             "not the standard deviation")],
     "4.2": [(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold:
              (int(np.argmax(np.where(known_unsafe, -np.inf, mu_reward))), False), "only among the safe actions"),
             (lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
@@ -194,7 +196,8 @@ WRONG = {
                 not any(safe_actions(mu_cost, var_cost, known_unsafe, d, variance_threshold))),
              "not the most certain one")],
     "4.3": [(lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d), "second reason"),
-            (lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d or var_cost[action] == min(var_cost)),
+            (lambda mu_cost, var_cost, action, d, was_backup:
+             bool(mu_cost[action] >= d or var_cost[action] == min(var_cost)),
              "taken as the backup")],
     "5.1": [(lambda a, b: (a - b) / abs(b) * 100, "Table 2's convention"),
             (lambda a, b: abs(a - b) / max(a, b) * 100, "not the larger")],

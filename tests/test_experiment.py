@@ -296,7 +296,8 @@ def test_failed_write_leaves_nothing_behind(tmp_path, monkeypatch):
         (dict(cost_outliers="yes"), "cost_outliers must be True or False"),
         # text is not a number, even when float() would read it
         (dict(outlier_proportion="0.2"), r"outlier_proportion must lie in \[0, 1\], got outlier_proportion='0.2'"),
-        (dict(outlier_magnitude="40"), "outlier_magnitude must be a positive finite number, got outlier_magnitude='40'"),
+        (dict(outlier_magnitude="40"),
+         "outlier_magnitude must be a positive finite number, got outlier_magnitude='40'"),
         (dict(nu="3"), "nu must be a finite number > 2"),
         (dict(d=True), "d must be a positive finite number, got d=True"),
     ],
@@ -352,7 +353,8 @@ def test_default_preset_is_the_dataclass_defaults():
 
 def test_reference_preset_is_the_reference_code():
     config = ExperimentConfig.from_preset("reference")
-    assert (config.prior_draw, config.k_prior, config.predictive, config.n_samples) == ("per_action", 400, "sample", 150)
+    assert ((config.prior_draw, config.k_prior, config.predictive, config.n_samples)
+            == ("per_action", 400, "sample", 150))
     assert config.cost_fit_points is None and config.reward_fit_points is None
     assert (config.placement, config.max_steps, config.retrain) == ("reference", 101, "if_changed")
 

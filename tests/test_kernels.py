@@ -19,7 +19,8 @@ def test_formula_by_hand():
 
 
 def test_matches_scikit_learn():
-    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF
+    from sklearn.gaussian_process.kernels import ConstantKernel
 
     rng = np.random.default_rng(0)
     X, Y = rng.normal(size=(7, 3)), rng.normal(size=(4, 3))

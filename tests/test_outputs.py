@@ -72,6 +72,7 @@ def test_the_handouts_pages_link_only_to_what_the_handout_holds(tmp_path):
     for page in pages:
         for target in re.findall(r"\]\(([^)#]+)", page.read_text(encoding="utf-8")):
             if "://" not in target:
-                assert (page.parent / target).exists(), f"{page.relative_to(out)} links to {target}, not in the hand-out"
+                assert (page.parent / target).exists(), (f"{page.relative_to(out)} links to {target}, "
+                                                         "not in the hand-out")
     text = (out / "tutorials" / "README.md").read_text(encoding="utf-8")
     assert "LECTURER" not in text and "source/" not in text

@@ -23,7 +23,8 @@ def fixed(model_cls, **kwargs):
 
 def sklearn_gpr(X, y, noisy_kernel: bool):
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF
+    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
 
     latent = ConstantKernel(HYPER["amplitude"] ** 2) * SkRBF(HYPER["length_scale"])
     if noisy_kernel:  # noise in the kernel: predict's variance includes it
@@ -62,7 +63,8 @@ def test_gp_matches_scikit_learn(dataset):
 def test_gp_gradient_matches_scikit_learn(dataset):
     """scikit-learn's theta holds log(amplitude^2): our d/dlog a is twice its d/dlog a^2."""
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF
+    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
 
     X, y = dataset
     gp = fixed(GaussianProcess).fit(X, y)
@@ -217,7 +219,8 @@ def test_optimisers_raise_the_objective(model_cls, optimizer):
 
 def test_lbfgs_reaches_scikit_learns_optimum():
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF
+    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
 
     X, y = make_data(2, n=80, d=5)
     ours = GaussianProcess(optimizer="lbfgs", prior=None).fit(X, y)
@@ -255,7 +258,8 @@ def test_fit_nu_moves_nu():
     tp = StudentTProcess(nu=3.0, fit_nu=True, optimizer="lbfgs").fit(X, y)
     assert tp.hyperparameter_names[-1] == "log_nu_minus_2"
     assert tp.nu_ != 3.0 and tp.nu_ > 2.0
-    assert tp.log_marginal_likelihood() >= StudentTProcess(nu=3.0, optimizer="lbfgs").fit(X, y).log_marginal_likelihood() - 1e-6
+    assert (tp.log_marginal_likelihood()
+            >= StudentTProcess(nu=3.0, optimizer="lbfgs").fit(X, y).log_marginal_likelihood() - 1e-6)
 
 
 def test_condition_equals_fit_with_kept_hyperparameters():

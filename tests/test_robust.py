@@ -98,7 +98,8 @@ def test_it_discounts_the_outliers_that_pull_the_gp_and_the_tp():
     for model in (GaussianProcess(optimizer="lbfgs"), StudentTProcess(optimizer="lbfgs")):
         errors[type(model).__name__] = np.abs(model.fit(X, y).predict(X) - clean).max()
     assert errors["t likelihood"] < 0.3
-    assert errors["GaussianProcess"] > 3 * errors["t likelihood"] and errors["StudentTProcess"] > 3 * errors["t likelihood"]
+    assert (errors["GaussianProcess"] > 3 * errors["t likelihood"]
+            and errors["StudentTProcess"] > 3 * errors["t likelihood"])
     weights = robust.outlier_weights()
     assert weights[out].max() < 0.05 and np.median(np.delete(weights, out)) > 0.8
     assert np.all(robust.W_[out] < 0)  # each outlier beyond sqrt(nu) s of the function

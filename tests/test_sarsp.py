@@ -330,7 +330,8 @@ def test_retrain_always_and_never(rule, retrains):
     assert agent.corrective_updates == 2 and agent.retrains == retrains
 
 
-@pytest.mark.parametrize("far", [0, 3000])  # without, and with a row that makes the buffer's bound too loose for a table
+# without, and with a row that makes the buffer's bound too loose for a table
+@pytest.mark.parametrize("far", [0, 3000])
 def test_the_agents_whole_number_bound_changes_no_prediction(far):
     """Predictions with the per-buffer distance bound are the bits of those that check every distance."""
     agent = large_buffer_agent("per_action")

@@ -74,7 +74,8 @@ def test_a_sweep_json_that_no_cell_ran_is_refused_with_the_true_reason(sweep, ca
     with pytest.raises(StoredResultError, match=re.escape(reason)):
         SweepResults.load(sweep)
     assert usage_error(["tables", str(sweep)], capsys).endswith(reason + ": it was edited or belongs to another "
-                                                               "sweep; restore it, or move the cells to their own folder")
+                                                               "sweep; restore it, or move the cells to their "
+                                                               "own folder")
     assert reason in usage_error(["sweep", "--out", str(sweep)], capsys)
     assert reason in usage_error(["sweep", *FLAGS, "--episodes", "20", "--out", str(sweep)], capsys)
 
@@ -310,7 +311,8 @@ RESULTS = Path(__file__).resolve().parents[1] / "results"
 
 @pytest.mark.parametrize("folder", sorted(p.name for p in RESULTS.iterdir() if p.is_dir()))
 def test_every_shipped_results_folder_loads_with_tables(folder, capsys):
-    """Every folder under results/ loads: a sweep's tables (older formats read in today's terms), an ablation's table."""
+    """Every folder under results/ loads: a sweep's tables (older formats read in today's terms), an ablation's
+    table."""
     assert main(["tables", str(RESULTS / folder)]) == 0
     out = capsys.readouterr().out
     assert ("TP" in out and "GP" in out) and "error" not in out.lower()
@@ -340,8 +342,10 @@ def _edit_records(path, change, summary_too=False):
 @pytest.mark.parametrize("change, summary_too, message", [
     (lambda t: t.__setitem__("task_success_rate", 150.0), True,
      r"has task_success_rate=150.0 in episode 1: it must be in \[0, 100\]"),
-    (lambda t: t.loc.__setitem__((1, "episode_cost"), -1), False, r"has episode_cost=-1 in episode 2: it must be a whole"),
-    (lambda t: t.__setitem__("episode_cost", t["episode_cost"].astype(float) + [0, 0.5, 0]), False, r"has episode_cost=0.5 in episode 2: it must be a whole"),
+    (lambda t: t.loc.__setitem__((1, "episode_cost"), -1), False,
+     r"has episode_cost=-1 in episode 2: it must be a whole"),
+    (lambda t: t.__setitem__("episode_cost", t["episode_cost"].astype(float) + [0, 0.5, 0]), False,
+     r"has episode_cost=0.5 in episode 2: it must be a whole"),
     (lambda t: t.loc.__setitem__((1, "mean_steps"), math.inf), False, r"has mean_steps=inf in episode 2"),
     (lambda t: t.loc.__setitem__((0, "safe_action_variance"), -0.3), False,
      r"has safe_action_variance=-0.3 in episode 1: it must be in \[0, inf\]"),

@@ -7,8 +7,7 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import ExperimentConfig, compare, run_sweep, summary_tables
-from sarsp_edu.metrics import SUMMARY_METRICS
-from sarsp_edu.metrics import cost_rate_undefined
+from sarsp_edu.metrics import SUMMARY_METRICS, cost_rate_undefined
 from sarsp_edu.sweep import SweepResults, cell_config, cell_seed
 from sarsp_edu.tables import frame_to_markdown, tables_markdown
 

@@ -17,9 +17,9 @@ def build_parser() -> argparse.ArgumentParser:
         ABLATION_CELLS,
         ABLATION_SEEDS,
         DEFINITION_4_A,
+        NU,
         PAPER_MAGNITUDES,
         PAPER_PROPORTIONS,
-        NU,
         PAPER_SWITCH_STATES,
         DataSettings,
     )

@@ -297,7 +297,8 @@ AGENT_EXERCISES = {
                     "The backup takes the highest predicted reward, not the largest predicted distance."),
             Mistake(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
                 _choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold) if any(
-                    _safe(mu_cost, var_cost, known_unsafe, d, variance_threshold)) else (int(np.argmax(mu_reward)), True)),
+                    _safe(mu_cost, var_cost, known_unsafe, d, variance_threshold))
+                else (int(np.argmax(mu_reward)), True)),
                     "The backup, too, passes over the actions known unsafe (in S_u): their reward counts as -inf."),
             Mistake(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
                 _choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)[0],

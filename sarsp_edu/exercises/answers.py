@@ -163,7 +163,8 @@ def read_actions(answer) -> list[int]:
     text = _text(answer)
     if text is not None:
         none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]")
-        answer = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", text.strip(), flags=re.I)
+        answer = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", text.strip(),
+                                                            flags=re.I)
                                   if item]
     elif isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
         answer = [answer]

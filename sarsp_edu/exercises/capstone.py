@@ -117,7 +117,8 @@ class _SharedFits:
 
 
 def _copy_fits(agent, source):
-    """Give ``agent`` the fitted models of ``source`` (same settings, same data): its random stream moves on the same."""
+    """Give ``agent`` the fitted models of ``source`` (same settings, same data): its random stream moves on the
+    same."""
     def fit_model(model, X, y):
         fitted = source.cost_model if model is agent.cost_model else source.reward_model
         if np.array_equal(fitted.X_train_, X) and np.array_equal(fitted.y_train_, y):
@@ -315,7 +316,8 @@ def _preflight(parts) -> str | None:
             return (f"Not written yet: {_named(name)} raises NotImplementedError; paste your answer to exercise "
                     f"{exercise} into its cell and run it.")
         except TimedOut as exc:
-            return f"{_named(name)[0].upper()}{_named(name)[1:]} {exc} on {describe(case)}: is there a loop that never ends?"
+            return (f"{_named(name)[0].upper()}{_named(name)[1:]} {exc} on {describe(case)}: "
+                    "is there a loop that never ends?")
         except (Exception, SystemExit) as exc:
             return (f"{_named(name)[0].upper()}{_named(name)[1:]} raised {raised(exc)} on {describe(case)}; run "
                     f'check("{exercise}", {PART_FUNCTIONS[name]}) and fix it first.')

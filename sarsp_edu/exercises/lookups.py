@@ -167,7 +167,8 @@ LOOKUPS: dict[str, Exercise] = {
         accepted="a whole number: 12, 12.0, '12' or a numpy integer",
     ),
     "4.4": Exercise(
-        "predict, then compute: which actions the GP's decision calls safe with sigma*^2 = 10 (a list of action numbers)",
+        "predict, then compute: which actions the GP's decision calls safe with sigma*^2 = 10 "
+        "(a list of action numbers)",
         _gp_safe_at_ten,
         "An action is safe when its cost variance is at most sigma*^2 and its predicted distance at least "
         "d = 1: which of the two tests does raising sigma*^2 leave to decide?",

@@ -363,7 +363,8 @@ MODEL_EXERCISES = {
             Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
                     "The scale sigma_t is missing: the residual is measured in units of sigma_t, "
                     "nu sigma_t^2 + r^2."),
-            Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
+            Mistake(lambda residual, nu, scale:
+                    (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
                     "The scale enters squared, as the residual does: nu sigma_t^2 + r^2."),
             Mistake(lambda residual, nu, scale: nu * np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
                     "The factor in front comes from the exponent -(nu + 1)/2: nu + 1, not nu."),

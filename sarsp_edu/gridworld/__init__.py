@@ -4,7 +4,7 @@ The agent walks an ``n x n`` grid from a random start to a random goal while
 avoiding unsafe cells.  After the offline phase, ``shift`` moves some of the
 unsafe cells: the covariate shift of the paper.  The models' inputs are
 built from its observations in :mod:`sarsp_edu.offline`; this module knows
-nothing of the models. 
+nothing of the models.
 
 The environment is in :mod:`~sarsp_edu.gridworld.env`, its constants and
 the picture of a world (``GridLayout``) in :mod:`~sarsp_edu.gridworld.layout`,
@@ -15,8 +15,20 @@ grows downwards (``DOWN`` is ``(0, +1)``), as in the reference code.
 """
 
 from .env import SafeGridWorld
-from .layout import (ACTION_NAMES, ACTIONS, AGENT_XY, DOWN, GOAL_XY, LEFT, MOVES, NEAREST_UNSAFE_XY, OBSERVATION_FIELDS,
-                     RIGHT, UP, GridLayout)
+from .layout import (
+    ACTION_NAMES,
+    ACTIONS,
+    AGENT_XY,
+    DOWN,
+    GOAL_XY,
+    LEFT,
+    MOVES,
+    NEAREST_UNSAFE_XY,
+    OBSERVATION_FIELDS,
+    RIGHT,
+    UP,
+    GridLayout,
+)
 
 __all__ = [
     "SafeGridWorld",

@@ -341,7 +341,8 @@ class SafeGridWorld(Rendering, gym.Env):
         """Move one cell; returns ``(observation, reward, terminated, truncated, info)``."""
         if isinstance(action, np.ndarray) and action.shape == () and np.issubdtype(action.dtype, np.integer):
             action = action.item()  # a 0-d integer array, which action_space.contains accepts
-        if isinstance(action, (bool, np.bool_)) or not isinstance(action, (numbers.Integral, np.integer)) or not 0 <= action < 4:
+        if (isinstance(action, (bool, np.bool_)) or not isinstance(action, (numbers.Integral, np.integer))
+                or not 0 <= action < 4):
             raise ValueError(
                 f"action must be an integer in 0..3 (RIGHT, DOWN, LEFT, UP), got action={action!r}"
             )

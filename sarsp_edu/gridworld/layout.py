@@ -8,7 +8,6 @@ import numpy as np
 
 from ..config import ACTION_MOVES
 
-
 #: action constants, numbered as in the reference implementation
 RIGHT, DOWN, LEFT, UP = 0, 1, 2, 3
 ACTIONS = np.array([RIGHT, DOWN, LEFT, UP])

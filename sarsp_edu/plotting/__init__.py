@@ -6,7 +6,8 @@ One module per subject, all re-exported here (``sarsp_edu.plotting.plot_*``):
 - ``display``: ``show_figure(figure, alt)``, a figure shown with a description for a screen reader;
 - ``models``: densities and tail ratios (tutorial 1), GP and TP posteriors (tutorial 2);
 - ``world``: the gridworld and the cost model's data (tutorials 3 and 4);
-- ``results``: the paper's Figures 2-9, the live dashboard's curves and ours beside the authors' runs (tutorials 4 and 5).
+- ``results``: the paper's Figures 2-9, the live dashboard's curves and ours beside the authors' runs
+  (tutorials 4 and 5).
 """
 
 from __future__ import annotations

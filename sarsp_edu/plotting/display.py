@@ -57,7 +57,8 @@ def show_figure(figure, alt: str) -> None:
 
     data, metadata = figure_bundle(figure, alt)
     display(data, raw=True, metadata=metadata)
-    if getattr(figure.canvas, "manager", None) is not None:  # a pyplot figure: not shown a second time at the cell's end
+    # a pyplot figure: not shown a second time at the cell's end
+    if getattr(figure.canvas, "manager", None) is not None:
         import matplotlib.pyplot as plt
 
         plt.close(figure)

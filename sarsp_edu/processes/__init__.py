@@ -60,7 +60,8 @@ from .robust import StudentTLikelihoodGP, student_t_log_likelihood
 from .tp import StudentTProcess
 
 __all__ = [
-    "ConvergenceWarning", "GaussianProcess", "NotFittedError", "StudentTLikelihoodGP", "StudentTProcess", "gp_log_marginal_likelihood",
+    "ConvergenceWarning", "GaussianProcess", "NotFittedError", "StudentTLikelihoodGP", "StudentTProcess",
+    "gp_log_marginal_likelihood",
     "tp_likelihood_weight", "tp_log_marginal_likelihood", "tp_log_marginal_likelihood_dnu",
     "student_t_log_likelihood", "tp_predictive_variance", "tp_variance_factor",
 ]

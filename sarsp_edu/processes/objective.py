@@ -15,8 +15,15 @@ import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 
 from ..kernels import squared_distances
-from ..linalg import GroupedRows, cholesky, cholesky_with_jitter, group_rows, inverse_from_cholesky, \
-    solve_cholesky, trace_of_product
+from ..linalg import (
+    GroupedRows,
+    cholesky,
+    cholesky_with_jitter,
+    group_rows,
+    inverse_from_cholesky,
+    solve_cholesky,
+    trace_of_product,
+)
 from .equations import LOG_2PI, gp_log_marginal_likelihood
 
 __all__ = ["ConvergenceWarning", "Objective"]
