@@ -758,3 +758,21 @@ def test_exercise_4_4_takes_actions_joined_by_and():
                         np.array([-3.0, -2.0, -1.0, -2.5]), np.array([1.0] * 4), np.array([False] * 4),
                         np.array([False] * 4), 2, True)
     assert is_right("4.4", "0 and 1", decision=decision) and is_right("4.4", "RIGHT and DOWN", decision=decision)
+
+
+def test_the_answer_keys_of_the_agent_exercises_are_the_core_itself():
+    """4.3 grades against the agent's own corrective condition and 3.2/3.3 against the world's own step and cost
+    signal, so a change to the agent or the world changes what is graded (no copy to drift)."""
+    from sarsp_edu import SafeGridWorld
+    from sarsp_edu.decision import corrects
+
+    assert CODING["4.3"].reference is corrects
+    env = SafeGridWorld(seed=3)
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        env.reset(seed=int(rng.integers(1000)))
+        position, action = env.layout().agent, int(rng.integers(4))
+        _, distance = env.nearest_unsafe(position)
+        assert CODING["3.2"].reference(np.array(position), env.layout().unsafe_states) == distance
+        env.step(action)
+        assert tuple(CODING["3.3"].reference(np.array(position), action, env.size)) == env.layout().agent

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..decision import corrects
+from ..gridworld.layout import moved, nearest
 from .grading import CodingExercise, Mistake
 
 __all__ = ["AGENT_EXERCISES"]
@@ -64,7 +66,7 @@ def _distance_cases(rng):
 
 
 def _distance(position, unsafe):
-    return float(np.sqrt(((np.asarray(unsafe) - np.asarray(position)) ** 2).sum(1).min()))
+    return nearest(position, unsafe)[1]  # the world's own cost signal (sarsp_edu.gridworld.layout.nearest)
 
 
 def _move_cases(rng):
@@ -78,10 +80,7 @@ def _move_cases(rng):
 
 
 def _move(position, action, size):
-    from ..config import ACTION_MOVES
-
-    dx, dy = ACTION_MOVES[action]
-    return np.array([min(max(position[0] + dx, 0), size - 1), min(max(position[1] + dy, 0), size - 1)])
+    return np.array(moved(position, action, size))  # the world's own step (sarsp_edu.gridworld.layout.moved)
 
 
 # -- Tutorial 4: Algorithm 1's safe set, decision and corrective update ---------------------------
@@ -184,13 +183,6 @@ def _safe_test_for_called_safe(mu_cost, var_cost, action, d, was_backup):
 
     called_safe = mu_cost[action] >= d and var_cost[action] <= VARIANCE_THRESHOLD
     return bool(called_safe or (var_cost[action] <= var_cost.min() and not was_backup))
-
-
-def _corrects(mu_cost, var_cost, action, d, was_backup):
-    """The reference code's corrective-update condition, as ``SARSPAgent.learn`` applies it."""
-    model_said_safe = mu_cost[action] >= d
-    most_certain = var_cost[action] <= var_cost.min() and not was_backup
-    return bool(model_said_safe or most_certain)
 
 
 AGENT_EXERCISES = {
@@ -320,7 +312,7 @@ AGENT_EXERCISES = {
                  "whatever the variance, or it was the most certain action (every action tied for the lowest "
                  "variance counts) and not taken as the backup",
         signature="corrects(mu_cost, var_cost, action, d, was_backup) -> bool",
-        reference=_corrects,
+        reference=corrects,  # the agent's own condition (sarsp_edu.decision.corrects)
         examples={"d": 1.0},
         cases=_correction_cases,
         mistakes=(

@@ -12,7 +12,7 @@ from gymnasium import spaces
 from .._validation import check_choice, check_int, check_positive, check_switch_states
 from ..config import LIMITS, PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
 from ..rng import as_generator
-from .layout import MOVES, PLACEMENT_ATTEMPTS, GridLayout
+from .layout import PLACEMENT_ATTEMPTS, GridLayout, moved, nearest
 from .rendering import Rendering
 
 
@@ -203,10 +203,8 @@ class SafeGridWorld(Rendering, gym.Env):
 
         Ties go to the state listed first in ``unsafe_states``.
         """
-        diff = self._unsafe - np.asarray(position)
-        d2 = np.einsum("ij,ij->i", diff, diff)
-        i = int(np.argmin(d2))
-        return self._unsafe[i].copy(), math.sqrt(d2[i])
+        i, distance = nearest(position, self._unsafe)
+        return self._unsafe[i].copy(), distance
 
     def distance_map(self) -> np.ndarray:
         """Distance to the nearest unsafe state for every cell, ndarray of shape (size, size) indexed [y, x]."""
@@ -348,9 +346,7 @@ class SafeGridWorld(Rendering, gym.Env):
             )
         if self._done:
             raise RuntimeError("the episode has ended (or not begun): call reset() before step()")
-        dx, dy = MOVES[int(action)]
-        x = min(max(self._agent[0] + int(dx), 0), self.size - 1)
-        y = min(max(self._agent[1] + int(dy), 0), self.size - 1)
+        x, y = moved(self._agent, action, self.size)
         self._agent = (x, y)
         self._steps += 1
         observation = self._observation()

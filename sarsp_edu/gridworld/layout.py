@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,6 +15,26 @@ ACTIONS = np.array([RIGHT, DOWN, LEFT, UP])
 ACTION_NAMES = ("right", "down", "left", "up")
 #: (dx, dy) of each action
 MOVES = np.array(ACTION_MOVES)
+
+def moved(position, action: int, size: int) -> tuple[int, int]:
+    """The cell an action leads to from ``position`` on a ``size`` x ``size`` grid: a move into a wall stays put.
+
+    The world's step (:meth:`SafeGridWorld.step`) and exercise 3.3's answer key both move by it.
+    """
+    dx, dy = MOVES[int(action)]
+    return (min(max(int(position[0]) + int(dx), 0), size - 1), min(max(int(position[1]) + int(dy), 0), size - 1))
+
+
+def nearest(position, unsafe) -> tuple[int, float]:
+    """The index of the unsafe state nearest to ``position`` (ties: the first listed) and its Euclidean distance.
+
+    The world's cost signal (:meth:`SafeGridWorld.nearest_unsafe`) and exercise 3.2's answer key both use it.
+    """
+    diff = np.asarray(unsafe) - np.asarray(position)
+    d2 = np.einsum("ij,ij->i", diff, diff)
+    i = int(np.argmin(d2))
+    return i, math.sqrt(d2[i])
+
 
 #: the entries of an observation, in order (the reference implementation's)
 OBSERVATION_FIELDS = (
