@@ -272,7 +272,7 @@ def _fit_showing_progress(config: ExperimentConfig, progress: bool, position: in
         return None
 
     def fit(agent):
-        steps = None if config.optimizer != "adam" else 2 * config.optimizer_steps  # L-BFGS: as many as it takes
+        steps = config.offline_fit_steps
         rows = len(agent.cost_data) if agent.cost_fit_points is None else min(agent.cost_fit_points,
                                                                                len(agent.cost_data))
         desc = f"{config.model.upper()}: fitting the cost model ({rows} rows) and the reward model"

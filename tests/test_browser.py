@@ -187,29 +187,52 @@ def test_tail_decay_dashboard_in_voila(tmp_path, browser, shots):
         page.screenshot(path=str(shots / "voila_tail_decay.png"), full_page=False)
 
 
+def one_cell_notebook(code: str, path: Path) -> Path:
+    """A notebook at ``path`` whose one cell is ``code``, for the current environment's python3 kernel."""
+    import nbformat
+
+    notebook = nbformat.v4.new_notebook()
+    notebook.cells.append(nbformat.v4.new_code_cell(code))
+    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nbformat.write(notebook, path)
+    return path
+
+
 @contextlib.contextmanager
-def tutorial_in_jupyterlab(name: str, tmp_path, browser, width: int, height: int):
-    """A copy of a tutorial opened in JupyterLab in a page of the given size, its kernel idle; the server stops after.
+def jupyterlab(notebook: Path, tmp_path, browser, width: int = 1280, height: int = 720, env: dict | None = None,
+               app_settings: Path | None = None):
+    """JupyterLab serving ``notebook``'s folder, the notebook open in a page of the given size, its kernel idle;
+    the server stops after.
 
     JupyterLab starts with a workspace and settings of its own in ``tmp_path``: the user's saved workspace
     (``~/.jupyter/lab/workspaces``, which an earlier run of these tests would otherwise have written) reopens
-    documents of a folder that is gone, and the error dialogs it shows would take the clicks of the test."""
-    work = tmp_path / "lab"
-    work.mkdir()
-    shutil.copy(ROOT / "tutorials" / name, work / name)
+    documents of a folder that is gone, and the error dialogs it shows would take the clicks of the test.
+    ``app_settings``: a folder of application settings (as binder/postBuild installs them)."""
+    work = notebook.parent
     port = free_port()
     command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
                "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
                f"--ServerApp.root_dir={work}", f"--LabApp.workspaces_dir={tmp_path / 'lab-workspaces'}",
-               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}"]
-    server = serve(command, work, f"http://127.0.0.1:{port}/lab")
+               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}",
+               *([f"--LabApp.app_settings_dir={app_settings}"] if app_settings is not None else [])]
+    server = serve(command, work, f"http://127.0.0.1:{port}/lab", env=env)
     try:
         page = browser.new_page(viewport={"width": width, "height": height})
-        page.goto(f"http://127.0.0.1:{port}/lab/tree/{name}", timeout=120_000)
+        page.goto(f"http://127.0.0.1:{port}/lab/tree/{notebook.name}", timeout=120_000)
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
         yield page
     finally:
         stop(server)
+
+
+@contextlib.contextmanager
+def tutorial_in_jupyterlab(name: str, tmp_path, browser, width: int, height: int):
+    """A copy of a tutorial opened in JupyterLab (:func:`jupyterlab`)."""
+    work = tmp_path / "lab"
+    work.mkdir()
+    shutil.copy(ROOT / "tutorials" / name, work / name)
+    with jupyterlab(work / name, tmp_path, browser, width, height) as page:
+        yield page
 
 
 def kernel_idle(page) -> None:
@@ -385,13 +408,7 @@ CHANGED_RESULT = "() => window.__changed"
 
 
 def page_of(code: str, tmp_path, browser, width: int, height: int):
-    import nbformat
-
-    notebook = tmp_path / "dashboard.ipynb"
-    nb = nbformat.v4.new_notebook()
-    nb.cells.append(nbformat.v4.new_code_cell(code))
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
-    nbformat.write(nb, notebook)
+    notebook = one_cell_notebook(code, tmp_path / "dashboard.ipynb")
     port = free_port()
     server = voila(notebook, port)
     page = browser.new_page(viewport={"width": width, "height": height})
@@ -675,28 +692,14 @@ def test_a_dashboard_in_jupyterlab_is_readable_without_a_switch_and_its_button_m
     """Tutorial 2's posterior dashboard in JupyterLab at 1280x720 with the file browser open (an output about
     850 px wide), JupyterLab set up as binder/postBuild sets it up: widget text 18 px and all plot text 14 px or
     more with no switch, no news pop-up over it; its *Large text* button makes it compact, and back."""
-    import nbformat
-
     work = tmp_path / "lab"
     work.mkdir()
-    notebook = nbformat.v4.new_notebook()
-    notebook.cells.append(nbformat.v4.new_code_cell(PROJECTED["posterior"]))
-    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
-    nbformat.write(notebook, work / "dashboard.ipynb")
+    notebook = one_cell_notebook(PROJECTED["posterior"], work / "dashboard.ipynb")
     overrides = tmp_path / "app-settings" / "overrides.d"  # where binder/postBuild puts binder/overrides.json
     overrides.mkdir(parents=True)
     shutil.copy(ROOT / "binder" / "overrides.json", overrides / "sarsp-edu.json")
-    port = free_port()
-    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
-               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
-               f"--ServerApp.root_dir={work}", f"--LabApp.workspaces_dir={tmp_path / 'lab-workspaces'}",
-               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}",
-               f"--LabApp.app_settings_dir={tmp_path / 'app-settings'}"]
-    server = serve(command, work, f"http://127.0.0.1:{port}/lab", env={"SARSP_EDU_PROJECTOR": ""})  # automatic
-    try:
-        page = browser.new_page(viewport={"width": 1280, "height": 720})
-        page.goto(f"http://127.0.0.1:{port}/lab/tree/dashboard.ipynb", timeout=120_000)
-        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
+    with jupyterlab(notebook, tmp_path, browser, env={"SARSP_EDU_PROJECTOR": ""},  # automatic
+                    app_settings=tmp_path / "app-settings") as page:
         run_all(page, "img.widget-image")
         page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
         page.wait_for_timeout(1500)
@@ -715,5 +718,3 @@ def test_a_dashboard_in_jupyterlab_is_readable_without_a_switch_and_its_button_m
         (shots / "jupyterlab-posterior-1280.json").write_text(json.dumps(
             {"output_width_px": width, "large": sizes, "compact": compact}, indent=1))
         assert compact["text"] < 18 and max(compact["plots"]) < 14  # one row of pictures again
-    finally:
-        stop(server)

@@ -14,20 +14,18 @@ from __future__ import annotations
 import json
 import re
 import shutil
-import sys
 import time
 
 import pytest
 
-from tests.test_browser import (  # noqa: F401
+from tests.test_browser import (  # noqa: F401  (browser and shots are fixtures)
     FIRST_STEPS,
     browser,
     button,
-    free_port,
+    jupyterlab,
+    one_cell_notebook,
     run_all,
-    serve,
     shots,
-    stop,
 )
 
 DASHBOARD = ("from sarsp_edu.widgets import agent_dashboard\n\n"
@@ -54,29 +52,14 @@ GEOMETRY = """() => {
 
 @pytest.fixture
 def lab(tmp_path, browser, monkeypatch):  # noqa: F811
-    import nbformat
-
     monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits"))  # nothing fitted yet
     monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # as Tutorial 4 opens (the test run keeps it off elsewhere)
     work = tmp_path / "lab"
     work.mkdir()
-    notebook = nbformat.v4.new_notebook()
-    notebook.cells.append(nbformat.v4.new_code_cell(DASHBOARD))
-    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
-    nbformat.write(notebook, work / "live.ipynb")
-    port = free_port()
-    command = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root", f"--port={port}",
-               "--ServerApp.token=", "--ServerApp.password=", "--ServerApp.ip=127.0.0.1",
-               f"--ServerApp.root_dir={work}", f"--LabApp.workspaces_dir={tmp_path / 'lab-workspaces'}",
-               f"--LabApp.user_settings_dir={tmp_path / 'lab-settings'}"]
-    server = serve(command, work, f"http://127.0.0.1:{port}/lab")
     try:
-        page = browser.new_page(viewport={"width": 1280, "height": 720})
-        page.goto(f"http://127.0.0.1:{port}/lab/tree/live.ipynb", timeout=120_000)
-        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=120_000)
-        yield page, run_all(page, ".widget-slider .noUi-handle")
+        with jupyterlab(one_cell_notebook(DASHBOARD, work / "live.ipynb"), tmp_path, browser) as page:
+            yield page, run_all(page, ".widget-slider .noUi-handle")
     finally:
-        stop(server)
         shutil.rmtree(tmp_path / "fits", ignore_errors=True)
 
 

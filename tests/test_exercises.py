@@ -761,12 +761,14 @@ def test_exercise_4_4_takes_actions_joined_by_and():
 
 
 def test_the_answer_keys_of_the_agent_exercises_are_the_core_itself():
-    """4.3 grades against the agent's own corrective condition and 3.2/3.3 against the world's own step and cost
-    signal, so a change to the agent or the world changes what is graded (no copy to drift)."""
+    """4.3 grades against the agent's own corrective condition, 2.2 and 2.3 against its own parts, 3.2 and 3.3
+    against the world's own step and cost signal: a change to the agent or the world changes what is graded."""
     from sarsp_edu import SafeGridWorld
     from sarsp_edu.decision import corrects
+    from sarsp_edu.parts import gp_posterior, tp_factor
 
     assert CODING["4.3"].reference is corrects
+    assert CODING["2.2"].reference is gp_posterior and CODING["2.3"].reference is tp_factor
     env = SafeGridWorld(seed=3)
     rng = np.random.default_rng(0)
     for _ in range(20):

@@ -11,6 +11,8 @@ import numpy as np
 from scipy import linalg as sla
 from scipy import stats
 
+# the answer keys of 2.2 and 2.3 are the agent's own parts (sarsp_edu.parts): no copy to drift
+from ..parts import gp_posterior, tp_factor
 from .grading import CodingExercise, Mistake
 
 __all__ = ["MODEL_EXERCISES"]
@@ -106,15 +108,6 @@ def _gp_cases(rng):
     return [_gp_problem(rng, 1, 1), _gp_problem(rng, 6, 3), _gp_problem(rng, 25, 9, d=2)]
 
 
-def _gp_posterior(K, K_star, k_star_star, y, noise_variance):
-    from ..linalg import cholesky, solve_cholesky, solve_lower
-
-    L = cholesky(K + noise_variance * np.eye(len(y)))  # Alg. 2.1, line 2
-    mean = K_star @ solve_cholesky(L, y)  # eq. 4
-    V = solve_lower(L, K_star.T)
-    return mean, k_star_star - np.einsum("ij,ij->j", V, V)  # eq. 5
-
-
 def _gp_timing(rng):
     return _gp_problem(rng, 500, 200, d=2)
 
@@ -122,10 +115,6 @@ def _gp_timing(rng):
 def _beta(K, y, noise_variance):
     L = np.linalg.cholesky(K + noise_variance * np.eye(len(y)))
     return float(y @ sla.cho_solve((L, True), y))
-
-
-def _tp_factor(K, y, noise_variance, nu):
-    return (nu + _beta(K, y, noise_variance) - 2) / (nu + len(y) - 2)  # eq. 6, corrected
 
 
 def _tp_cases(rng):
@@ -246,7 +235,7 @@ MODEL_EXERCISES = {
         question="the GP's posterior mean and latent variance at test points from a Cholesky factor (eqs. 4-5)",
         signature="gp_posterior(K, K_star, k_star_star, y, noise_variance) -> (mean, variance), each of shape (m,)",
         examples={"noise_variance": 0.5},
-        reference=_gp_posterior,
+        reference=gp_posterior,
         cases=_gp_cases,
         mistakes=(
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
@@ -254,27 +243,27 @@ MODEL_EXERCISES = {
                 k_star_star - np.einsum("ij,ji->i", K_star, np.linalg.solve(K, K_star.T))),
                 "The noise term is missing: the training covariance is K_y = K + sigma^2 I."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
-                _gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
-                _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1] + noise_variance),
+                gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
+                gp_posterior(K, K_star, k_star_star, y, noise_variance)[1] + noise_variance),
                 "That variance includes the noise: it is a new observation's; eq. 5 asks for the latent "
                 "function's."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
-                _gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
-                np.sqrt(np.maximum(_gp_posterior(K, K_star, k_star_star, y, noise_variance)[1], 0))),
+                gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
+                np.sqrt(np.maximum(gp_posterior(K, K_star, k_star_star, y, noise_variance)[1], 0))),
                 "The second result is a standard deviation; eq. 5 gives a variance."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
-                _gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
-                2 * k_star_star - _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
+                gp_posterior(K, K_star, k_star_star, y, noise_variance)[0],
+                2 * k_star_star - gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
                 "Check the sign: the data explain part of the prior variance, so it is subtracted."),
-            Mistake(lambda K, K_star, k_star_star, y, noise_variance: _gp_posterior(
+            Mistake(lambda K, K_star, k_star_star, y, noise_variance: gp_posterior(
                 K, K_star, k_star_star, y, np.sqrt(noise_variance)),
                 "noise_variance is already a variance, sigma^2: add it to K as it is, not its square root."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
-                K_star @ np.linalg.solve(K, y), _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
+                K_star @ np.linalg.solve(K, y), gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
                 "The variance is right; the mean needs the noise too: K_y^-1 y, K_y = K + sigma^2 I."),
             Mistake(lambda K, K_star, k_star_star, y, noise_variance: (
                 K_star @ ((K + noise_variance * np.eye(len(y))) @ y),
-                _gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
+                gp_posterior(K, K_star, k_star_star, y, noise_variance)[1]),
                 "The mean multiplies y by the inverse of K_y = K + sigma^2 I (a solve with the Cholesky factor), "
                 "not by the matrix itself."),
         ),
@@ -290,7 +279,7 @@ MODEL_EXERCISES = {
                  "(eq. 6, corrected)",
         signature="tp_variance_factor(K, y, noise_variance, nu) -> float",
         examples={"noise_variance": 0.5, "nu": 3.0},
-        reference=_tp_factor,
+        reference=tp_factor,
         cases=_tp_cases,
         mistakes=(
             Mistake(lambda K, y, noise_variance, nu: (nu + float(y @ np.linalg.solve(K, y)) - 2) / (nu + len(y) - 2),
@@ -302,7 +291,7 @@ MODEL_EXERCISES = {
                     "beta is y^T K_y^-1 y, with the inverse covariance between the two y's."),
             Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance) - 2) / (nu + len(y)),
                     "The denominator is nu + n - 2."),
-            Mistake(lambda K, y, noise_variance, nu: 1 / _tp_factor(K, y, noise_variance, nu),
+            Mistake(lambda K, y, noise_variance, nu: 1 / tp_factor(K, y, noise_variance, nu),
                     "The fraction is upside down."),
             Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance)) / (nu + len(y)),
                     "Both nu + beta and nu + n lose 2: (nu + beta - 2) / (nu + n - 2)."),

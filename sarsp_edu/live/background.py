@@ -212,7 +212,6 @@ class Preparer:
 
     def _prepare(self, config, preparation) -> None:
         from .. import fitcache
-        from ..experiment import Experiment
         from ..preparation import offline_world, prepare
 
         with one_blas_thread():
@@ -231,14 +230,21 @@ class Preparer:
                 for name, side in sides.items():
                     if self._pending:
                         return
-                    with self._condition:
-                        preparation.progress[name] = "fitting its models here (no process for it)"
-                    experiment = Experiment(side, prepared=prepared)
-                    if fitcache.cache_directory() is not None:
-                        fitcache.store(experiment)
-                    self._hand_over(preparation, name, experiment)
+                    self._hand_over(preparation, name, self._fit_here(preparation, name, side, prepared))
                 return
             self._follow(workers, sides, prepared, folder, preparation)
+
+    def _fit_here(self, preparation, name, side, prepared):
+        """A side fitted in this thread (kept in the fit cache where it is on): where no worker could fit it."""
+        from .. import fitcache
+        from ..experiment import Experiment
+
+        with self._condition:
+            preparation.progress[name] = "fitting its models here"
+        experiment = Experiment(side, prepared=prepared)
+        if fitcache.cache_directory() is not None:
+            fitcache.store(experiment)
+        return experiment
 
     def _folder(self):
         """Where the workers store their fits: the fit cache's folder (named to them: a worker started earlier
@@ -271,7 +277,6 @@ class Preparer:
     def _follow(self, workers, sides, prepared, folder, preparation) -> None:
         """Hand each side over as its worker ends; terminate them all if newer settings are wanted."""
         from .. import fitcache
-        from ..experiment import Experiment
         from .fitting import give_back
 
         try:
@@ -296,9 +301,7 @@ class Preparer:
                         with contextlib.suppress(OSError):
                             os.unlink(path)
                     if experiment is None:  # not this kernel's bits (its package changed since it started, say)
-                        with self._condition:
-                            preparation.progress[name] = "fitting its models here"
-                        experiment = Experiment(sides[name], prepared=prepared)
+                        experiment = self._fit_here(preparation, name, sides[name], prepared)
                     else:
                         experiment.loaded_from_cache = False  # fitted just now, for this run: the fit's time
                         experiment.timings["offline_fit_seconds"] = float(seconds)

@@ -131,7 +131,7 @@ def _fit(config, folder, say) -> str:
     from ..optimizers import reporting_steps
     from ..preparation import prepare
 
-    total = 2 * config.optimizer_steps if config.optimizer == "adam" else 0  # L-BFGS: as many as it takes
+    total = config.offline_fit_steps or 0  # 0: not known (L-BFGS takes as many as it needs)
     taken = [0]
 
     def step() -> None:
