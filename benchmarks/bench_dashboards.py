@@ -21,7 +21,7 @@ from _timing import one_core  # noqa: E402
 
 matplotlib.use("Agg")
 
-from sarsp_edu.widgets import (  # noqa: E402
+from sarsp_edu.teaching.dashboards.tutorials import (  # noqa: E402
     agent_dashboard,
     gridworld_dashboard,
     posterior_dashboard,

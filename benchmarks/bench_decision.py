@@ -17,7 +17,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _timing import median_seconds, one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig  # noqa: E402
-from sarsp_edu.experiment import Experiment  # noqa: E402
+from sarsp_edu.experiments.experiment import Experiment  # noqa: E402
 
 
 def main(argv=None):
@@ -26,8 +26,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF
-    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
 
     print("one decision = 2 models x 4 actions, a fresh prior per action; one BLAS thread; "
           f"median of {args.repeats}")
@@ -40,7 +39,7 @@ def main(argv=None):
             return agent.act(observation)
 
         # scikit-learn on the very priors the agent draws, with the agent's fitted hyperparameters
-        from sarsp_edu.offline import cost_inputs, reward_inputs
+        from sarsp_edu.world.offline import cost_inputs, reward_inputs
 
         jobs = []
         for model, buffer, queries in ((agent.cost_model, agent.cost_data, cost_inputs(observation)),

@@ -21,9 +21,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _timing import one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig  # noqa: E402
-from sarsp_edu.experiment import make_model  # noqa: E402
-from sarsp_edu.preparation import prepare  # noqa: E402
-from sarsp_edu.rng import draw_subset  # noqa: E402
+from sarsp_edu._internal.rng import draw_subset  # noqa: E402
+from sarsp_edu.experiments.experiment import make_model  # noqa: E402
+from sarsp_edu.world.preparation import prepare  # noqa: E402
 
 
 def main(argv=None):

@@ -11,7 +11,7 @@
   distinct inputs (the cost model's grouped whole-buffer fit) and n = ~4,900
   (the ``reference`` preset's whole-buffer reward fit).  Target: 1.5x.
   Beside it, the step with the kernel exponentiated at every distance
-  instead of at D2's distinct values (:class:`~sarsp_edu.kernels.DistanceLevels`).
+  instead of at D2's distinct values (:class:`~sarsp_edu.models.kernels.DistanceLevels`).
 - The grouped whole-buffer cost fit, whole (target: 1 s).
 
 One BLAS thread; medians; the load average is printed first, as a busy
@@ -34,11 +34,11 @@ sys.path.insert(0, os.path.dirname(__file__))
 from _timing import median_seconds, one_core  # noqa: E402
 
 from sarsp_edu import ExperimentConfig  # noqa: E402
-from sarsp_edu.experiment import Experiment, make_model  # noqa: E402
-from sarsp_edu.kernels import squared_distances  # noqa: E402
-from sarsp_edu.linalg import group_rows  # noqa: E402
-from sarsp_edu.offline import cost_inputs, reward_inputs  # noqa: E402
-from sarsp_edu.preparation import prepare  # noqa: E402
+from sarsp_edu.experiments.experiment import Experiment, make_model  # noqa: E402
+from sarsp_edu.models.kernels import squared_distances  # noqa: E402
+from sarsp_edu.models.linalg import group_rows  # noqa: E402
+from sarsp_edu.world.offline import cost_inputs, reward_inputs  # noqa: E402
+from sarsp_edu.world.preparation import prepare  # noqa: E402
 
 
 def decision_floor(agent, observation, repeats):
@@ -63,7 +63,7 @@ def decision_floor(agent, observation, repeats):
 
 def act_without_kernel_table(agent, observation, repeats):
     """``act``'s median time with every prior's kernel built from distances (no table gathered)."""
-    import sarsp_edu.sarsp as sarsp_module
+    import sarsp_edu.agent.sarsp as sarsp_module
 
     limit = sarsp_module.KERNEL_TABLE_MAX_DISTINCT
     sarsp_module.KERNEL_TABLE_MAX_DISTINCT = 0

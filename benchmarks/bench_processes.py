@@ -44,8 +44,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF
-    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
 
     def sk_model():
         kernel = ConstantKernel(1.0, (1e-10, 1e10)) * SkRBF(1.0, (1e-5, 1e5)) + WhiteKernel(1.0, (1e-5, 1e5))

@@ -11,7 +11,7 @@ import argparse
 import time
 
 from sarsp_edu import ExperimentConfig
-from sarsp_edu.sweep import run_sweep
+from sarsp_edu.experiments.sweep import run_sweep
 
 
 def main(argv=None):

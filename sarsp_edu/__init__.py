@@ -2,49 +2,40 @@
 and Student-t processes, after "Hybrid Safe Reinforcement Learning: Tackling
 Distribution Shift and Outliers with the Student-t's Process".
 
-The layout, lowest layer first (a module imports only from those above it):
+Each folder is a layer; a module imports only from its own layer and those
+listed before it (``tests/test_layers.py`` checks every module-level import):
 
-- ``config``: every setting (``ExperimentConfig``), the presets, and the
-  defaults of the world, the data, the fits and Algorithm 1, each defined once;
-  loads no numerical library.
-- ``rng``: seeds to generators, uniform row subsets.
-- ``kernels``: the RBF kernel and its gradient.
-- ``linalg``: Cholesky factors and solves, repeated rows folded exactly.
-- ``optimizers``: Adam (the paper's) and L-BFGS-B.
-- ``processes``: GP and TP regression in closed form: the equations, the fits.
-- ``tails``: the densities' tail limits in sympy (paper section 3.3).
-- ``gridworld``: the safe gridworld (a Gymnasium environment) and its shift.
-- ``offline``: the models' inputs, the training sets, offline data, outliers.
-- ``sarsp``: the SARSP agent (Algorithm 1); ``decision``: its decision rule and records.
-- ``metrics``: the paper's metrics, their comparison, Definition 4.
-- ``results``: results of runs and paired comparisons, stored and read back.
-- ``preparation``: what a run needs before its agent (world, data, outliers, shift, seeds).
-- ``experiment``: one run, or a paired TP-vs-GP comparison, of a config.
-- ``sweep``: the 45-configuration grid, run and stored cell by cell.
-- ``tables``: the paper's Tables 1-4 and their statistics.
-- ``ablation``: the comparison under several settings.
-- ``paper``: the paper's published numbers, for comparison only.
-- ``authors``: the authors' own per-episode records of the paper's runs, and ours beside them.
-- ``demos``: the tutorials' computations (GP and TP on 1-D data, the world
-  and its data as an experiment prepares them).
-- ``plotting``: matplotlib drawings, ``plot_*(ax, data)``, no state; a package of
-  ``style``, ``models`` (tutorials 1-2), ``world`` (3-4) and ``results`` (4-5).
-- ``markup``: the same pictures as SVG and HTML strings, for live redraws.
-- ``dashboard``: the redraw framework (``Dashboard``, ``Panel``, sliders).
-- ``widgets``: the dashboards of tutorials 1-3 and 6 (and ``agent_dashboard``).
-- ``live``: tutorial 4's live TP-versus-GP dashboard.
-- ``exercises``: the tutorials' exercises: functions students write, graded
-  on fresh inputs against the package, and short predictions.
-- ``course``: source notebooks (nbgrader's format) to student notebooks and hand-outs.
-- ``provenance``: which code computed a stored result.
+- ``_internal``: plumbing with no public API (atomic files, argument checks,
+  BLAS threads, process pools, seeds to generators, the old import paths);
+- ``config``: every setting (``ExperimentConfig``), the presets and the
+  defaults, each defined once; loads no numerical library;
+- ``models``: the RBF kernel, Cholesky algebra, the optimizers, GP and TP
+  regression in closed form (``processes``), the tail limits in sympy;
+- ``world``: the safe gridworld (a Gymnasium environment) and its shift, the
+  offline data and its outliers, what a run prepares before its agent;
+- ``agent``: the SARSP agent (Algorithm 1), its decision rule and parts;
+- ``experiments``: runs and paired comparisons, the metrics and Definition 4,
+  stored results, the 45-configuration sweep, Tables 1-4, the ablation;
+- ``paper``: the paper's published numbers and the authors' own runs, for
+  comparison only;
+- ``teaching``: drawings, dashboards, tutorial 4's live run, the exercises and
+  their grader, the course's notebooks and pages;
 - ``cli``: the ``sarsp-edu`` command.
-- ``_io``, ``_validation``, ``_threads``, ``_version``: atomic files and
-  stored-result errors, argument checks, BLAS threads, the version.
+
+The most used names are importable from here (``from sarsp_edu import
+SARSPAgent``).  The paths before 0.3 (``sarsp_edu.sarsp``,
+``sarsp_edu.processes`` ...) still import, with a ``DeprecationWarning``, until
+the next release (:mod:`sarsp_edu._internal.moved`).
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+from ._internal import moved as _moved
 from ._version import __version__
+
+_moved.install()
 
 
 def _register_environment() -> None:
@@ -53,7 +44,7 @@ def _register_environment() -> None:
 
     if "sarsp_edu/SafeGridWorld-v0" not in gymnasium.registry:
         # T_max = n * n on the paper's 10 x 10 grid: TimeLimit truncates where the environment itself does
-        gymnasium.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.gridworld:SafeGridWorld",
+        gymnasium.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.world.gridworld:SafeGridWorld",
                            max_episode_steps=100)
 
 
@@ -62,44 +53,109 @@ _register_environment()
 # Public names load their module on first use (PEP 562), so that the
 # ``sarsp-edu`` command answers --help without importing scipy and pandas.
 _LAZY = {
-    "Comparison": "results",
-    "Experiment": "experiment",
+    "Comparison": "experiments.results",
+    "Experiment": "experiments.experiment",
     "ExperimentConfig": "config",
-    "ExperimentResult": "results",
-    "StoredResultError": "results",
-    "stored_results": "results",
-    "compare": "experiment",
-    "prefers": "metrics",
-    "run_experiment": "experiment",
-    "ACTION_NAMES": "gridworld",
-    "DOWN": "gridworld",
-    "LEFT": "gridworld",
-    "RIGHT": "gridworld",
-    "UP": "gridworld",
-    "GridLayout": "gridworld",
-    "SafeGridWorld": "gridworld",
-    "cost_inputs": "offline",
-    "reward_inputs": "offline",
-    "RBF": "kernels",
-    "ObservationBuffer": "offline",
-    "OfflineData": "offline",
-    "collect_offline_data": "offline",
-    "inject_outliers": "offline",
-    "plot_gridworld": "plotting",
-    "plot_macro": "plotting",
-    "plot_metric_curves": "plotting",
-    "GaussianProcess": "processes",
-    "NotFittedError": "processes",
-    "ConvergenceWarning": "processes",
-    "StudentTProcess": "processes",
-    "StudentTLikelihoodGP": "processes",
-    "Decision": "decision",
-    "SARSPAgent": "sarsp",
-    "SweepResults": "sweep",
-    "run_sweep": "sweep",
-    "summary_tables": "tables",
+    "ExperimentResult": "experiments.results",
+    "StoredResultError": "experiments.results",
+    "stored_results": "experiments.results",
+    "compare": "experiments.experiment",
+    "prefers": "experiments.metrics",
+    "run_experiment": "experiments.experiment",
+    "ACTION_NAMES": "world.gridworld",
+    "DOWN": "world.gridworld",
+    "LEFT": "world.gridworld",
+    "RIGHT": "world.gridworld",
+    "UP": "world.gridworld",
+    "GridLayout": "world.gridworld",
+    "SafeGridWorld": "world.gridworld",
+    "cost_inputs": "world.offline",
+    "reward_inputs": "world.offline",
+    "RBF": "models.kernels",
+    "ObservationBuffer": "world.offline",
+    "OfflineData": "world.offline",
+    "collect_offline_data": "world.offline",
+    "inject_outliers": "world.offline",
+    "plot_gridworld": "teaching.plotting",
+    "plot_macro": "teaching.plotting",
+    "plot_metric_curves": "teaching.plotting",
+    "GaussianProcess": "models.processes",
+    "NotFittedError": "models.processes",
+    "ConvergenceWarning": "models.processes",
+    "StudentTProcess": "models.processes",
+    "StudentTLikelihoodGP": "models.processes",
+    "Decision": "agent.decision",
+    "SARSPAgent": "agent.sarsp",
+    "SweepResults": "experiments.sweep",
+    "run_sweep": "experiments.sweep",
+    "summary_tables": "experiments.tables",
 }
 
+
+
+if TYPE_CHECKING:  # the same names for editors and type checkers (``name as name``: a re-export, PEP 484)
+    from .agent.decision import (
+        Decision as Decision,
+    )
+    from .agent.sarsp import (
+        SARSPAgent as SARSPAgent,
+    )
+    from .config import (
+        ExperimentConfig as ExperimentConfig,
+    )
+    from .experiments.experiment import (
+        Experiment as Experiment,
+        compare as compare,
+        run_experiment as run_experiment,
+    )
+    from .experiments.metrics import (
+        prefers as prefers,
+    )
+    from .experiments.results import (
+        Comparison as Comparison,
+        ExperimentResult as ExperimentResult,
+        StoredResultError as StoredResultError,
+        stored_results as stored_results,
+    )
+    from .experiments.sweep import (
+        SweepResults as SweepResults,
+        run_sweep as run_sweep,
+    )
+    from .experiments.tables import (
+        summary_tables as summary_tables,
+    )
+    from .models.kernels import (
+        RBF as RBF,
+    )
+    from .models.processes import (
+        ConvergenceWarning as ConvergenceWarning,
+        GaussianProcess as GaussianProcess,
+        NotFittedError as NotFittedError,
+        StudentTLikelihoodGP as StudentTLikelihoodGP,
+        StudentTProcess as StudentTProcess,
+    )
+    from .teaching.plotting import (
+        plot_gridworld as plot_gridworld,
+        plot_macro as plot_macro,
+        plot_metric_curves as plot_metric_curves,
+    )
+    from .world.gridworld import (
+        ACTION_NAMES as ACTION_NAMES,
+        DOWN as DOWN,
+        LEFT as LEFT,
+        RIGHT as RIGHT,
+        UP as UP,
+        GridLayout as GridLayout,
+        SafeGridWorld as SafeGridWorld,
+    )
+    from .world.offline import (
+        ObservationBuffer as ObservationBuffer,
+        OfflineData as OfflineData,
+        collect_offline_data as collect_offline_data,
+        cost_inputs as cost_inputs,
+        inject_outliers as inject_outliers,
+        reward_inputs as reward_inputs,
+    )
 
 __all__ = [*_LAZY, "__version__"]
 

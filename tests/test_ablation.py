@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from sarsp_edu.ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_config
+from sarsp_edu.experiments.ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_config
 
 TINY = dict(grid_size=5, n_unsafe=3, offline_episodes=6, cost_fit_points=60, reward_fit_points=60, k_prior=20,
             optimizer_steps=3)
@@ -70,7 +70,7 @@ def test_500_random_rows_flatten_the_cost_model_because_of_the_outliers():
     otherwise."""
     import pytest
 
-    from sarsp_edu.ablation import cost_fit_length_scales
+    from sarsp_edu.experiments.ablation import cost_fit_length_scales
 
     table = cost_fit_length_scales()
     scale = table["length scale"]

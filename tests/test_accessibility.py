@@ -23,8 +23,9 @@ from matplotlib.colors import to_rgb
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from sarsp_edu import demos, plotting, tails
-from sarsp_edu.plotting import COLOURS
+from sarsp_edu.models import tails
+from sarsp_edu.teaching import demos, plotting
+from sarsp_edu.teaching.plotting import COLOURS
 
 #: Machado et al. (2009), Table 1, severity 1.0: linear RGB -> linear RGB as a dichromat sees it
 MACHADO_2009 = {
@@ -218,9 +219,9 @@ def _numbers(text: str) -> set:
 def test_a_dashboards_picture_carries_alt_text_that_names_only_numbers_it_shows(factory):
     from matplotlib.text import Text
 
-    from sarsp_edu import widgets
+    from sarsp_edu.teaching.dashboards import tutorials
 
-    dashboard = getattr(widgets, factory)()
+    dashboard = getattr(tutorials, factory)()
     bundle, metadata = dashboard._repr_mimebundle_()
     alt = metadata["image/png"]["alt"]
     assert "image/png" in bundle and len(alt) > 100 * len(dashboard.panels)
@@ -256,7 +257,8 @@ def test_a_figure_is_shown_with_its_alt_text_and_a_missing_one_is_refused(monkey
 
 
 def test_the_live_grid_says_what_it_draws_and_uses_no_glyph_for_the_goal():
-    from sarsp_edu import SafeGridWorld, markup
+    from sarsp_edu import SafeGridWorld
+    from sarsp_edu.teaching.live import markup
 
     svg = markup.gridworld_svg(SafeGridWorld(seed=0).layout(), trajectory=[(0, 0), (1, 0)],
                                unsafe_pairs=[((1, 0), 1)], title="episode 1 of 3")
@@ -270,8 +272,8 @@ def test_the_live_grid_says_what_it_draws_and_uses_no_glyph_for_the_goal():
 # a visible focus, a size button on every dashboard, and no character a standard font lacks
 # --------------------------------------------------------------------------
 def test_every_dashboard_outlines_the_focused_control_and_has_a_size_button():
-    from sarsp_edu.projector import FOCUS_OUTLINE
-    from sarsp_edu.widgets import gridworld_dashboard, tail_decay_dashboard
+    from sarsp_edu.teaching.dashboards.projector import FOCUS_OUTLINE
+    from sarsp_edu.teaching.dashboards.tutorials import gridworld_dashboard, tail_decay_dashboard
 
     for on in (False, True):  # the outline whatever the size
         board = tail_decay_dashboard() if on else gridworld_dashboard()
@@ -285,7 +287,7 @@ def test_every_dashboard_outlines_the_focused_control_and_has_a_size_button():
 
 
 def test_the_size_button_switches_its_dashboard_alone():
-    from sarsp_edu.widgets import posterior_dashboard, tail_decay_dashboard
+    from sarsp_edu.teaching.dashboards.tutorials import posterior_dashboard, tail_decay_dashboard
 
     one, other = tail_decay_dashboard(), posterior_dashboard()
     for board in (one, other):

@@ -10,10 +10,10 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import paper
-from sarsp_edu.authors import AuthorsRuns, agreement, beside_authors, learning_curves, load_authors_runs
-from sarsp_edu.metrics import SUMMARY_METRICS
-from sarsp_edu.sweep import SweepResults
-from sarsp_edu.tables import summary_tables
+from sarsp_edu.experiments.metrics import SUMMARY_METRICS
+from sarsp_edu.experiments.sweep import SweepResults
+from sarsp_edu.experiments.tables import summary_tables
+from sarsp_edu.paper.authors import AuthorsRuns, agreement, beside_authors, learning_curves, load_authors_runs
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the authors' running columns -> the package's metric
@@ -218,7 +218,7 @@ def test_a_paper_figure_redrawn_puts_ours_over_seeds_above_the_authors_on_one_ra
     from matplotlib.figure import Figure
 
     from sarsp_edu import stored_results
-    from sarsp_edu.plotting import plot_paper_figure
+    from sarsp_edu.teaching.plotting import plot_paper_figure
 
     default = SweepResults.load(stored_results("sweep-default"))
     axes = Figure().subplots(2, 2)

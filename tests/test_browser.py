@@ -358,10 +358,10 @@ RIGHTMOST = """() => Math.max(...[...document.querySelectorAll(
 # --------------------------------------------------------------------------
 #: every dashboard in projector size (Voila's default), in a notebook of its own
 PROJECTED = {
-    "tail_decay": "from sarsp_edu.widgets import tail_decay_dashboard\ntail_decay_dashboard()",
-    "posterior": "from sarsp_edu.widgets import posterior_dashboard\nposterior_dashboard()",
-    "gridworld": "from sarsp_edu.widgets import gridworld_dashboard\ngridworld_dashboard()",
-    "agent": "from sarsp_edu.widgets import agent_dashboard\nagent_dashboard(episodes=30)",
+    "tail_decay": "from sarsp_edu.teaching.dashboards.tutorials import tail_decay_dashboard\ntail_decay_dashboard()",
+    "posterior": "from sarsp_edu.teaching.dashboards.tutorials import posterior_dashboard\nposterior_dashboard()",
+    "gridworld": "from sarsp_edu.teaching.dashboards.tutorials import gridworld_dashboard\ngridworld_dashboard()",
+    "agent": "from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard\nagent_dashboard(episodes=30)",
 }
 
 #: sizes in the page: the widgets' text (CSS px) and each SVG picture's smallest text as drawn (its font size

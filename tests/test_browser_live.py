@@ -28,7 +28,7 @@ from tests.test_browser import (  # noqa: F401  (browser and shots are fixtures)
     shots,
 )
 
-DASHBOARD = ("from sarsp_edu.widgets import agent_dashboard\n\n"
+DASHBOARD = ("from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard\n\n"
              "live = agent_dashboard(nu=3.0, magnitude=40, proportion=0.2, n_switch_states=2, seed=0, episodes=30,\n"
              "                       autoplay=True)\n"
              "live")

@@ -16,11 +16,8 @@ from sarsp_edu import (
     SARSPAgent,
     StudentTProcess,
 )
-from sarsp_edu.decision import choose_action, choose_with_backup, corrects, safe_actions
-from sarsp_edu.exercises import CODING, capstone, check, is_right
-from sarsp_edu.experiment import Experiment, experiments_on_one_world
-from sarsp_edu.offline import ObservationBuffer, OfflineData
-from sarsp_edu.parts import (
+from sarsp_edu.agent.decision import choose_action, choose_with_backup, corrects, safe_actions
+from sarsp_edu.agent.parts import (
     DecisionParts,
     corrective_applies,
     decide,
@@ -29,6 +26,10 @@ from sarsp_edu.parts import (
     rbf,
     tp_factor,
 )
+from sarsp_edu.experiments.experiment import Experiment, experiments_on_one_world
+from sarsp_edu.teaching.exercises import CODING, capstone, check, is_right
+from sarsp_edu.teaching.live import fitcache
+from sarsp_edu.world.offline import ObservationBuffer, OfflineData
 
 #: a run of two episodes on little data (fits of a second): 127 decisions, 12 violations, 6 of them corrected
 SMALL = ExperimentConfig(seed=7, episodes=2, offline_episodes=10, optimizer_steps=10)
@@ -199,7 +200,7 @@ def test_each_side_of_one_world_takes_its_own_parts(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match=r"parts names sides \['third'\]"):
         experiments_on_one_world(SMALL, {"yours": {}}, parts={"third": STUDENT})
     for cached in (False, True, True):  # fitted, stored; then loaded from the cache
-        runs = experiments_on_one_world(SMALL, {"yours": {}, "package": {}}, cache=cached,
+        runs = experiments_on_one_world(SMALL, {"yours": {}, "package": {}}, cache=fitcache if cached else None,
                                         parts={"yours": STUDENT})
         assert runs["yours"].agent.parts == DecisionParts(**STUDENT)
         assert runs["package"].agent.parts == DecisionParts()
@@ -291,7 +292,7 @@ def test_an_answer_that_cannot_run_is_said_before_any_fit(answer, said, monkeypa
 
 
 def test_a_function_that_never_returns_is_stopped_by_the_time_limit(monkeypatch):
-    from sarsp_edu.exercises import running
+    from sarsp_edu.teaching.exercises import running
 
     monkeypatch.setattr(running, "TIME_LIMIT", 0.2)
 

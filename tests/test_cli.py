@@ -160,14 +160,15 @@ def _usage_error(argv, capsys) -> str:
 
 @pytest.mark.parametrize("command", ["run", "compare", "sweep", "ablation"])
 def test_out_that_is_a_file_is_refused_before_work(tmp_path, capsys, monkeypatch, command):
-    import sarsp_edu.experiment
-    import sarsp_edu.sweep
+    import sarsp_edu.experiments.experiment
+    import sarsp_edu.experiments.sweep
 
     def no_work(*args, **kwargs):
         raise AssertionError("work started before --out was checked")
 
-    for module, name in [(sarsp_edu.experiment, "run_experiment"), (sarsp_edu.experiment, "compare"),
-                         (sarsp_edu.sweep, "run_sweep")]:
+    for module, name in [(sarsp_edu.experiments.experiment, "run_experiment"),
+                         (sarsp_edu.experiments.experiment, "compare"),
+                         (sarsp_edu.experiments.sweep, "run_sweep")]:
         monkeypatch.setattr(module, name, no_work)
     afile = tmp_path / "afile"
     afile.write_text("keep me")
@@ -212,12 +213,13 @@ def test_run_replaces_its_own_result_and_another_only_with_overwrite(tmp_path, c
 # --------------------------------------------------------------------------
 @pytest.mark.parametrize("command", ["run", "compare"])
 def test_ctrl_c_in_a_run_is_one_line(tmp_path, capsys, monkeypatch, command):
-    import sarsp_edu.experiment
+    import sarsp_edu.experiments.experiment
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(sarsp_edu.experiment, "run_experiment" if command == "run" else "compare", interrupted)
+    monkeypatch.setattr(sarsp_edu.experiments.experiment, "run_experiment" if command == "run" else "compare",
+                        interrupted)
     assert main([command, *TINY, "--out", str(tmp_path / "r")]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["interrupted: nothing was saved (a run is saved only when it has finished)"]

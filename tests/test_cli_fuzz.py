@@ -118,7 +118,7 @@ def test_damaged_folders(how, stored, capsys, tmp_path):
     if how == "sweep.json cut short":
         _one_error_line(["sweep", *SWEEP_GRID, *TINY, "--out", str(folder)], capsys, str(path))
     else:
-        from sarsp_edu.sweep import StoredResultWarning
+        from sarsp_edu.experiments.sweep import StoredResultWarning
 
         with pytest.warns(StoredResultWarning, match="computing the cell again"):
             assert main(["sweep", *SWEEP_GRID, *TINY, "--out", str(folder)]) == 0

@@ -14,7 +14,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from sarsp_edu.course import (
+from sarsp_edu.teaching.course import (
     CODE_STUB,
     TEXT_STUB,
     check_source,
@@ -24,7 +24,7 @@ from sarsp_edu.course import (
     student_path,
     write_handout,
 )
-from sarsp_edu.exercises import EXERCISES
+from sarsp_edu.teaching.exercises import EXERCISES
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = sources(ROOT / "tutorials")
@@ -210,7 +210,7 @@ def test_every_stored_dashboard_picture_is_projector_wide(path):
     import base64
     import struct
 
-    from sarsp_edu.dashboard import SNAPSHOT_WIDTH_PX
+    from sarsp_edu.teaching.dashboards.framework import SNAPSHOT_WIDTH_PX
 
     for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
         for output in cell.get("outputs", []):

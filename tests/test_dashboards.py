@@ -16,14 +16,15 @@ import pandas as pd
 import pytest
 from matplotlib.figure import Figure
 
-from sarsp_edu import demos, markup, plotting
-from sarsp_edu.widgets import (
+from sarsp_edu.teaching import demos, plotting
+from sarsp_edu.teaching.dashboards.tutorials import (
     Dashboard,
     gridworld_dashboard,
     posterior_dashboard,
     robust_dashboard,
     tail_decay_dashboard,
 )
+from sarsp_edu.teaching.live import markup
 
 
 # --------------------------------------------------------------------------
@@ -76,7 +77,7 @@ def test_compute_world():
 def test_the_dashboards_seed_is_the_experiments_seed():
     """Seed 3 in tutorial 3's dashboard is the world, data, outliers and shift of a run with seed 3."""
     from sarsp_edu.config import ExperimentConfig
-    from sarsp_edu.preparation import prepare
+    from sarsp_edu.world.preparation import prepare
 
     world = demos.compute_world(seed=3, n_switch_states=6, magnitude=60, proportion=0.3, offline_episodes=10)
     config = ExperimentConfig(seed=3, n_switch_states=6, outlier_magnitude=60.0, outlier_proportion=0.3,
@@ -182,7 +183,7 @@ def test_a_redrawn_figure_equals_a_fresh_one(factory, moves):
 def _one_panel_dashboard(draw, x: float, inputs=None) -> Dashboard:
     from ipywidgets import FloatSlider
 
-    from sarsp_edu.widgets import Panel
+    from sarsp_edu.teaching.dashboards.tutorials import Panel
 
     return Dashboard({"x": FloatSlider(value=x, min=0, max=2), "y": FloatSlider(value=0, min=0, max=1)},
                      lambda x, y: (x, f"x = {x}"), [Panel(draw, 3.0, inputs=inputs)], height=2.0)
@@ -296,7 +297,7 @@ def test_a_failing_update_shows_a_message_not_a_traceback():
 def test_after_a_failure_the_next_move_redraws_every_panel():
     from ipywidgets import FloatSlider
 
-    from sarsp_edu.widgets import Panel
+    from sarsp_edu.teaching.dashboards.tutorials import Panel
 
     def draw_x(ax, result, x, **_):
         if x > 1:
@@ -370,7 +371,7 @@ SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, re
 @pytest.fixture
 def live():
     from sarsp_edu import ExperimentConfig
-    from sarsp_edu.widgets import agent_dashboard
+    from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard
 
     return agent_dashboard(episodes=3, n_switch_states=2, config=ExperimentConfig(**SMALL))
 
@@ -401,7 +402,7 @@ def test_live_dashboard_runs_to_the_end_and_matches_a_plain_run(live):
 
 def test_a_live_dashboard_of_two_settings_of_one_model():
     from sarsp_edu import ExperimentConfig
-    from sarsp_edu.widgets import agent_dashboard
+    from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard
 
     sides = {"per step": ("one prior per step", {"model": "gp", "prior_draw": "per_step"}),
              "per action": ("a prior per action", {"model": "gp", "prior_draw": "per_action"})}
@@ -485,7 +486,7 @@ def test_stop_pressed_while_a_side_steps_stays_said(live):
 
 def test_svg_and_table_drawings():
     from sarsp_edu import SafeGridWorld
-    from sarsp_edu.sarsp import Decision
+    from sarsp_edu.agent.sarsp import Decision
 
     env = SafeGridWorld(seed=0)
     env.shift(2, rng=0)
@@ -502,7 +503,7 @@ def test_svg_and_table_drawings():
 def test_bad_panels_are_refused_with_the_parameter_named():
     from ipywidgets import FloatSlider
 
-    from sarsp_edu.widgets import Panel
+    from sarsp_edu.teaching.dashboards.tutorials import Panel
 
     def draw(ax, result, **_):
         ax.plot([0, 1])
@@ -530,7 +531,7 @@ def test_bad_panels_are_refused_with_the_parameter_named():
 )
 def test_dashboards_refuse_values_their_sliders_cannot_show(make, kwargs, message):
     # issue 12, item 12: a slider silently clamped posterior_dashboard(proportion=0.8) to 0.5
-    import sarsp_edu.widgets as widgets_module
+    import sarsp_edu.teaching.dashboards.tutorials as widgets_module
 
     with pytest.raises(ValueError, match=message):
         getattr(widgets_module, make)(**kwargs)
@@ -551,7 +552,7 @@ def test_a_static_copy_of_a_dashboard_shows_its_pictures_projector_wide(factory)
     import matplotlib.image as mpimg
     from matplotlib.text import Text
 
-    from sarsp_edu.dashboard import SNAPSHOT_WIDTH_PX
+    from sarsp_edu.teaching.dashboards.framework import SNAPSHOT_WIDTH_PX
 
     dashboard = factory()
     sizes = [t.get_fontsize() for f in dashboard.figures for t in f.findobj(Text)]
@@ -572,7 +573,7 @@ def test_a_stored_picture_enlarges_small_text_to_14_pt_at_1600_px_and_gives_it_b
     from matplotlib.figure import Figure
     from matplotlib.text import Text
 
-    from sarsp_edu.dashboard import SNAPSHOT_TEXT_PT, readable_png
+    from sarsp_edu.teaching.dashboards.framework import SNAPSHOT_TEXT_PT, readable_png
 
     figure = Figure(figsize=(8, 3))
     ax = figure.subplots()
@@ -599,8 +600,8 @@ def test_the_live_dashboards_static_picture_before_and_after_a_run(monkeypatch):
     import base64
 
     from sarsp_edu import ExperimentConfig
-    from sarsp_edu.live import SNAPSHOT_VARIABLE
-    from sarsp_edu.widgets import agent_dashboard
+    from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard
+    from sarsp_edu.teaching.live import SNAPSHOT_VARIABLE
 
     dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL))
     bundle, metadata = dashboard._repr_mimebundle_()
@@ -626,14 +627,14 @@ def test_the_live_dashboards_static_picture_before_and_after_a_run(monkeypatch):
 def ablation():
     from pathlib import Path
 
-    from sarsp_edu.ablation import AblationResults
+    from sarsp_edu.experiments.ablation import AblationResults
 
     return AblationResults.load(Path(__file__).resolve().parents[1] / "results" / "ablation")
 
 
 def test_the_ablation_dashboard_shows_the_setting_its_toggles_name(ablation):
-    from sarsp_edu.ablation import PRIOR_AND_FITS
-    from sarsp_edu.widgets import ablation_dashboard
+    from sarsp_edu.experiments.ablation import PRIOR_AND_FITS
+    from sarsp_edu.teaching.dashboards.tutorials import ablation_dashboard
 
     dashboard = ablation_dashboard(ablation)
     assert dashboard.message.value == ""
@@ -649,8 +650,8 @@ def test_the_ablation_dashboard_shows_the_setting_its_toggles_name(ablation):
 
 
 def test_the_ablation_dashboard_says_which_runs_are_missing(ablation):
-    from sarsp_edu.ablation import PRIOR_AND_FITS, AblationResults
-    from sarsp_edu.widgets import ablation_dashboard
+    from sarsp_edu.experiments.ablation import PRIOR_AND_FITS, AblationResults
+    from sarsp_edu.teaching.dashboards.tutorials import ablation_dashboard
 
     only = PRIOR_AND_FITS[("per step", "500 rows")]
     partial = AblationResults(sweeps={only: ablation.sweeps[only]}, settings={only: ablation.settings[only]})
@@ -665,7 +666,7 @@ def test_the_ablation_dashboard_says_which_runs_are_missing(ablation):
 
 # -- the live dashboard's sliders act at once (issue 30, item 1) -------------------------------------------
 from sarsp_edu import ExperimentConfig  # noqa: E402
-from sarsp_edu.widgets import agent_dashboard  # noqa: E402
+from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard  # noqa: E402
 
 
 def test_a_slider_move_redraws_the_world_it_implies_and_says_when_the_agents_use_it():
@@ -715,7 +716,7 @@ def test_fast_forward_shows_its_progress_and_a_second_press_while_running_is_ans
 
 # -- no silent freezes, a quick start, projector size (issue 30, items 2 and 3) ------------------------------
 def test_the_runs_are_prepared_ahead_and_run_as_the_plain_paired_runs():
-    from sarsp_edu.experiment import paired_experiments
+    from sarsp_edu.experiments.experiment import paired_experiments
 
     live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL))
     preparation = live._preparer.claim(live.config())  # begun in the background at construction
@@ -766,7 +767,7 @@ def test_a_slow_side_says_why_it_waits_and_the_other_side_goes_on(monkeypatch):
 
 
 def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
-    from sarsp_edu.widgets import projector, tail_decay_dashboard
+    from sarsp_edu.teaching.dashboards.tutorials import projector, tail_decay_dashboard
 
     projector(None)  # automatic: on unless SARSP_EDU_PROJECTOR=0
     monkeypatch.delenv("VOILA_KERNEL_ID", raising=False)
@@ -788,7 +789,7 @@ def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
     projector(False)
     assert not tails.projector and tails.controls["nu"].layout.width == normal_width
     assert tails.images[0].layout.width.endswith("%")
-    from sarsp_edu.projector import projector_default
+    from sarsp_edu.teaching.dashboards.projector import projector_default
 
     projector(None)  # automatic again: on, wherever the notebook runs
     monkeypatch.delenv("SARSP_EDU_PROJECTOR")
@@ -846,7 +847,7 @@ def test_the_robust_dashboard_says_what_its_pictures_show():
 def test_a_slider_moved_by_steps_gives_the_number_it_shows():
     """40 + 1.0 steps and 0.1 + 0.2 reach 41.00000000000001 and 0.30000000000000004: shown and used as 41, 0.3."""
     from sarsp_edu import ExperimentConfig
-    from sarsp_edu.widgets import agent_dashboard
+    from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard
 
     dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL), prepare_ahead=False)
     dashboard.controls["proportion"].value = 0.1 + 0.2

@@ -8,13 +8,12 @@ import math
 
 import numpy as np
 import pytest
-from scipy import linalg as sla
-from scipy import special, stats
+from scipy import linalg as sla, special, stats
 
 from sarsp_edu import StudentTProcess
-from sarsp_edu.demos import regression_data
-from sarsp_edu.exercises import CODING, EXERCISES, check, grade, is_right, same
-from sarsp_edu.sarsp import Decision
+from sarsp_edu.agent.sarsp import Decision
+from sarsp_edu.teaching.demos import regression_data
+from sarsp_edu.teaching.exercises import CODING, EXERCISES, check, grade, is_right, same
 
 
 # -- right answers, written from the equations ------------------------------------------------------
@@ -515,7 +514,7 @@ def test_an_endless_loop_is_stopped_and_a_prediction_too(monkeypatch, capsys):
     import threading
     import time
 
-    from sarsp_edu.exercises import running
+    from sarsp_edu.teaching.exercises import running
 
     monkeypatch.setattr(running, "TIME_LIMIT", 0.5)
 
@@ -600,7 +599,7 @@ def test_an_answer_that_cannot_be_read_lists_the_forms_and_gets_no_hint(exercise
 
 def test_replies_do_not_give_the_answer_away(capsys):
     """Hole 6: no formula, algorithm or function to call in a reply; the module's examples show no answer."""
-    import sarsp_edu.exercises as exercises
+    import sarsp_edu.teaching.exercises as exercises
 
     assert "50, one colour" not in exercises.__doc__ and 'check("3.4", np.int64(50))' not in exercises.__doc__
     right, message = grade("1.3", CODING["1.3"], lambda residual, nu: (np.asarray(residual) ** 2,
@@ -646,8 +645,8 @@ def test_the_misdiagnoses_seen_get_the_right_diagnosis(name, answer, diagnosis):
 
 def test_exercise_5_1_has_one_rule_for_negative_values():
     """Hole 7: rewards are negative; the question says the rule, the key follows it, Table 1's totals unchanged."""
-    from sarsp_edu.exercises.records import _symmetric
-    from sarsp_edu.metrics import symmetric_percent_difference as package
+    from sarsp_edu.experiments.metrics import symmetric_percent_difference as package
+    from sarsp_edu.teaching.exercises.records import _symmetric
 
     assert "(|a| + |b|) / 2" in CODING["5.1"].question
     cases = CODING["5.1"].cases(np.random.default_rng(0))
@@ -662,7 +661,7 @@ def test_exercise_5_1_has_one_rule_for_negative_values():
 
 def test_exercise_6_1_has_one_rule_where_eq_12_divides_by_zero():
     """Hole 7: 0 where either is 0, as running_metrics keeps it; said once, in the question."""
-    from sarsp_edu.metrics import running_metrics
+    from sarsp_edu.experiments.metrics import running_metrics
 
     assert "0 where either of the two is 0" in CODING["6.1"].question
     assert "either" not in CODING["6.1"].hint
@@ -764,8 +763,8 @@ def test_the_answer_keys_of_the_agent_exercises_are_the_core_itself():
     """4.3 grades against the agent's own corrective condition, 2.2 and 2.3 against its own parts, 3.2 and 3.3
     against the world's own step and cost signal: a change to the agent or the world changes what is graded."""
     from sarsp_edu import SafeGridWorld
-    from sarsp_edu.decision import corrects
-    from sarsp_edu.parts import gp_posterior, tp_factor
+    from sarsp_edu.agent.decision import corrects
+    from sarsp_edu.agent.parts import gp_posterior, tp_factor
 
     assert CODING["4.3"].reference is corrects
     assert CODING["2.2"].reference is gp_posterior and CODING["2.3"].reference is tp_factor

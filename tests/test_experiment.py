@@ -8,9 +8,9 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import ExperimentConfig, ExperimentResult, compare, prefers, run_experiment
-from sarsp_edu.experiment import Experiment
-from sarsp_edu.metrics import RECORD_COLUMNS, SUMMARY_METRICS, running_metrics
-from sarsp_edu.results import Comparison
+from sarsp_edu.experiments.experiment import Experiment
+from sarsp_edu.experiments.metrics import RECORD_COLUMNS, SUMMARY_METRICS, running_metrics
+from sarsp_edu.experiments.results import Comparison
 
 TINY = ExperimentConfig(
     grid_size=5, n_unsafe=3, n_switch_states=1, episodes=4, offline_episodes=6,
@@ -81,7 +81,7 @@ def test_prefers_threshold_is_checked(a):
 
 def test_an_undefined_cost_rate_is_not_a_perfect_one():
     # issue 12, item 5: violations but no clean success: eq. 12 divides by zero
-    from sarsp_edu.metrics import cost_rate_undefined, displayed_summary
+    from sarsp_edu.experiments.metrics import cost_rate_undefined, displayed_summary
 
     stuck = {**S(-200, 0.0, 40), "total_cost": 13.0}
     safe = {**S(-100, 0.0, 40), "total_cost": 0.0}
@@ -154,7 +154,7 @@ def test_paired_runs_see_the_same_world():
 
 
 def test_experiments_on_one_world_differ_only_in_what_their_sides_change():
-    from sarsp_edu.experiment import experiments_on_one_world
+    from sarsp_edu.experiments.experiment import experiments_on_one_world
 
     sides = {"per step": {"model": "gp", "prior_draw": "per_step"}, "per action": {"model": "gp"}}
     experiments = experiments_on_one_world(TINY, sides)
@@ -172,7 +172,7 @@ def test_experiments_on_one_world_differ_only_in_what_their_sides_change():
 
 @pytest.mark.parametrize("changes, named", [({"n_switch_states": 2}, "n_switch_states"), ({"seed": 4}, "seed")])
 def test_sides_cannot_change_the_world(changes, named):
-    from sarsp_edu.experiment import experiments_on_one_world
+    from sarsp_edu.experiments.experiment import experiments_on_one_world
 
     with pytest.raises(ValueError, match=f"shape the world.*{named}|{named}.*shape the world"):
         experiments_on_one_world(TINY, {"a": {"model": "tp"}, "b": changes})
@@ -183,7 +183,7 @@ def test_sides_cannot_change_the_world(changes, named):
 def test_a_preparation_reads_only_the_fields_it_names():
     from dataclasses import fields
 
-    from sarsp_edu.preparation import PREPARATION_FIELDS, prepare
+    from sarsp_edu.world.preparation import PREPARATION_FIELDS, prepare
 
     names = {f.name for f in fields(ExperimentConfig)}
     assert set(PREPARATION_FIELDS) <= names
@@ -252,7 +252,7 @@ def test_load_of_an_incomplete_folder(tmp_path):
 
 
 def test_failed_write_leaves_nothing_behind(tmp_path, monkeypatch):
-    from sarsp_edu import _io
+    from sarsp_edu._internal import io as _io
 
     def boom(*args, **kwargs):
         raise OSError("disk full")
@@ -390,13 +390,13 @@ def test_configs_stored_by_version_0_1_keep_their_settings():
 
 
 def test_stuck_share_by_hand_and_for_results_stored_before_it_existed():
-    from sarsp_edu.metrics import stuck_share
+    from sarsp_edu.experiments.metrics import stuck_share
 
     records = pd.DataFrame({"task_completed": [True, False, False, False], "final_cells": [7, 1, 2, 9]})
     assert stuck_share(records) == pytest.approx(2 / 3)  # of three failures, two ended on <= 2 cells
     assert np.isnan(stuck_share(records.assign(task_completed=True)))  # no failure
     assert np.isnan(stuck_share(records.drop(columns="final_cells")))  # stored by 0.1
-    from sarsp_edu.metrics import trapped_episodes
+    from sarsp_edu.experiments.metrics import trapped_episodes
 
     assert trapped_episodes(records).tolist() == [False, True, True, False]  # a success on 7 cells is no trap
     assert not trapped_episodes(records.drop(columns="final_cells")).any()

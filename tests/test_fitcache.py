@@ -8,8 +8,9 @@ import os
 import numpy as np
 import pytest
 
-from sarsp_edu import ExperimentConfig, fitcache
-from sarsp_edu.experiment import experiments_on_one_world
+from sarsp_edu import ExperimentConfig
+from sarsp_edu.experiments.experiment import experiments_on_one_world
+from sarsp_edu.teaching.live import fitcache
 
 TINY = ExperimentConfig(
     grid_size=5, n_unsafe=3, n_switch_states=1, episodes=3, offline_episodes=6,
@@ -37,10 +38,10 @@ def records(experiment):
 
 
 def test_a_loaded_fit_runs_exactly_as_a_new_one(cache):
-    fitted = experiments_on_one_world(TINY, SIDES, cache=True)
+    fitted = experiments_on_one_world(TINY, SIDES, cache=fitcache)
     assert not any(e.loaded_from_cache for e in fitted.values())
     assert len(fitcache.entries()) == 2
-    loaded = experiments_on_one_world(TINY, SIDES, cache=True)
+    loaded = experiments_on_one_world(TINY, SIDES, cache=fitcache)
     assert all(e.loaded_from_cache for e in loaded.values())
     fresh = experiments_on_one_world(TINY, SIDES)  # no cache: fitted again
     for name in SIDES:
@@ -49,20 +50,20 @@ def test_a_loaded_fit_runs_exactly_as_a_new_one(cache):
 
 
 def test_other_settings_or_other_code_fit_afresh(cache, monkeypatch):
-    experiments_on_one_world(TINY, {"tp": {"model": "tp"}}, cache=True)
-    other = experiments_on_one_world(TINY.replace(nu=4.0), {"tp": {"model": "tp"}}, cache=True)
+    experiments_on_one_world(TINY, {"tp": {"model": "tp"}}, cache=fitcache)
+    other = experiments_on_one_world(TINY.replace(nu=4.0), {"tp": {"model": "tp"}}, cache=fitcache)
     assert not other["tp"].loaded_from_cache
     monkeypatch.setattr(fitcache, "fingerprint", lambda: "another version of the package")
-    again = experiments_on_one_world(TINY, {"tp": {"model": "tp"}}, cache=True)
+    again = experiments_on_one_world(TINY, {"tp": {"model": "tp"}}, cache=fitcache)
     assert not again["tp"].loaded_from_cache
     assert len(fitcache.entries()) == 3
 
 
 def test_an_unreadable_entry_is_fitted_again_and_replaced(cache):
-    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     path.write_bytes(b"half a fit")
-    again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     assert not again["gp"].loaded_from_cache
     assert stored_config(path) == TINY.replace(model="gp").to_dict()
     assert not list(cache.glob(".*.tmp"))  # written through a temporary file, none left behind
@@ -76,10 +77,10 @@ def test_only_a_just_fitted_run_is_stored(cache):
 
 
 def test_the_least_recently_used_fits_go_first(cache, monkeypatch):
-    experiments_on_one_world(TINY, SIDES, cache=True)
+    experiments_on_one_world(TINY, SIDES, cache=fitcache)
     size = max(size for _, size in fitcache.entries())
     monkeypatch.setattr(fitcache, "CACHE_BYTES", size + 1)  # room for one
-    experiments_on_one_world(TINY.replace(seed=4), {"tp": {"model": "tp"}}, cache=True)
+    experiments_on_one_world(TINY.replace(seed=4), {"tp": {"model": "tp"}}, cache=fitcache)
     (kept, _), = fitcache.entries()
     assert stored_config(kept) == TINY.replace(seed=4, model="tp").to_dict()
     assert fitcache.clear() == 1 and fitcache.entries() == []
@@ -89,7 +90,7 @@ def test_the_least_recently_used_fits_go_first(cache, monkeypatch):
 def test_the_cache_can_be_turned_off(monkeypatch, tmp_path, value):
     monkeypatch.setenv(fitcache.CACHE_VARIABLE, value)
     assert fitcache.cache_directory() is None
-    experiment = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"]
+    experiment = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)["gp"]
     assert fitcache.store(experiment) is None and fitcache.entries() == []
 
 
@@ -101,7 +102,7 @@ def test_by_default_the_cache_lives_in_the_users_cache_folder(monkeypatch, tmp_p
 
 def _edit_entry(path, change):
     """Rewrite an entry with ``change(arrays, meta)`` applied (its digest made to match, as a careful editor would)."""
-    from sarsp_edu.fitcache import _digest
+    from sarsp_edu.teaching.live.fitcache import _digest
 
     with np.load(path, allow_pickle=False) as entry:
         arrays = {name: entry[name].copy() for name in entry.files if name != "meta"}
@@ -115,7 +116,7 @@ def _edit_entry(path, change):
 
 def _factor_with_its_own_likelihood(arrays, meta):
     """A careful forger: another factor, and the likelihood the loader recomputes from it, and a new digest."""
-    from sarsp_edu.linalg import group_rows
+    from sarsp_edu.models.linalg import group_rows
 
     arrays["cost.L_"] *= 2
     experiment = experiments_on_one_world(TINY, {"gp": {"model": "gp"}})["gp"]
@@ -135,30 +136,30 @@ def _factor_with_its_own_likelihood(arrays, meta):
     lambda arrays, meta: arrays.update({"cost.objective_trace_": arrays["cost.objective_trace_"][:3]}),
 ])
 def test_an_edited_entry_is_detected_not_loaded(cache, change):
-    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     _edit_entry(path, change)
-    again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     assert not again["gp"].loaded_from_cache  # refused, fitted afresh and stored anew
     fresh = experiments_on_one_world(TINY, {"gp": {"model": "gp"}})
     assert records(again["gp"]) == records(fresh["gp"])
 
 
 def test_an_entry_edited_without_its_digest_is_refused(cache):
-    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     with np.load(path, allow_pickle=False) as entry:
         arrays = {name: entry[name] for name in entry.files}
     arrays["reward.theta_"] = arrays["reward.theta_"] * 0
     with open(path, "wb") as handle:
         np.savez(handle, **arrays)
-    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"].loaded_from_cache
+    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)["gp"].loaded_from_cache
 
 
 def test_a_pickle_in_an_entrys_place_is_never_unpickled(cache, tmp_path):
     import pickle
 
-    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     marker = tmp_path / "ran"
 
@@ -167,31 +168,31 @@ def test_a_pickle_in_an_entrys_place_is_never_unpickled(cache, tmp_path):
             return (open, (str(marker), "w"))
 
     path.write_bytes(pickle.dumps(Payload()))
-    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"].loaded_from_cache
+    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)["gp"].loaded_from_cache
     assert not marker.exists()
 
 
 def test_a_folder_or_a_looping_link_in_an_entrys_place_is_skipped_with_one_warning(cache):
-    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     path.unlink()
     path.mkdir()
     fitcache._warned.clear()
     with pytest.warns(UserWarning, match=r"the cache of fits is skipped: .* is not a regular file"):
-        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     assert not again["gp"].loaded_from_cache and path.is_dir()
     assert fitcache.entries() == []  # 'sarsp-edu cache' counts no folder as a fit
     path.rmdir()
     path.symlink_to(path)
     assert fitcache.entries() == []
-    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)["gp"].loaded_from_cache
+    assert not experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)["gp"].loaded_from_cache
 
 
 def test_a_read_only_cache_with_a_corrupt_entry_is_skipped_with_a_warning(cache, monkeypatch):
     import errno
     from pathlib import Path
 
-    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+    experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     path.write_bytes(b"half a fit")
 
@@ -201,5 +202,5 @@ def test_a_read_only_cache_with_a_corrupt_entry_is_skipped_with_a_warning(cache,
     monkeypatch.setattr(Path, "unlink", read_only)
     fitcache._warned.clear()
     with pytest.warns(UserWarning, match=r"cannot be used nor removed \(Read-only file system\)"):
-        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=True)
+        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     assert not again["gp"].loaded_from_cache

@@ -8,7 +8,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from sarsp_edu import DOWN, LEFT, RIGHT, UP, SafeGridWorld, cost_inputs, reward_inputs
-from sarsp_edu.gridworld import MOVES, OBSERVATION_FIELDS
+from sarsp_edu.world.gridworld import MOVES, OBSERVATION_FIELDS
 
 
 def touching(a, b):
@@ -232,7 +232,7 @@ def test_bad_arguments_are_named(kwargs, match):
 
 def test_a_cornered_placement_falls_back_to_a_chessboard_colour(monkeypatch):
     # as if the greedy draw cornered itself every time: the fallback alone must place and shift
-    import sarsp_edu.gridworld.env as environment
+    import sarsp_edu.world.gridworld.env as environment
 
     monkeypatch.setattr(environment, "PLACEMENT_ATTEMPTS", 0)  # the greedy draws the placement makes first
     for size, placement in [(4, "full"), (10, "full"), (10, "reference")]:

@@ -54,7 +54,7 @@ def test_the_registered_world_takes_the_configs_bounds():
 
 @pytest.mark.parametrize("start", [(1.7, 2.2), "12", (True, False), (1, 2, 3), (1,), None])
 def test_a_start_that_is_not_a_pair_of_integers_is_refused(start):
-    from sarsp_edu.gridworld import SafeGridWorld
+    from sarsp_edu.world.gridworld import SafeGridWorld
 
     env = SafeGridWorld(seed=0)
     with pytest.raises(ValueError, match=r"start must be a pair of integers \(x, y\), got start="):
@@ -265,7 +265,8 @@ def test_the_cache_fingerprint_does_not_depend_on_what_was_imported_first():
     import subprocess
     import sys
 
-    code = ("from sarsp_edu import fitcache; first = fitcache.fingerprint(); import sklearn, sarsp_edu.experiment;"
+    code = ("from sarsp_edu.teaching.live import fitcache; first = fitcache.fingerprint();"
+            " import sklearn, sarsp_edu.experiments.experiment;"
             " fitcache.fingerprint.cache_clear(); print(first == fitcache.fingerprint())")
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip() == "True"
 

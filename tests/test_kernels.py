@@ -2,13 +2,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy.optimize import approx_fprime
 
 from sarsp_edu import RBF
-from sarsp_edu.kernels import squared_distances
+from sarsp_edu.models.kernels import squared_distances
 
 
 def test_formula_by_hand():
@@ -19,8 +18,7 @@ def test_formula_by_hand():
 
 
 def test_matches_scikit_learn():
-    from sklearn.gaussian_process.kernels import RBF as SkRBF
-    from sklearn.gaussian_process.kernels import ConstantKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel
 
     rng = np.random.default_rng(0)
     X, Y = rng.normal(size=(7, 3)), rng.normal(size=(4, 3))
@@ -98,7 +96,7 @@ def test_whole_number_lookup_is_bit_identical(amplitude, length_scale):
 def test_the_kernel_on_distance_levels_is_bit_identical(amplitude, length_scale):
     # a fit evaluates the kernel on D2's distinct values and gathers: the doubles of every entry's exponential,
     # the gradient's planes too, into the fit's workspace or a new array
-    from sarsp_edu.kernels import DistanceLevels
+    from sarsp_edu.models.kernels import DistanceLevels
 
     rng = np.random.default_rng(1)
     X = rng.integers(0, 30, size=(120, 5)).astype(float)
@@ -122,7 +120,7 @@ def test_the_kernel_on_distance_levels_is_bit_identical(amplitude, length_scale)
 
 
 def test_distance_levels_are_kept_only_where_few():
-    from sarsp_edu.kernels import DistanceLevels
+    from sarsp_edu.models.kernels import DistanceLevels
 
     X = np.random.default_rng(2).normal(size=(60, 3))  # real-valued inputs: every distance its own value
     assert DistanceLevels.if_few(squared_distances(X)) is None
@@ -154,7 +152,7 @@ def test_lookup_falls_back_and_follows_the_hyperparameters():
 def test_a_whole_distance_bound_skips_the_checks_and_changes_no_bit():
     """predict_batch with the caller's whole-number bound gives the very numbers it gives without."""
     from sarsp_edu import GaussianProcess, StudentTProcess
-    from sarsp_edu.kernels import whole_distance_bound
+    from sarsp_edu.models.kernels import whole_distance_bound
 
     rng = np.random.default_rng(3)
     X = rng.integers(0, 10, size=(300, 4)).astype(float)
@@ -190,7 +188,7 @@ def test_a_whole_distance_bound_skips_the_checks_and_changes_no_bit():
 
 def test_draw_rows_consumes_the_generator_as_a_redraw_of_repeats():
     """The mask-based draw gives the indices, and leaves the generator, as drawing and redrawing repeats."""
-    from sarsp_edu.rng import draw_row_mask, draw_rows
+    from sarsp_edu._internal.rng import draw_row_mask, draw_rows
 
     def by_redraw(n, k, rng):  # the specification, written out: uniform draws, repeats redrawn
         if k >= n:
@@ -211,7 +209,7 @@ def test_draw_rows_consumes_the_generator_as_a_redraw_of_repeats():
 
 
 def test_kernel_table_gathers_the_kernels_bits():
-    from sarsp_edu.kernels import KernelTable, whole_distance_bound
+    from sarsp_edu.models.kernels import KernelTable, whole_distance_bound
 
     rng = np.random.default_rng(2)
     X = rng.integers(0, 6, size=(300, 3)).astype(float)  # whole numbers, many repeated rows

@@ -1,4 +1,4 @@
-"""The live dashboard's fits in processes of their own (sarsp_edu.live.fitting and background.Preparer).
+"""The live dashboard's fits in processes of their own (sarsp_edu.teaching.live.fitting and background.Preparer).
 
 Both sides fitted at once, each in a worker process, must give the very runs
 a fit in the kernel gives; a newer request must stop the fits it replaces at
@@ -17,9 +17,9 @@ from pathlib import Path
 import pytest
 
 from sarsp_edu.config import ExperimentConfig
-from sarsp_edu.experiment import paired_experiments
-from sarsp_edu.live import TP_AND_GP, fitting, prefit
-from sarsp_edu.live.background import Preparer, _describe
+from sarsp_edu.experiments.experiment import paired_experiments
+from sarsp_edu.teaching.live import TP_AND_GP, fitting, prefit
+from sarsp_edu.teaching.live.background import Preparer, _describe
 
 SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
              optimizer_steps=5, k_prior=30, episodes=3)
@@ -115,7 +115,7 @@ def test_a_worker_fails_with_its_message_and_ends_with_its_kernel(tmp_path):
 
 def test_a_script_that_starts_fits_ends_when_it_reaches_its_end(tmp_path):
     script = ("from sarsp_edu.config import ExperimentConfig\n"
-              "from sarsp_edu.live import TP_AND_GP\nfrom sarsp_edu.live.background import Preparer\n"
+              "from sarsp_edu.teaching.live import TP_AND_GP\nfrom sarsp_edu.teaching.live.background import Preparer\n"
               f"Preparer(dict(TP_AND_GP)).request(ExperimentConfig(**{dict(SMALL, optimizer_steps=5000)!r}))\n"
               "import time; time.sleep(1)\n")
     mark = f"SARSP_EDU_TEST_MARK={uuid.uuid4().hex}"  # the workers of this script, and no other, carry it
@@ -159,8 +159,8 @@ def test_prefit_fits_each_nss_once_and_then_finds_it_stored(monkeypatch, tmp_pat
 def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkeypatch):
     """Tutorial 7's "your agent" beside the package's: the same fits (in the workers), each side given its parts
     in the kernel before its first step; parts that name no side are refused."""
-    from sarsp_edu.live import agent_dashboard
-    from sarsp_edu.parts import DecisionParts
+    from sarsp_edu.agent.parts import DecisionParts
+    from sarsp_edu.teaching.live import agent_dashboard
 
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     calls = []
@@ -184,7 +184,7 @@ def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkey
 
 # -- the live run's controls: a clean exit, one stepper at a time, no stale run after a slider move -------------
 def test_a_script_that_plays_the_agents_in_the_background_exits_when_it_reaches_its_end(tmp_path):
-    script = ("from sarsp_edu.config import ExperimentConfig\nfrom sarsp_edu.live import agent_dashboard\n"
+    script = ("from sarsp_edu.config import ExperimentConfig\nfrom sarsp_edu.teaching.live import agent_dashboard\n"
               f"config = ExperimentConfig(**{ {k: v for k, v in SMALL.items() if k != 'episodes'}!r})\n"
               "live = agent_dashboard(episodes=250, n_switch_states=1, config=config, steps_per_second=2)\n"
               "live.play_in_background()\nimport time; time.sleep(3)\nprint('end', live.running)\n")
@@ -197,7 +197,7 @@ def test_a_script_that_plays_the_agents_in_the_background_exits_when_it_reaches_
 
 
 def test_stepping_from_a_cell_while_the_agents_walk_is_refused_and_close_stops_everything(monkeypatch):
-    from sarsp_edu.live import agent_dashboard
+    from sarsp_edu.teaching.live import agent_dashboard
 
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
@@ -221,7 +221,7 @@ def test_a_slider_moved_while_a_run_claims_its_preparation_leaves_no_stale_run(m
     not leave the old settings' run to animate at the next Run."""
     import threading
 
-    from sarsp_edu.live import agent_dashboard
+    from sarsp_edu.teaching.live import agent_dashboard
 
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})

@@ -17,8 +17,8 @@ import nbformat
 import pytest
 from bs4 import BeautifulSoup
 
-from sarsp_edu.course import write_pages
-from sarsp_edu.pages import PagesWarning, TexConversionError, tex_to_mathml
+from sarsp_edu.teaching.course import write_pages
+from sarsp_edu.teaching.pages import PagesWarning, TexConversionError, tex_to_mathml
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "tutorials").glob("[0-9][0-9]_*.ipynb"))

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from sarsp_edu import plotting
+from sarsp_edu.teaching import plotting
 
 
 def curves(early: float, late: float) -> pd.DataFrame:
@@ -72,7 +72,7 @@ def _legend_covers_no_curve(ax):
 
 
 def test_tutorial_1s_legends_cover_no_curve():
-    from sarsp_edu import tails
+    from sarsp_edu.models import tails
 
     for nu, lam in ((3.0, 5.0), (30.0, 5.0), (0.5, 1.5), (10.0, 2.0)):
         for log in (False, True):  # the dashboard's density panels
@@ -91,7 +91,7 @@ def test_tutorial_1s_legends_cover_no_curve():
 
 
 def _learning_curves(seeds: int = 3) -> pd.DataFrame:
-    """Learning curves as ``sarsp_edu.authors.learning_curves`` returns them, the two models' bands overlapping."""
+    """Learning curves as ``sarsp_edu.paper.authors.learning_curves`` returns them, the models' bands overlapping."""
     base = np.linspace(90.0, 85.0, 50)
     curves = pd.DataFrame({"authors TP": base + 1.0, "authors GP": base - 1.0}, index=np.arange(1, 51))
     for model, shift in (("TP", 0.5), ("GP", -0.5)):

@@ -11,7 +11,8 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.patches import FancyArrowPatch
 
-from sarsp_edu import SafeGridWorld, plotting
+from sarsp_edu import SafeGridWorld
+from sarsp_edu.teaching import plotting
 
 #: up two cells, right one and back, right again, then pushed against a wall for three more steps
 PATH = [(4, 5), (4, 4), (4, 3), (5, 3), (4, 3), (5, 3), (6, 3), (6, 3), (6, 3), (6, 3)]
@@ -76,7 +77,7 @@ def test_a_path_that_ends_moving_gets_no_count_and_a_wrong_direction_is_refused(
 def test_an_ablation_panel_names_the_setting_its_runs_come_from():
     import pandas as pd
 
-    from sarsp_edu.ablation import PRIOR_AND_FITS
+    from sarsp_edu.experiments.ablation import PRIOR_AND_FITS
 
     runs = pd.DataFrame({"setting": PRIOR_AND_FITS[("per step", "500 rows")], "model": ["TP", "GP"],
                          "total_cost": [35.0, 31.0]})

@@ -2,8 +2,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 from scipy import stats
 from scipy.optimize import approx_fprime
 
@@ -23,8 +22,7 @@ def fixed(model_cls, **kwargs):
 
 def sklearn_gpr(X, y, noisy_kernel: bool):
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF
-    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
 
     latent = ConstantKernel(HYPER["amplitude"] ** 2) * SkRBF(HYPER["length_scale"])
     if noisy_kernel:  # noise in the kernel: predict's variance includes it
@@ -63,8 +61,7 @@ def test_gp_matches_scikit_learn(dataset):
 def test_gp_gradient_matches_scikit_learn(dataset):
     """scikit-learn's theta holds log(amplitude^2): our d/dlog a is twice its d/dlog a^2."""
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF
-    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
 
     X, y = dataset
     gp = fixed(GaussianProcess).fit(X, y)
@@ -219,8 +216,7 @@ def test_optimisers_raise_the_objective(model_cls, optimizer):
 
 def test_lbfgs_reaches_scikit_learns_optimum():
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF as SkRBF
-    from sklearn.gaussian_process.kernels import ConstantKernel, WhiteKernel
+    from sklearn.gaussian_process.kernels import RBF as SkRBF, ConstantKernel, WhiteKernel
 
     X, y = make_data(2, n=80, d=5)
     ours = GaussianProcess(optimizer="lbfgs", prior=None).fit(X, y)
@@ -516,7 +512,7 @@ def test_predict_batch_checks_shapes():
 
 
 def test_draw_rows_is_a_uniform_subset():
-    from sarsp_edu.rng import draw_rows
+    from sarsp_edu._internal.rng import draw_rows
 
     rng = np.random.default_rng(0)
     counts = np.zeros(50)
@@ -623,7 +619,7 @@ def test_a_cloned_model_fits_to_the_same_numbers():
 def test_a_fit_on_distance_levels_is_the_fit_on_every_distance(model_cls, monkeypatch):
     # whole-number inputs with repeats (the cost buffer's kind): the fit's kernel comes from D2's distinct
     # values; turned off, every entry is exponentiated: the same steps, to the bit
-    import sarsp_edu.kernels as kernels
+    import sarsp_edu.models.kernels as kernels
 
     rng = np.random.default_rng(3)
     X = rng.integers(0, 12, size=(300, 3)).astype(float)

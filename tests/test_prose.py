@@ -7,9 +7,9 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from sarsp_edu.course import clear_reveals, sources, student_path
-from sarsp_edu.exercises.lookups import LOOKUPS
-from sarsp_edu.prose import REVEAL_TAG, declared_numbers, output_numbers, prose_numbers, traces, untraced
+from sarsp_edu.teaching.course import clear_reveals, sources, student_path
+from sarsp_edu.teaching.exercises.lookups import LOOKUPS
+from sarsp_edu.teaching.prose import REVEAL_TAG, declared_numbers, output_numbers, prose_numbers, traces, untraced
 
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = sources(ROOT / "tutorials")
@@ -80,7 +80,7 @@ def test_an_outside_number_is_declared_with_its_source():
 def _source_outputs(source):
     """A student notebook's outputs, with its source's for the reveals (a student sees those on running them)."""
     def outputs_of(index, cell):
-        from sarsp_edu.prose import _output_text
+        from sarsp_edu.teaching.prose import _output_text
 
         if REVEAL_TAG in cell.metadata.get("tags", []):
             return _output_text(source.cells[index])
@@ -161,7 +161,7 @@ def test_the_lecturers_guide_quotes_only_numbers_a_notebook_prints():
     (integers below 1,000), commands (in backticks) and screen sizes (1280x720) are the guide's own."""
     import re
 
-    from sarsp_edu.prose import _output_text
+    from sarsp_edu.teaching.prose import _output_text
 
     printed, declared = [], []
     for path in SOURCES:

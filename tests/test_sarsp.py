@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from sarsp_edu import RBF, GaussianProcess, ObservationBuffer, SARSPAgent, StudentTProcess
-from sarsp_edu.offline import OfflineData, cost_inputs
-from sarsp_edu.sarsp import choose_action
+from sarsp_edu.agent.sarsp import choose_action
+from sarsp_edu.world.offline import OfflineData, cost_inputs
 
 INF = np.inf
 
@@ -361,7 +361,7 @@ def test_the_agents_whole_number_bound_changes_no_prediction(far):
 def test_kernels_gathered_from_the_buffers_table_change_no_prediction(monkeypatch, prior_draw):
     """Priors' kernel matrices gathered from a buffer's table are the bits of those built from
     distances, also after the buffer gains an input and after the kernel changes (each rebuilds it)."""
-    import sarsp_edu.sarsp as sarsp_module
+    import sarsp_edu.agent.sarsp as sarsp_module
 
     observation = np.array([3.0, 4.0, 9.0, 9.0, 1.0, 2.0, 0.0, 0.0])
     runs, tabled = [], []

@@ -7,8 +7,7 @@ import warnings
 import numpy as np
 import pytest
 from sklearn.base import clone, is_regressor
-from sklearn.exceptions import DataConversionWarning
-from sklearn.exceptions import NotFittedError as SklearnNotFittedError
+from sklearn.exceptions import DataConversionWarning, NotFittedError as SklearnNotFittedError
 from sklearn.metrics import r2_score
 from sklearn.model_selection import GridSearchCV, KFold, cross_val_score
 from sklearn.pipeline import make_pipeline

@@ -15,10 +15,10 @@ import pytest
 
 from sarsp_edu import ExperimentConfig, run_experiment, run_sweep
 from sarsp_edu.cli import main
-from sarsp_edu.provenance import code_provenance
-from sarsp_edu.results import Comparison, ExperimentResult, StoredResultError
-from sarsp_edu.sweep import LOCK_NAME, StoredResultWarning, SweepResults
-from sarsp_edu.tables import summary_tables
+from sarsp_edu.experiments.provenance import code_provenance
+from sarsp_edu.experiments.results import Comparison, ExperimentResult, StoredResultError
+from sarsp_edu.experiments.sweep import LOCK_NAME, StoredResultWarning, SweepResults
+from sarsp_edu.experiments.tables import summary_tables
 
 from .test_cli import _usage_error as usage_error  # a usage error's last line, with no traceback
 
@@ -138,13 +138,13 @@ def test_every_result_records_its_code_and_tables_say_when_cells_differ(sweep, c
 # -- 3. no work lost, nothing overwritten without asking ----------------------------------------------
 def refuse_work(monkeypatch):
     """Any computing now fails the test: a refusal must come before the work."""
-    import sarsp_edu.experiment
+    import sarsp_edu.experiments.experiment
 
     def no_work(*args, **kwargs):
         raise AssertionError("the work started before the refusal")
 
     for name in ("run_experiment", "compare"):
-        monkeypatch.setattr(sarsp_edu.experiment, name, no_work)
+        monkeypatch.setattr(sarsp_edu.experiments.experiment, name, no_work)
 
 
 def test_a_compare_of_other_settings_is_not_overwritten(tmp_path, capsys):
@@ -264,7 +264,7 @@ def test_a_stored_cell_of_the_reduced_sweep_is_what_the_code_computes():
     """Recomputed on this machine: every column equal, the prediction diagnostics to a relative 1e-7."""
     from pathlib import Path
 
-    from sarsp_edu.sweep import check_cell
+    from sarsp_edu.experiments.sweep import check_cell
 
     report = check_cell(Path(__file__).resolve().parents[1] / "results" / "sweep-reduced", "m40_p0.2_nss2_seed0")
     assert report.identical, str(report)
@@ -273,7 +273,7 @@ def test_a_stored_cell_of_the_reduced_sweep_is_what_the_code_computes():
 
 
 def test_check_cell_names_the_first_episode_and_the_columns_that_differ(sweep, capsys):
-    from sarsp_edu.sweep import check_cell
+    from sarsp_edu.experiments.sweep import check_cell
 
     same = check_cell(sweep, CELL, n_jobs=1)
     assert same.identical and same.same_trajectories and "identical" in str(same)
@@ -297,7 +297,7 @@ def test_check_cell_names_the_first_episode_and_the_columns_that_differ(sweep, c
 def test_check_cell_names_a_bad_cell():
     from pathlib import Path
 
-    from sarsp_edu.sweep import check_cell
+    from sarsp_edu.experiments.sweep import check_cell
 
     folder = Path(__file__).resolve().parents[1] / "results" / "sweep-reduced"
     with pytest.raises(ValueError, match=r"cell='m40_p0.2' is not a cell's name; expected one like"):
@@ -320,7 +320,7 @@ def test_every_shipped_results_folder_loads_with_tables(folder, capsys):
 
 def test_an_older_format_cell_is_compared_in_todays_terms():
     """paper-sweep's cells say retrain=True (sarsp_edu 0.1): that is today's retrain='always', as sweep.json says."""
-    from sarsp_edu.sweep import stored_sweep
+    from sarsp_edu.experiments.sweep import stored_sweep
 
     cell = json.loads(next((RESULTS / "paper-sweep" / "cells").glob("*/tp/result.json")).read_text())
     assert cell["config"]["retrain"] is True
@@ -391,8 +391,8 @@ def test_a_run_of_another_model_does_not_replace_a_stored_run(tmp_path, capsys):
 
 @pytest.mark.parametrize("command", ["run", "compare"])
 def test_a_second_command_writing_the_same_out_is_refused_while_the_first_runs(tmp_path, capsys, command):
-    from sarsp_edu._io import lock_folder
-    from sarsp_edu.sweep import LOCK_NAME
+    from sarsp_edu._internal.io import lock_folder
+    from sarsp_edu.experiments.sweep import LOCK_NAME
 
     out = tmp_path / "busy"
     out.mkdir()

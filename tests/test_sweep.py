@@ -7,9 +7,9 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import ExperimentConfig, compare, run_sweep, summary_tables
-from sarsp_edu.metrics import SUMMARY_METRICS, cost_rate_undefined
-from sarsp_edu.sweep import SweepResults, cell_config, cell_seed
-from sarsp_edu.tables import frame_to_markdown, tables_markdown
+from sarsp_edu.experiments.metrics import SUMMARY_METRICS, cost_rate_undefined
+from sarsp_edu.experiments.sweep import SweepResults, cell_config, cell_seed
+from sarsp_edu.experiments.tables import frame_to_markdown, tables_markdown
 
 TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
                         cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
@@ -61,7 +61,7 @@ def test_cell_seeds_depend_on_the_cell_not_the_order():
 
 def test_rerun_skips_finished_cells(sweep_dir, monkeypatch):
     folder, results = sweep_dir
-    from sarsp_edu.sweep import run as sweep_module  # where the cells are run
+    from sarsp_edu.experiments.sweep import run as sweep_module  # where the cells are run
 
     def must_not_run(*args, **kwargs):
         raise AssertionError("a finished cell was run again")
@@ -72,7 +72,7 @@ def test_rerun_skips_finished_cells(sweep_dir, monkeypatch):
 
 
 def test_an_interrupted_sweep_resumes(tmp_path, monkeypatch):
-    from sarsp_edu.sweep import run as sweep_module  # where the cells are run
+    from sarsp_edu.experiments.sweep import run as sweep_module  # where the cells are run
 
     real = sweep_module._run_cell
     calls = []
@@ -192,8 +192,8 @@ def test_tables_by_hand(sweep_dir):
 def test_level_intervals_leave_the_change_intervals_as_they_were(sweep_dir):
     # the levels' resamples are drawn after every other interval, so adding
     # them changed no interval that stored results and docs quote
-    from sarsp_edu.metrics import percent_difference
-    from sarsp_edu.tables import bootstrap_ci, paired, per_configuration
+    from sarsp_edu.experiments.metrics import percent_difference
+    from sarsp_edu.experiments.tables import bootstrap_ci, paired, per_configuration
 
     _, results = sweep_dir
     tables = summary_tables(results, n_boot=100, rng=3)
@@ -207,7 +207,7 @@ def test_level_intervals_leave_the_change_intervals_as_they_were(sweep_dir):
 
 
 def test_table1_uses_definition_4_and_the_symmetric_difference():
-    from sarsp_edu.metrics import symmetric_percent_difference
+    from sarsp_edu.experiments.metrics import symmetric_percent_difference
 
     assert symmetric_percent_difference(28, 58) == pytest.approx(69.77, abs=0.01)  # the paper's 69.8%
     assert symmetric_percent_difference(31, 58) == pytest.approx(60.67, abs=0.01)  # and 60.7%
@@ -215,7 +215,7 @@ def test_table1_uses_definition_4_and_the_symmetric_difference():
 
 
 def test_mode_is_scipys_rule():
-    from sarsp_edu.tables import paper_mode
+    from sarsp_edu.experiments.tables import paper_mode
 
     assert paper_mode(np.array([3.0, 1.0, 3.0, 2.0])) == 3.0  # the most frequent
     assert paper_mode(np.array([-145.3, -60.2, -88.8])) == -145.3  # all unique: the smallest
@@ -233,8 +233,8 @@ def test_markdown_export(sweep_dir):
 
 
 def test_table1_beside_the_paper_holds_only_the_configurations_both_have():
+    from sarsp_edu.experiments.tables import table1_beside_paper
     from sarsp_edu.paper import TABLE1
-    from sarsp_edu.tables import table1_beside_paper
 
     ours = pd.DataFrame([
         {"m": 40.0, "p": 0.2, "nss": 2, "model": "TP", **{k: 1.0 for k in SUMMARY_METRICS}},
@@ -253,8 +253,8 @@ def test_table1_beside_the_paper_holds_only_the_configurations_both_have():
 
 
 def test_beside_the_paper_with_and_without_the_level_intervals():
+    from sarsp_edu.experiments.tables import beside_paper
     from sarsp_edu.paper import TABLE2
-    from sarsp_edu.tables import beside_paper
 
     metrics = list(TABLE2)
     ours = pd.DataFrame({"TP": [1.0] * 6, "GP": [2.0] * 6, "% change": [-50.0] * 6}, index=metrics)
@@ -272,7 +272,7 @@ def test_beside_the_paper_with_and_without_the_level_intervals():
 
 
 def test_cells_are_described_grouped_by_configuration_and_seed():
-    from sarsp_edu.sweep import describe_cells
+    from sarsp_edu.experiments.sweep import describe_cells
 
     keys = [(40.0, 0.2, 6, 0), (40.0, 0.2, 8, 0), (40.0, 0.2, 6, 1), (80.0, 0.4, 10, 0)]
     assert describe_cells(keys) == "m=40 p=0.2 nss=6,8 seed=0; m=40 p=0.2 nss=6 seed=1; m=80 p=0.4 nss=10 seed=0"
@@ -356,7 +356,7 @@ def _bad_cell(path):
 )
 def test_a_damaged_cell_is_named_by_load_and_recomputed_by_the_sweep(tmp_path, damage, file, message):
     from sarsp_edu import StoredResultError
-    from sarsp_edu.sweep import StoredResultWarning
+    from sarsp_edu.experiments.sweep import StoredResultWarning
 
     first = run_sweep(TINY, **ONE, results_dir=tmp_path)
     cell = tmp_path / "cells" / "m40_p0.2_nss1_seed0"
@@ -444,8 +444,8 @@ def test_load_one_seed_of_a_sweep(sweep_dir):
 
 def test_the_paper_percent_column_can_be_the_papers_printed_one():
     from sarsp_edu import paper
-    from sarsp_edu.metrics import percent_difference
-    from sarsp_edu.tables import beside_paper
+    from sarsp_edu.experiments.metrics import percent_difference
+    from sarsp_edu.experiments.tables import beside_paper
 
     for table, printed in ((paper.TABLE2, paper.TABLE2_PERCENT), (paper.TABLE3, paper.TABLE3_PERCENT),
                            (paper.TABLE4, paper.TABLE4_PERCENT)):

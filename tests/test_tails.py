@@ -5,7 +5,7 @@ import pytest
 import sympy as sp
 from scipy import stats
 
-from sarsp_edu import tails
+from sarsp_edu.models import tails
 
 
 def test_densities_are_scipys():

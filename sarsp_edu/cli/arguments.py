@@ -188,7 +188,7 @@ def stored_settings_differ(result_json, config, same_model: bool = True) -> str:
 
     With ``same_model=False`` (a comparison, whose ``tp/`` is read) the model is not compared.
     """
-    from .._io import StoredResultError, read_json
+    from .._internal.io import StoredResultError, read_json
     from ..config import ExperimentConfig
 
     try:

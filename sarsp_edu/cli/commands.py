@@ -36,8 +36,8 @@ def _format_table(frame) -> str:
 
 
 def _run(args, parser) -> int:
-    from ..experiment import run_experiment
-    from ..metrics import SUMMARY_METRICS, backup_share, displayed_summary
+    from ..experiments.experiment import run_experiment
+    from ..experiments.metrics import SUMMARY_METRICS, backup_share, displayed_summary
 
     config = config_from_args(parser, args)
     check_out(parser, args.out, "run", config, args.overwrite)
@@ -64,8 +64,8 @@ def _out_lock(parser, out, command: str):
     write one folder at once."""
     from pathlib import Path
 
-    from .._io import lock_folder
-    from ..sweep import LOCK_NAME
+    from .._internal.io import lock_folder
+    from ..experiments.sweep import LOCK_NAME
 
     if out is None:
         yield
@@ -93,7 +93,7 @@ def _out_lock(parser, out, command: str):
 
 
 def _compare(args, parser) -> int:
-    from ..experiment import compare
+    from ..experiments.experiment import compare
 
     config = config_from_args(parser, args)
     check_out(parser, args.out, "compare", config, args.overwrite)
@@ -122,8 +122,8 @@ def _sweep(args, parser) -> int:
     import shlex
     from pathlib import Path
 
-    from ..sweep import SweepResults, run_sweep, stored_sweep
-    from ..tables import summary_tables
+    from ..experiments.sweep import SweepResults, run_sweep, stored_sweep
+    from ..experiments.tables import summary_tables
 
     grid = {"magnitudes": args.magnitudes, "proportions": args.proportions, "nss": args.nss, "seeds": args.seeds}
     stored = None
@@ -210,7 +210,7 @@ def _describe(config) -> str:
 def _ablation(args, parser) -> int:
     import shlex
 
-    from ..ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_folder
+    from ..experiments.ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_folder
 
     if args.list:
         for name, setting in ABLATION_SETTINGS.items():
@@ -269,7 +269,7 @@ def _check_pages_out(parser, out, overwrite: bool) -> None:
 def _course(args, parser) -> int:
     from pathlib import Path
 
-    from ..course import execute_sources, write_handout, write_pages, write_student_notebooks
+    from ..teaching.course import execute_sources, write_handout, write_pages, write_student_notebooks
 
     if args.action in ("sources", "student", "pages"):
         try:
@@ -326,7 +326,7 @@ def _info(args, parser) -> int:
 
 
 def _cache(args, parser) -> int:
-    from .. import fitcache
+    from ..teaching.live import fitcache
 
     directory = fitcache.cache_directory()
     if directory is None:
@@ -343,7 +343,7 @@ def _cache(args, parser) -> int:
 
 
 def _prefit(args, parser) -> int:
-    from ..live import prefit
+    from ..teaching.live import prefit
 
     if any(n < 0 for n in args.nss):
         parser.error(f"--nss takes whole numbers from 0 to the world's unsafe states, got {args.nss}")

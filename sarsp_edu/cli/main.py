@@ -181,7 +181,8 @@ def build_parser() -> argparse.ArgumentParser:
     cache = sub.add_parser(
         "cache", help="where the live dashboards keep their fitted runs, and how much (--clear removes them)",
         description="The live dashboards keep each run they fit, so that the same settings start at once the "
-                    "next time (sarsp_edu.fitcache); compare, the sweeps and the tests always fit afresh.")
+                    "next time (sarsp_edu.teaching.live.fitcache); compare, the sweeps and the tests always fit "
+                    "afresh.")
     cache.add_argument("--clear", action="store_true", help="remove every stored fit")
     cache.set_defaults(func=_cache, parser=cache)
 
@@ -207,7 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     import warnings
 
-    from .._io import one_line_warning
+    from .._internal.io import one_line_warning
 
     warnings.formatwarning = one_line_warning  # a warning is one line to a terminal user
     for stream in (sys.stdout, sys.stderr):  # a path the terminal's encoding cannot show is escaped, not fatal
@@ -238,7 +239,7 @@ def _interrupted(args) -> str:
     """One line for Ctrl-C: what is saved and how to go on."""
     stored = getattr(args, "stored", None)
     if stored:
-        from ..sweep import finished_cells
+        from ..experiments.sweep import finished_cells
 
         saved = sum(len(finished_cells(folder) & keys) for folder, keys in stored)
         total = sum(len(keys) for _, keys in stored)

@@ -9,9 +9,9 @@ from .commands import _format_table
 def _tables(args, parser) -> int:
     from pathlib import Path
 
-    from .._io import StoredResultError, atomic_write_text
-    from ..sweep import SweepResults, describe_cells, stored_sweep
-    from ..tables import frame_to_markdown, summary_tables, tables_markdown
+    from .._internal.io import StoredResultError, atomic_write_text
+    from ..experiments.sweep import SweepResults, describe_cells, stored_sweep
+    from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
     if args.markdown:
         check_file(parser, "--markdown", args.markdown)
@@ -66,8 +66,8 @@ def _tables(args, parser) -> int:
 
 
 def _check_cell(args, parser) -> int:
-    from .._io import StoredResultError
-    from ..sweep import check_cell
+    from .._internal.io import StoredResultError
+    from ..experiments.sweep import check_cell
 
     try:
         report = check_cell(args.results_dir, args.cell, n_jobs=args.jobs)
@@ -102,9 +102,9 @@ def _beside_paper_sections(tables: dict) -> list:
     The paper's Table 2 is a mean over its 45 configurations; a partial
     sweep's mean is over fewer, and the title says how many.
     """
-    from .. import paper
     from ..config import PAPER_MAGNITUDES, PAPER_PROPORTIONS, PAPER_SWITCH_STATES
-    from ..tables import beside_paper, table1_beside_paper
+    from ..experiments.tables import beside_paper, table1_beside_paper
+    from ..paper import published as paper
 
     n = len(tables["table1"]) // 2  # a TP row and a GP row per configuration
     total = len(PAPER_MAGNITUDES) * len(PAPER_PROPORTIONS) * len(PAPER_SWITCH_STATES)
@@ -126,8 +126,8 @@ def _beside_authors_sections(tables: dict, episodes: int) -> list:
     Their per-episode records give what the paper's tables do not: every
     configuration's cost rate, hence its verdict, and medians computed as ours.
     """
-    from ..authors import AUTHORS_EPISODES, AuthorsRuns, tables_beside_authors, verdicts_beside_authors
-    from ..tables import summary_tables
+    from ..experiments.tables import summary_tables
+    from ..paper.authors import AUTHORS_EPISODES, AuthorsRuns, tables_beside_authors, verdicts_beside_authors
 
     configurations = {(row.m, row.p, row.nss) for row in tables["table1"].itertuples(index=False)}
     authors = AuthorsRuns(episode=min(episodes, AUTHORS_EPISODES)).only(configurations)
@@ -155,9 +155,9 @@ def _ablation_table(args, parser) -> int:
     """``tables`` on an ablation's folder: its stored runs' table (``--markdown`` writes it too)."""
     from pathlib import Path
 
-    from .._io import StoredResultError, atomic_write_text, read_json
-    from ..ablation import AblationResults
-    from ..tables import frame_to_markdown
+    from .._internal.io import StoredResultError, atomic_write_text, read_json
+    from ..experiments.ablation import AblationResults
+    from ..experiments.tables import frame_to_markdown
 
     try:
         table = AblationResults.load(args.results_dir).table()

@@ -6,7 +6,7 @@ import dataclasses
 import functools
 from dataclasses import dataclass, fields
 
-from .._validation import check_choice, check_switch_states
+from .._internal.validation import check_choice, check_switch_states
 from .defaults import (
     MODELS,
     NOISE_CONVENTIONS,

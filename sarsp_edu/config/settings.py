@@ -13,7 +13,7 @@ import fractions
 import numbers
 from dataclasses import dataclass, field, fields
 
-from .._validation import check_choice, check_fraction, check_int, check_nu, check_positive
+from .._internal.validation import check_choice, check_fraction, check_int, check_nu, check_positive
 from .defaults import (
     ADAM_STEPS,
     COST_DUPLICATES,
@@ -142,7 +142,7 @@ class _Settings:
 # -- the settings, grouped as the code uses them ----------------------------------
 @dataclass(frozen=True)
 class WorldSettings(_Settings):
-    """The world (paper section 5.1): :class:`~sarsp_edu.gridworld.SafeGridWorld` takes them (``env_kwargs``)."""
+    """The world (paper section 5.1): :class:`~sarsp_edu.world.gridworld.SafeGridWorld` takes them (``env_kwargs``)."""
 
     grid_size: int = GRID_SIZE
     n_unsafe: int = N_UNSAFE
@@ -179,7 +179,7 @@ class ModelSettings(_Settings):
 
     ``noise_convention`` is ``"tfp"`` here, as in the reference code's
     library, whose runs the experiments reproduce; a bare
-    :class:`~sarsp_edu.processes.StudentTProcess` defaults to ``"shah"``,
+    :class:`~sarsp_edu.models.processes.StudentTProcess` defaults to ``"shah"``,
     Shah et al.'s (2014) own form, which the tutorials teach.
     """
 
@@ -194,7 +194,7 @@ class ModelSettings(_Settings):
 
 @dataclass(frozen=True)
 class AgentSettings(_Settings):
-    """Algorithm 1's settings: what :class:`~sarsp_edu.sarsp.SARSPAgent` takes."""
+    """Algorithm 1's settings: what :class:`~sarsp_edu.agent.sarsp.SARSPAgent` takes."""
 
     d: float = D
     variance_threshold: float = VARIANCE_THRESHOLD

@@ -1,0 +1,295 @@
+"""The parts of the agent's decision, as replaceable functions: :class:`SARSPAgent`'s plug-in point.
+
+A decision of Algorithm 1 is assembled from six functions, the ones the
+tutorials' exercises ask a student to write:
+
+============  ===================================================  ==========
+part          signature                                             exercise
+============  ===================================================  ==========
+kernel        ``kernel(X, Y, amplitude, length_scale) -> (n, m)``   2.1
+posterior     ``posterior(K, K_star, k_star_star, y,                2.2
+              noise_variance) -> (mean, latent_variance)``
+tp_factor     ``tp_factor(K, y, noise_variance, nu) -> float``      2.3
+safe_set      ``safe_set(mu_cost, var_cost, known_unsafe, d,        4.1
+              variance_threshold) -> bool array``
+choose        ``choose(mu_cost, var_cost, mu_reward, known_unsafe,  4.2
+              d, variance_threshold) -> (action, backup)``
+corrective    ``corrective(mu_cost, var_cost, action, d,            4.3
+              was_backup) -> bool``
+============  ===================================================  ==========
+
+:class:`DecisionParts` holds them; its defaults are the package's own
+functions, below.  With the package's three model parts the agent predicts
+through its cached, vectorised path (:meth:`ProcessRegressor.predict_batch`
+with a kernel table), bit for bit as without parts; with any of them
+replaced it assembles every prediction from the parts instead
+(:func:`predict_from_parts`), one strategic prior at a time.  Each part is
+called with copies of its inputs, so a part that changes its arguments in
+place cannot change the agent's data.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ..models.kernels import squared_distances
+from ..models.linalg import cholesky_with_jitter, solve_cholesky, solve_lower
+from .decision import choose_action, choose_with_backup, corrects, safe_actions
+
+__all__ = [
+    "DecisionParts",
+    "corrective_applies",
+    "decide",
+    "gp_posterior",
+    "predict_from_parts",
+    "rbf",
+    "tp_factor",
+]
+
+
+def rbf(X, Y, amplitude, length_scale):
+    """The RBF kernel matrix ``amplitude^2 exp(-|x - y|^2 / (2 length_scale^2))`` (:class:`~sarsp_edu.RBF`).
+
+    Parameters
+    ----------
+    X : ndarray of shape (n, d)
+    Y : ndarray of shape (m, d)
+    amplitude, length_scale : float
+
+    Returns
+    -------
+    ndarray of shape (n, m)
+
+    Notes
+    -----
+    :class:`~sarsp_edu.RBF`'s formula, evaluated directly: ``RBF`` looks its
+    values up in a table kept per kernel, which a fresh kernel per call
+    would rebuild every time.
+    """
+    D2 = squared_distances(np.asarray(X, dtype=float), np.asarray(Y, dtype=float))
+    return amplitude**2 * np.exp(D2 * (-0.5 / length_scale**2))
+
+
+def gp_posterior(K, K_star, k_star_star, y, noise_variance):
+    """The GP's posterior mean and latent variance at test points (paper eqs. 4-5; R&W Algorithm 2.1).
+
+    Parameters
+    ----------
+    K : ndarray of shape (n, n)
+        ``k(X, X)`` of the training inputs, without the noise.
+    K_star : ndarray of shape (m, n)
+        ``k(X*, X)``.
+    k_star_star : ndarray of shape (m,)
+        ``k(x*, x*)`` of each test point.
+    y : ndarray of shape (n,)
+    noise_variance : float
+
+    Returns
+    -------
+    mean, variance : ndarray of shape (m,)
+        The variance is the latent function's, without the noise.
+    """
+    L, _ = cholesky_with_jitter(np.asarray(K, dtype=float) + noise_variance * np.eye(len(y)))  # Alg. 2.1, line 2
+    mean = K_star @ solve_cholesky(L, np.asarray(y, dtype=float))  # eq. 4; Alg. 2.1, lines 3-4
+    V = solve_lower(L, np.asarray(K_star, dtype=float).T)  # Alg. 2.1, line 5
+    return mean, k_star_star - np.einsum("ij,ij->j", V, V)  # eq. 5; Alg. 2.1, line 6
+
+
+def tp_factor(K, y, noise_variance, nu):
+    """The TP's factor ``(nu + beta - 2) / (nu + n - 2)`` on the latent variance, ``beta = y^T K_y^-1 y``.
+
+    Paper eq. 6 with Shah et al.'s (2014) ``beta``, which uses the training
+    covariance ``K_y = K + noise_variance I``.
+    """
+    y = np.asarray(y, dtype=float)
+    L, _ = cholesky_with_jitter(np.asarray(K, dtype=float) + noise_variance * np.eye(len(y)))
+    beta = float(y @ solve_cholesky(L, y))
+    return (nu + beta - 2.0) / (nu + len(y) - 2.0)
+
+
+#: the exercise in which the tutorials ask for each part
+EXERCISE_OF = {"kernel": "2.1", "posterior": "2.2", "tp_factor": "2.3", "safe_set": "4.1", "choose": "4.2",
+               "corrective": "4.3"}
+
+
+@dataclass(frozen=True)
+class DecisionParts:
+    """The six functions a decision of Algorithm 1 is assembled from: ``SARSPAgent(..., parts=...)``.
+
+    Each defaults to the package's own; replace any of them with a function
+    of the same signature (the module's table; the tutorials' exercises 2.1
+    to 4.3 ask for each).
+
+    Attributes
+    ----------
+    kernel : callable
+        ``kernel(X, Y, amplitude, length_scale)``: the kernel matrix of the
+        rows of ``X`` against those of ``Y`` under a model's fitted kernel.
+    posterior : callable
+        ``posterior(K, K_star, k_star_star, y, noise_variance) -> (mean,
+        latent_variance)`` of each query, from one strategic prior.
+    tp_factor : callable
+        ``tp_factor(K, y, noise_variance, nu)``: the TP's factor on the latent
+        variance (used by a TP model only).
+    safe_set : callable
+        ``safe_set(mu_cost, var_cost, known_unsafe, d, variance_threshold)``:
+        which of the four actions are safe (the decision's record, ``safe``).
+    choose : callable
+        ``choose(mu_cost, var_cost, mu_reward, known_unsafe, d,
+        variance_threshold) -> (action, backup)``.
+    corrective : callable
+        ``corrective(mu_cost, var_cost, action, d, was_backup)``: whether a
+        violation corrects the cost model's data.
+
+    Examples
+    --------
+    >>> from sarsp_edu.agent.parts import DecisionParts
+    >>> parts = DecisionParts(choose=lambda mu_cost, var_cost, mu_reward, known_unsafe, d, threshold: (0, True))
+    >>> parts.replaced()
+    ['choose']
+    """
+
+    kernel: Callable = rbf
+    posterior: Callable = gp_posterior
+    tp_factor: Callable = tp_factor
+    safe_set: Callable = safe_actions
+    choose: Callable = choose_with_backup
+    corrective: Callable = corrects
+
+    def __post_init__(self):
+        for name in self.names():
+            value = getattr(self, name)
+            if not callable(value):
+                raise TypeError(f"DecisionParts.{name} must be a function (exercise {EXERCISE_OF[name]}'s "
+                                f"signature), got {type(value).__name__}")
+
+    @classmethod
+    def names(cls) -> list[str]:
+        """The parts' names, in the order a decision uses them."""
+        return [f.name for f in fields(cls)]
+
+    @classmethod
+    def of(cls, parts) -> "DecisionParts":
+        """``parts`` as a DecisionParts: None gives the package's, a mapping names some parts (the rest the
+        package's)."""
+        if parts is None:
+            return cls()
+        if isinstance(parts, cls):
+            return parts
+        if isinstance(parts, Mapping):
+            unknown = sorted(set(parts) - set(cls.names()))
+            if unknown:
+                raise ValueError(f"parts may name {cls.names()}, got {unknown}")
+            return cls(**parts)
+        raise TypeError(f"parts must be a DecisionParts, a mapping of some of {cls.names()} or None, "
+                        f"got {type(parts).__name__}")
+
+    def replaced(self) -> list[str]:
+        """The names of the parts that are not the package's own."""
+        return [name for name in self.names() if getattr(self, name) is not getattr(DecisionParts, name)]
+
+    @property
+    def package_models(self) -> bool:
+        """Whether the kernel, posterior and TP factor are the package's (the agent's fast path)."""
+        return not {"kernel", "posterior", "tp_factor"} & set(self.replaced())
+
+
+def _array(value, shape: tuple, part: str, what: str) -> np.ndarray:
+    """A part's result as a float array of ``shape``; a ValueError naming the part otherwise."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"the {part} part returned {what} that is not numbers ({exc})") from None
+    if array.shape != shape:
+        raise ValueError(f"the {part} part returned {what} of shape {array.shape}, where {shape} is expected")
+    return array
+
+
+def predict_from_parts(parts: DecisionParts, model, X_sets, y_sets, query_sets, include_noise: bool = False):
+    """What ``model.predict_batch`` computes, assembled from the parts' kernel, posterior and TP factor.
+
+    Parameters
+    ----------
+    parts : DecisionParts
+    model : GaussianProcess or StudentTProcess, fitted
+        Gives the hyperparameters (amplitude, length scale, noise variance,
+        ``nu_`` and the noise convention of a TP).
+    X_sets, y_sets : sequences of B arrays of shapes (n_b, d) and (n_b,)
+        The training rows of each strategic prior.
+    query_sets : ndarray of shape (B, q, d)
+    include_noise : bool, default False
+
+    Returns
+    -------
+    mean, var : ndarray of shape (B, q)
+    df : ndarray of shape (B,)
+        As :meth:`~sarsp_edu.models.processes.regressor.ProcessRegressor.predict_batch`.
+    """
+    from ..models.processes import GaussianProcess, StudentTProcess
+
+    if not isinstance(model, (GaussianProcess, StudentTProcess)):
+        raise TypeError(f"an agent with its own parts predicts with a GaussianProcess or a StudentTProcess, got "
+                        f"{type(model).__name__}")
+    model._check_fitted()
+    amplitude, length_scale = float(model.kernel_.amplitude), float(model.kernel_.length_scale)
+    s2 = float(model.noise_variance_)
+    heavy = isinstance(model, StudentTProcess)
+    query_sets = np.asarray(query_sets, dtype=float)
+    B, q = query_sets.shape[:2]
+    mean, var, df = np.empty((B, q)), np.empty((B, q)), np.empty(B)
+    for b in range(B):
+        X, y, Q = np.asarray(X_sets[b], dtype=float), np.asarray(y_sets[b], dtype=float), query_sets[b]
+        n = len(y)
+        K = _array(parts.kernel(X.copy(), X.copy(), amplitude, length_scale), (n, n), "kernel", "a matrix")
+        K_star = _array(parts.kernel(Q.copy(), X.copy(), amplitude, length_scale), (q, n), "kernel", "a matrix")
+        K_query = _array(parts.kernel(Q.copy(), Q.copy(), amplitude, length_scale), (q, q), "kernel", "a matrix")
+        result = parts.posterior(K.copy(), K_star.copy(), np.diagonal(K_query).copy(), y.copy(), s2)
+        if not isinstance(result, (tuple, list)) or len(result) != 2:
+            raise ValueError("the posterior part must return two arrays, (mean, latent variance)")
+        mean[b] = _array(result[0], (q,), "posterior", "a mean")
+        latent = np.maximum(_array(result[1], (q,), "posterior", "a variance"), 0.0)
+        factor = 1.0
+        if heavy:
+            factor = float(_array(parts.tp_factor(K.copy(), y.copy(), s2, model.nu_), (), "tp_factor", "a factor"))
+        var[b] = model._predictive_variance(latent, factor, s2 if include_noise else 0.0)
+        df[b] = model.nu_ + n if heavy else math.inf
+    return mean, var, df
+
+
+def _copies(*values):
+    return [np.array(v, copy=True) if isinstance(v, np.ndarray) else v for v in values]
+
+
+def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
+    """``(action, safe, backup)`` of Algorithm 1's rule, from the parts' safe set and choice.
+
+    With the package's two parts this is :func:`~sarsp_edu.agent.decision.choose_action`.
+    """
+    if parts.safe_set is safe_actions and parts.choose is choose_with_backup:
+        return choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
+    n = len(mu_cost)
+    flags = np.asarray(parts.safe_set(*_copies(mu_cost, var_cost, known_unsafe, d, variance_threshold)))
+    if flags.shape != (n,) or not (flags.dtype == bool or np.isin(flags, (0, 1)).all()):
+        raise ValueError(f"the safe_set part must return {n} booleans, one per action, got {flags!r}")
+    chosen = parts.choose(*_copies(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold))
+    if not isinstance(chosen, (tuple, list)) or len(chosen) != 2:
+        raise ValueError(f"the choose part must return (action, backup), got {chosen!r}")
+    action, backup = chosen
+    try:
+        number = float(action)
+    except (TypeError, ValueError):
+        number = math.nan
+    if isinstance(action, (bool, np.bool_)) or not number.is_integer() or not 0 <= number < n:
+        raise ValueError(f"the choose part must return an action number from 0 to {n - 1}, got {action!r}")
+    return int(action), flags.astype(bool), bool(backup)
+
+
+def corrective_applies(parts: DecisionParts, mu_cost, var_cost, action: int, d: float, was_backup: bool) -> bool:
+    """Whether the corrective update applies, by the parts' corrective test."""
+    if parts.corrective is corrects:
+        return corrects(mu_cost, var_cost, action, d, was_backup)
+    return bool(parts.corrective(*_copies(mu_cost, var_cost, action, d, was_backup)))

@@ -1,0 +1,334 @@
+"""The course: one source notebook per tutorial, the student notebooks made from it, the hand-outs.
+
+Each tutorial has one **source** notebook in ``tutorials/source/``, with the
+answers in it between nbgrader's ``### BEGIN SOLUTION`` / ``### END SOLUTION``
+markers and nbgrader's cell metadata on the graded cells, so that an
+instructor can drop the sources into an nbgrader course unchanged.  The
+**student** notebooks in ``tutorials/`` are made from them by
+:func:`student_notebook`, which does what ``nbgrader generate_assignment``
+does to a cell: a solution region becomes nbgrader's stub (``# YOUR CODE
+HERE`` / ``raise NotImplementedError()``, indented as the marker was; ``YOUR
+ANSWER HERE`` in a written answer), hidden tests are removed, outputs
+cleared.  ``sarsp-edu course student`` writes and executes them;
+``sarsp-edu course handout`` copies what students get (the student notebooks,
+the glossary and the stored results they read, never the sources) into a
+folder or a zip.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+import re
+import shutil
+import tempfile
+import zipfile
+from pathlib import Path
+
+from .pages import write_pages  # the static pages are built in pages.py
+
+__all__ = [
+    "BEGIN_SOLUTION",
+    "END_SOLUTION",
+    "CODE_STUB",
+    "TEXT_STUB",
+    "clear_solutions",
+    "student_notebook",
+    "check_source",
+    "execute",
+    "execute_sources",
+    "write_student_notebooks",
+    "clear_reveals",
+    "write_pages",
+    "write_handout",
+]
+
+BEGIN_SOLUTION, END_SOLUTION = "### BEGIN SOLUTION", "### END SOLUTION"
+BEGIN_HIDDEN, END_HIDDEN = "### BEGIN HIDDEN TESTS", "### END HIDDEN TESTS"
+#: nbgrader's default stubs (ClearSolutions.code_stub["python"] and .text_stub)
+CODE_STUB = "# YOUR CODE HERE\nraise NotImplementedError()"
+TEXT_STUB = "YOUR ANSWER HERE"
+#: the nbgrader cell-metadata schema this package writes
+SCHEMA_VERSION = 3
+#: what a student copy holds beside the notebooks (paths relative to the repository)
+#: (repository path, path in the hand-out): the students' README is one of its own, which links only to what
+#: the hand-out holds (the repository's tutorials/README.md links to the lecturer's guide and the sources)
+HANDOUT_FILES = (("tutorials/GLOSSARY.md", "tutorials/GLOSSARY.md"), ("tutorials/HANDOUT.md", "tutorials/README.md"),
+                 ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"))
+#: the stored results the tutorials read (``../results/...`` from ``tutorials/``)
+HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-reduced", "results/sweep-reference", "results/ablation")
+
+
+def _regions(lines: list[str], begin: str, end: str):
+    """(start, stop) line indices of each ``begin`` ... ``end`` region; an unpaired marker is an error."""
+    regions, start = [], None
+    for i, line in enumerate(lines):
+        if begin in line:
+            if start is not None:
+                raise ValueError(f"'{begin}' at line {i + 1} before the '{end}' of line {start + 1}")
+            start = i
+        elif end in line:
+            if start is None:
+                raise ValueError(f"'{end}' at line {i + 1} without a '{begin}'")
+            regions.append((start, i))
+            start = None
+    if start is not None:
+        raise ValueError(f"'{begin}' at line {start + 1} has no '{end}'")
+    return regions
+
+
+def clear_solutions(source: str, stub: str = CODE_STUB) -> str:
+    """``source`` with every solution region replaced by ``stub``, indented as its BEGIN marker.
+
+    Examples
+    --------
+    >>> print(clear_solutions("def f(x):\\n    ### BEGIN SOLUTION\\n    return x\\n    ### END SOLUTION"))
+    def f(x):
+        # YOUR CODE HERE
+        raise NotImplementedError()
+    """
+    return _replace_regions(source, BEGIN_SOLUTION, END_SOLUTION, stub)
+
+
+def _replace_regions(source: str, begin: str, end: str, stub: str | None) -> str:
+    """Each ``begin`` ... ``end`` region replaced by ``stub`` indented as ``begin`` (removed when None)."""
+    lines = source.split("\n")
+    for start, stop in reversed(_regions(lines, begin, end)):
+        indent = re.match(r"\s*", lines[start]).group(0)
+        lines[start:stop + 1] = [] if stub is None else [indent + line for line in stub.split("\n")]
+    return "\n".join(lines)
+
+
+def _grading(cell) -> dict:
+    return cell.get("metadata", {}).get("nbgrader", {})
+
+
+def student_notebook(source):
+    """The student version of a source notebook (an ``nbformat`` notebook; the source is not changed).
+
+    A code cell's solution regions become :data:`CODE_STUB`; a written
+    answer (a Markdown cell marked ``solution`` in its nbgrader metadata)
+    becomes :data:`TEXT_STUB`, whole or region by region; hidden tests are
+    removed; outputs and execution counts are cleared.
+    """
+    notebook = copy.deepcopy(source)
+    for cell in notebook.cells:
+        text = cell.source
+        if cell.cell_type == "code":
+            text = _replace_regions(clear_solutions(text, CODE_STUB), BEGIN_HIDDEN, END_HIDDEN, None).rstrip("\n")
+            cell.outputs, cell.execution_count = [], None
+        elif _grading(cell).get("solution"):
+            lines = text.split("\n")
+            text = (clear_solutions(text, TEXT_STUB) if _regions(lines, BEGIN_SOLUTION, END_SOLUTION)
+                    else TEXT_STUB)
+        cell.source = text
+    return notebook
+
+
+def check_source(source) -> list[str]:
+    """What in a source notebook breaks nbgrader's format ([] when nothing does).
+
+    Every cell with a solution region is an nbgrader solution cell; every
+    graded cell has a unique ``grade_id`` and ``points``; every nbgrader
+    metadata block has the keys and the schema version nbgrader writes.
+    """
+    problems, ids = [], set()
+    keys = {"grade", "grade_id", "locked", "schema_version", "solution", "task"}
+    for index, cell in enumerate(source.cells):
+        where = f"cell {index}"
+        meta = _grading(cell)
+        try:
+            marked = bool(_regions(cell.source.split("\n"), BEGIN_SOLUTION, END_SOLUTION))
+            _regions(cell.source.split("\n"), BEGIN_HIDDEN, END_HIDDEN)
+        except ValueError as exc:
+            problems.append(f"{where}: {exc}")
+            continue
+        if marked and not meta.get("solution"):
+            problems.append(f"{where}: has a solution region but no nbgrader metadata with solution: true")
+        if not meta:
+            continue
+        missing = keys - set(meta)
+        if missing:
+            problems.append(f"{where}: nbgrader metadata lacks {sorted(missing)}")
+        if meta.get("schema_version") != SCHEMA_VERSION:
+            problems.append(f"{where}: nbgrader schema_version {meta.get('schema_version')!r}, not {SCHEMA_VERSION}")
+        if meta.get("grade_id") in ids:
+            problems.append(f"{where}: grade_id {meta.get('grade_id')!r} is used twice")
+        ids.add(meta.get("grade_id"))
+        if meta.get("grade") and not isinstance(meta.get("points"), (int, float)):
+            problems.append(f"{where}: a graded cell needs points")
+        if meta.get("grade") and not meta.get("solution") and not meta.get("locked"):
+            problems.append(f"{where}: a test cell (grade, no solution) must be locked")
+    return problems
+
+
+def sources(tutorials: Path, only=None) -> list[Path]:
+    """The source notebooks of a tutorials folder, in order (``only``: those whose number NN is listed)."""
+    found = sorted((Path(tutorials) / "source").glob("[0-9][0-9]_*.ipynb"))
+    if not found:
+        raise FileNotFoundError(f"{tutorials}/source holds no source notebook (NN_name.ipynb)")
+    if only:
+        wanted = {f"{int(number):02d}" for number in only}
+        numbers = {path.name[:2] for path in found}
+        if wanted - numbers:
+            raise ValueError(f"only must name tutorials among {sorted(numbers)}, got {sorted(wanted - numbers)}")
+        found = [path for path in found if path.name[:2] in wanted]
+    return found
+
+
+def clear_reveals(notebook):
+    """Clear the outputs of the cells that reveal a prediction's answer (tagged ``reveal``), in place.
+
+    A student sees the answer when running the cell, after the prediction's
+    check, never in the stored notebook before predicting.
+    """
+    from .prose import REVEAL_TAG
+
+    for cell in notebook.cells:
+        if cell.cell_type == "code" and REVEAL_TAG in cell.metadata.get("tags", []):
+            cell.outputs, cell.execution_count = [], None
+    return notebook
+
+
+def student_path(source: Path) -> Path:
+    """Where a source's student notebook lives: ``tutorials/NN_name.ipynb`` beside ``tutorials/source/``."""
+    return source.parent.parent / source.name
+
+
+def execute(notebook, folder, timeout: int = 900):
+    """Run ``notebook`` in ``folder`` and keep what every reader can see.
+
+    The live widgets' state is not stored: a notebook viewed without a
+    kernel (GitHub, nbviewer, an HTML export offline) then shows each
+    dashboard's picture, the PNG its output carries beside the widget, where
+    a stored state would make an export load the widgets from the network.
+    Run times are not stored either: they change at every run.
+    """
+    from nbclient import NotebookClient
+
+    from .live import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE
+
+    # the kernel inherits them: nobody watches a batch run, and a live dashboard's stored picture shows its
+    # agents after 10 episodes rather than the world before Run
+    settings = {AUTOPLAY_VARIABLE: "0", SNAPSHOT_VARIABLE: "10"}
+    before = {name: os.environ.get(name) for name in settings}
+    os.environ.update(settings)
+    try:
+        NotebookClient(notebook, timeout=timeout, kernel_name="python3", store_widget_state=False,
+                       resources={"metadata": {"path": str(folder)}}).execute()
+    finally:
+        for name, value in before.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+    notebook.metadata.pop("widgets", None)
+    for cell in notebook.cells:
+        cell.metadata.pop("execution", None)
+    return notebook
+
+
+def execute_sources(tutorials="tutorials", timeout: int = 900, only=None) -> list[Path]:
+    """Execute the source notebooks in place (their stored outputs are nbval's reference).
+
+    ``only`` lists the tutorials' numbers to run (all by default).
+    """
+    import nbformat
+
+    from .._internal.io import atomic_write_text
+
+    written = []
+    for path in sources(Path(tutorials), only):
+        notebook = execute(nbformat.read(path, as_version=4), path.parent, timeout)
+        atomic_write_text(path, nbformat.writes(notebook) + "\n")
+        written.append(path)
+    return written
+
+
+def _student_notebooks(tutorials: Path) -> list[Path]:
+    """The student notebooks of a tutorials folder, one per source; an error if one was never made."""
+    notebooks = [student_path(path) for path in sources(tutorials)]
+    missing = [str(p) for p in notebooks if not p.exists()]
+    if missing:
+        raise FileNotFoundError(f"no student notebook {missing}: run 'sarsp-edu course student' first")
+    return notebooks
+
+
+def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900, only=None) -> list[Path]:
+    """Write (and run, so that their stored outputs are what a student first sees) the student notebooks.
+
+    Each is written atomically beside its ``source/`` folder; a source that
+    breaks nbgrader's format is refused before anything is written.  The
+    cells that reveal a prediction's answer keep no output (:func:`clear_reveals`).
+    ``only`` lists the tutorials' numbers to write (all by default).
+    """
+    import nbformat
+
+    from .._internal.io import atomic_write_text
+
+    tutorials = Path(tutorials)
+    notebooks = []
+    for path in sources(tutorials, only):
+        source = nbformat.read(path, as_version=4)
+        problems = check_source(source)
+        if problems:
+            raise ValueError(f"{path} is not in nbgrader's format: " + "; ".join(problems))
+        notebooks.append((path, student_notebook(source)))
+    written = []
+    for path, notebook in notebooks:
+        if run:
+            clear_reveals(execute(notebook, tutorials, timeout))
+        target = student_path(path)
+        atomic_write_text(target, nbformat.writes(notebook) + "\n")
+        written.append(target)
+    return written
+
+
+def write_handout(root=".", out=None, zip_path=None) -> Path:
+    """A student copy of the course: student notebooks, glossary and stored results, no sources.
+
+    Parameters
+    ----------
+    root : path
+        The repository (holding ``tutorials/`` and ``results/``).
+    out : path, optional
+        A new or empty folder to write the copy into.
+    zip_path : path, optional
+        A zip file to write instead (written atomically).
+
+    Returns the folder or the zip file.  The copy keeps the repository's
+    layout (``tutorials/``, ``results/``), so the notebooks' ``../results``
+    paths work in it.
+    """
+    root = Path(root)
+    if (out is None) == (zip_path is None):
+        raise ValueError("give exactly one of out (a folder) or zip_path (a zip file)")
+    notebooks = _student_notebooks(root / "tutorials")
+    files = [(p, Path("tutorials") / p.name) for p in notebooks]
+    files += [(root / name, Path(inside)) for name, inside in HANDOUT_FILES if (root / name).exists()]
+    for folder in HANDOUT_RESULTS:
+        for path in sorted((root / folder).rglob("*")):
+            if path.is_file() and not path.name.startswith("."):
+                files.append((path, path.relative_to(root)))
+    if zip_path is not None:
+        zip_path = Path(zip_path)
+        handle, temporary = tempfile.mkstemp(prefix=f".{zip_path.name}.", dir=zip_path.parent or ".")
+        try:
+            with open(handle, "wb") as stream, zipfile.ZipFile(stream, "w", zipfile.ZIP_DEFLATED) as archive:
+                for path, name in files:
+                    archive.write(path, Path("sarsp-edu-course") / name)
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)  # as any new file, not mkstemp's 0600
+            Path(temporary).replace(zip_path)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+        return zip_path
+    out = Path(out)
+    if out.exists() and any(out.iterdir()):
+        raise ValueError(f"out must be a new or empty folder, got out={str(out)!r}, which holds files")
+    for path, name in files:
+        (out / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(path, out / name)
+    return out

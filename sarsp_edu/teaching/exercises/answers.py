@@ -1,0 +1,189 @@
+"""Reading a short answer as a student would write it.
+
+A prediction may be written in many ways: ``"Narrower."``, ``"smaller"``,
+``"<"``, ``"below 1"``, ``50``, ``"50"``, ``np.int64(50)``, a dict keyed
+``"λ < 1"`` or ``"lambda<1"`` with ``"infinity"`` as a value.  Each reader
+returns the answer in one canonical form, or raises :class:`Unreadable`
+saying what it could not read; the check then lists the accepted forms
+instead of a hint meant for a wrong idea.
+
+Examples
+--------
+>>> read_word("Above 1.", {"above": ABOVE, "below": BELOW})
+'above'
+>>> read_count("12"), read_count(12.0)
+(12, 12)
+>>> read_count("fifty")
+Traceback (most recent call last):
+...
+sarsp_edu.teaching.exercises.answers.Unreadable: Could not read 'fifty' as a whole number.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from .wording import shown
+
+__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "read_actions", "read_count", "read_limits",
+           "read_word"]
+
+
+class Unreadable(ValueError):
+    """An answer that cannot be read as any of the accepted forms; its message says what was not read."""
+
+
+def _compact(text: str) -> str:
+    """Lower case, spaces, quotes and a final full stop dropped, symbols spelt one way ('λ ≤ 1' -> 'lambda<=1')."""
+    text = text.strip().lower()
+    for symbol, spelt in (("λ", "lambda"), ("≤", "<="), ("≥", ">="), ("∞", "inf"), ("==", "=")):
+        text = text.replace(symbol, spelt)
+    text = re.sub(r"[\s\"'`]+", "", text)
+    return re.sub(r"[.!]+$", "", text)
+
+
+def _words(*spellings: str) -> frozenset:
+    return frozenset(_compact(s) for s in spellings)
+
+
+def _compared(words, *others: str) -> frozenset:
+    """Each word alone and compared with 1, as a student spells it ('below', 'below 1.0', 'less than one' ...)."""
+    ones = [f"{than}{one}" for than in ("", "than ") for one in ("1", "1.0", "one")]
+    return _words(*others, *words, *(f"{word} {one}" for word in words for one in ones))
+
+
+#: the spellings of each side, for the predictions that ask 'above' or 'below' 1, 'wider' or 'narrower'
+ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1")
+BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1")
+WIDER = _words("wider", "wide", "widens", "broader", "larger", "bigger", "more", ">", "wider band", "more wide",
+               "less narrow")
+NARROWER = _words("narrower", "narrow", "narrows", "tighter", "thinner", "smaller", "less", "<", "narrower band",
+                  "more narrow", "less wide")
+#: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
+_LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the factor is",
+                                         "it gets", "it becomes", "it is", "it's", "gets", "becomes", "is"))
+
+
+def _text(answer) -> str | None:
+    """``answer`` as text when it is one (a str, numpy's str, bytes), else None."""
+    if isinstance(answer, bytes):
+        try:
+            return answer.decode()
+        except UnicodeDecodeError:
+            return None
+    if isinstance(answer, np.ndarray) and answer.ndim == 0 and answer.dtype.kind in "US":
+        answer = answer.item()
+    return str(answer) if isinstance(answer, str) else None
+
+
+def read_word(answer, options: dict) -> str:
+    """The option (a key of ``options``) whose spellings include ``answer``; raises :class:`Unreadable`."""
+    text = _text(answer)
+    if text is not None:
+        compact = _compact(text)
+        lead_in = next((lead for lead in _LEAD_INS if compact.startswith(lead)), "")
+        for option, spellings in options.items():
+            if compact in spellings or compact[len(lead_in):] in spellings:
+                return option
+    names = " or ".join(repr(option) for option in options)
+    raise Unreadable(f"Could not read {shown(answer)} as {names}.")
+
+
+def _number(answer, what: str) -> float:
+    """A finite or infinite real number from any numeric type or text; raises :class:`Unreadable`."""
+    if isinstance(answer, (bool, np.bool_)) or answer is None:
+        raise Unreadable(f"Could not read {shown(answer)} as {what}.")
+    text = _text(answer)
+    if text is not None:
+        compact = _compact(text)
+        compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf"}.get(
+            compact, compact)
+        try:
+            return float(compact)
+        except ValueError:
+            raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
+    try:
+        array = np.asarray(answer)
+        if array.ndim != 0 or array.dtype.kind == "b":
+            raise ValueError
+        return float(answer)
+    except (TypeError, ValueError, OverflowError, ArithmeticError):
+        raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
+
+
+def read_count(answer) -> int:
+    """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
+    value = _number(answer, "a whole number")
+    if not math.isfinite(value) or value != int(value):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    return int(value)
+
+
+def _limit_key(key) -> str | None:
+    """'lambda < 1', 'λ<1', 'lam < 1', '< 1' ... as '<1'; None for anything else."""
+    text = _text(key)
+    if text is None:
+        return None
+    compact = _compact(text)
+    for name in ("lambda", "lam", "l"):
+        if compact.startswith(name):
+            compact = compact[len(name):]
+            break
+    compact = re.sub(r"(?<=[<=>])1\.0*$", "1", compact)  # 'lambda < 1.0'
+    return compact if compact in ("<1", "=1", ">1") else None
+
+
+def read_limits(answer) -> dict:
+    """A dict of the three limits, keyed '<1', '=1', '>1' (floats, inf allowed); raises :class:`Unreadable`."""
+    if not isinstance(answer, dict):
+        raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits.")
+    limits = {}
+    for key, value in answer.items():
+        side = _limit_key(key)
+        if side is None:
+            raise Unreadable(f"Could not read the key {shown(key)} as one of lambda < 1, lambda = 1, lambda > 1.")
+        if side in limits:
+            raise Unreadable(f"The key {shown(key)} names lambda {side[0]} 1 a second time.")
+        limits[side] = _number(value, f"the limit for lambda {side[0]} 1")
+    missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]
+    if missing:
+        raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
+    return limits
+
+
+#: the actions' names, for answers that name them
+_ACTIONS = {"right": 0, "down": 1, "left": 2, "up": 3}
+
+
+def read_actions(answer) -> list[int]:
+    """Action numbers 0-3, sorted and once each, from a list, set, array, a 4-long boolean mask or text."""
+    text = _text(answer)
+    if text is not None:
+        none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]")
+        answer = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", text.strip(),
+                                                            flags=re.I)
+                                  if item]
+    elif isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
+        answer = [answer]
+    try:
+        array = np.asarray(list(answer) if isinstance(answer, (set, frozenset)) else answer)
+    except (TypeError, ValueError, OverflowError):
+        array = None
+    if array is not None and array.ndim == 1 and array.dtype.kind == "b" and len(array) == 4:
+        return [int(a) for a in np.flatnonzero(array)]  # the safe set as a mask of the four actions
+    if array is None or array.ndim != 1 or (array.size and array.dtype.kind == "b"):
+        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
+    actions = set()
+    for item in array.tolist():
+        item = _ACTIONS.get(item.strip().lower(), item) if isinstance(item, str) else item
+        try:
+            number = _number(item, "an action number")
+        except Unreadable:
+            raise Unreadable(f"Could not read {shown(item)} as an action number.") from None
+        if number not in (0, 1, 2, 3):
+            raise Unreadable(f"{shown(item)} is not an action: they are numbered 0 to 3.")
+        actions.add(int(number))
+    return sorted(actions)

@@ -1,0 +1,215 @@
+"""Coding exercises on a run's records: Table 1's % difference (5.1), eq. 12 (6.1), Definition 4 (6.2).
+
+Each reference calls the package's own metrics (``sarsp_edu.experiments.metrics``);
+where the equations leave a case undefined, the exercise's question says the
+one rule its reference follows.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .grading import CodingExercise, Mistake
+
+__all__ = ["RECORD_EXERCISES"]
+
+
+# -- Tutorial 5: Table 1's % difference ------------------------------------------------------------
+def _symmetric_cases(rng):
+    return [{"a": 28.0, "b": 58.0}, {"a": 58.0, "b": 28.0}, {"a": 5.0, "b": 5.0},
+            {"a": float(rng.uniform(1, 100)), "b": float(rng.uniform(1, 100))},
+            {"a": 0.0, "b": 4.0},                                                 # one total of 0
+            {"a": -28.0, "b": -58.0},                                             # rewards: both negative
+            {"a": -float(rng.uniform(50, 150)), "b": -float(rng.uniform(50, 150))},
+            {"a": -3.0, "b": 5.0}]                                                # signs differ
+
+
+def _symmetric(a, b):
+    """Table 1's % difference; for negative values the mean of the sizes |a| and |b| (the exercise's rule)."""
+    from ...experiments.metrics import symmetric_percent_difference
+
+    if a >= 0 and b >= 0:  # Table 1's totals: the package's own function
+        return symmetric_percent_difference(a, b)
+    return 0.0 if a == b else abs(a - b) / ((abs(a) + abs(b)) / 2) * 100
+
+
+# -- Tutorial 6: the task success rate and eq. 12, Definition 4 -------------------------------------
+def _records_cases(rng):
+    cases = [
+        {"episode_cost": np.array([0, 2, 0, 1]), "episode_steps": np.array([10, 30, 20, 100]),
+         "task_completed": np.array([True, True, True, False])},
+        # violations but no clean success: eq. 12 divides by 0; the question's rule says 0
+        {"episode_cost": np.array([1, 0, 3]), "episode_steps": np.array([12, 100, 40]),
+         "task_completed": np.array([True, False, False])},
+        {"episode_cost": np.array([0, 0]), "episode_steps": np.array([5, 7]), "task_completed": np.array([True, True])},
+        # no violation and no success: 0 over 0, 0 by the same rule
+        {"episode_cost": np.array([0, 0, 0]), "episode_steps": np.array([100, 100, 100]),
+         "task_completed": np.array([False, False, False])},
+        {"episode_cost": np.array([2]), "episode_steps": np.array([17]), "task_completed": np.array([True])},
+    ]
+    for n in (25, 250):
+        done = rng.random(n) < 0.7
+        cases.append({"episode_cost": rng.poisson(0.3, n), "episode_steps": rng.integers(5, 101, n),
+                      "task_completed": done})
+    return cases
+
+
+def _tsr_and_cost_rate(episode_cost, episode_steps, task_completed):
+    from ...experiments.metrics import running_metrics
+
+    last = running_metrics(np.zeros(len(episode_cost)), episode_cost, episode_steps, task_completed).iloc[-1]
+    return float(last["task_success_rate"]), float(last["cost_rate"])
+
+
+def _cost_rate_over(steps_of):
+    def wrong(episode_cost, episode_steps, task_completed):
+        tsr = _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[0]
+        total, steps = float(np.sum(episode_cost)), float(np.sum(steps_of(episode_cost, episode_steps, task_completed)))
+        return tsr, (total / steps if total > 0 and steps > 0 else 0.0)
+    return wrong
+
+
+def _undefined_as_nan(when):
+    """The right results, but NaN for the cost rate where ``when(total_cost, clean_steps)``: a mistake."""
+    def wrong(episode_cost, episode_steps, task_completed):
+        tsr, rate = _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)
+        cost, done = np.asarray(episode_cost), np.asarray(task_completed, dtype=bool)
+        clean = float(np.sum(np.asarray(episode_steps)[done & (cost == 0)]))
+        return tsr, (float("nan") if when(float(np.sum(cost)), clean) else rate)
+    return wrong
+
+
+def _summaries_cases(rng):
+    def summary(reward, rate, tsr):
+        return {"mean_reward": reward, "cost_rate": rate, "task_success_rate": tsr, "total_cost": 10.0}
+
+    cases = [
+        {"summary_1": summary(-100, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # no branch
+        {"summary_1": summary(-80, 0.01, 70), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # reward
+        {"summary_1": summary(-100, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # TSR
+        {"summary_1": summary(-100, 0.01, 85), "summary_2": summary(-90, 0.02, 90), "a": 80.0},   # TSR >= a
+        {"summary_1": summary(-100, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 80.0},   # TSR = a exactly
+        {"summary_1": summary(-80, 0.02, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # equal p_c
+        {"summary_1": summary(-80, 0.01, 95), "summary_2": summary(-90, 0.005, 90), "a": 100.0},  # higher p_c
+        {"summary_1": summary(-90, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # equal reward
+        {"summary_1": summary(-100, 0.01, 90), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # equal TSR
+        {"summary_1": summary(-100, 0.01, 40), "summary_2": summary(-90, 0.02, 60), "a": 1.0},    # the lowest a
+        {"summary_1": summary(-80, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # every branch
+    ]
+    for _ in range(6):
+        cases.append({"summary_1": summary(-rng.uniform(50, 150), rng.uniform(0.001, 0.03), rng.uniform(50, 100)),
+                      "summary_2": summary(-rng.uniform(50, 150), rng.uniform(0.001, 0.03), rng.uniform(50, 100)),
+                      "a": float(rng.uniform(60, 100))})
+    return cases
+
+
+def _prefers(summary_1, summary_2, a):
+    from ...experiments.metrics import prefers
+
+    return bool(prefers(summary_1, summary_2, a))
+
+
+def _prefers_with(condition):
+    def wrong(summary_1, summary_2, a):
+        return bool(condition(summary_1, summary_2, a))
+    return wrong
+
+
+RECORD_EXERCISES = {
+    "5.1": CodingExercise(
+        question="Table 1's '% difference' of a and b: |a - b| over the mean of their sizes, (|a| + |b|) / 2, "
+                 "in %, 0 when a = b (for Table 1's totals, never negative, the mean of a and b itself; for "
+                 "negative values such as rewards the sizes keep it from 0 to 200)",
+        signature="symmetric_percent_difference(a, b) -> float",
+        reference=_symmetric,
+        cases=_symmetric_cases,
+        mistakes=(
+            Mistake(lambda a, b: (a - b) / abs(b) * 100, "That is the change of a relative to b (Table 2's "
+                                                        "convention); Table 1's has no reference model."),
+            Mistake(lambda a, b: (a - b) / ((abs(a) + abs(b)) / 2) * 100, "It has no sign: take the absolute "
+                                                                         "difference."),
+            Mistake(lambda a, b: (a - b) / ((a + b) / 2) * 100, "It has no sign: take the absolute difference."),
+            Mistake(lambda a, b: abs(a - b) / ((a + b) / 2) * 100,
+                    "Right for Table 1's totals, not for negative values (rewards): read the question's rule for "
+                    "them; a % difference is never negative."),
+            Mistake(lambda a, b: abs(a - b) / abs((a + b) / 2) * 100,
+                    "Right while a and b share a sign; where their signs differ, read the question's rule: "
+                    "(a + b) / 2 can be near 0 there."),
+            *(Mistake(lambda a, b, size=size: abs(a - b) / max(size(a), size(b)) * 100,
+                      "Divide by the mean of the two, not the larger.") for size in (float, abs)),
+            *(Mistake(lambda a, b, size=size: abs(a - b) / (size(a) + size(b)) * 100,
+                      "Divide by the mean of the two, not by their sum.") for size in (float, abs)),
+            *(Mistake(lambda a, b, size=size: abs(a - b) / ((size(a) + size(b)) / 2),
+                      "It is a percentage: times 100.") for size in (float, abs)),
+        ),
+        hint="Redo 28 against 58 by hand (Table 1 prints 69.8%, rounded), then one of the other cases: "
+             "check the numerator, the denominator and the factor 100.",
+        explanation="For the paper's (40, 0.2, 2) row, 28 against 58 gives the 69.8% it prints.",
+    ),
+    "6.1": CodingExercise(
+        question="the task success rate (%) and the cost rate of eq. 12, the violations over the steps of the "
+                 "successful episodes without a violation; the cost rate is 0 where either of the two is 0, as "
+                 "the package's running_metrics keeps it (the tables print the case of violations without a "
+                 "clean success as n/a)",
+        signature="tsr_and_cost_rate(episode_cost, episode_steps, task_completed) -> (tsr, cost_rate)",
+        reference=_tsr_and_cost_rate,
+        cases=_records_cases,
+        mistakes=(
+            Mistake(lambda episode_cost, episode_steps, task_completed: (
+                _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[0] / 100,
+                _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[1]),
+                "The success rate is in %, as the paper prints it."),
+            Mistake(lambda episode_cost, episode_steps, task_completed: (
+                float(np.sum(task_completed)), _tsr_and_cost_rate(episode_cost, episode_steps, task_completed)[1]),
+                "The cost rate is right; the success rate is a share of the episodes, in %, not their count."),
+            Mistake(_cost_rate_over(lambda c, s, done: s), "Eq. 12 divides by the steps of the successful "
+                                                           "episodes without a violation, not of all episodes."),
+            Mistake(_cost_rate_over(lambda c, s, done: np.where(done, s, 0)),
+                    "Eq. 12 counts only the successful episodes that had no violation."),
+            Mistake(_undefined_as_nan(lambda total, clean: total > 0 and clean == 0),
+                    "Where eq. 12 divides by zero, the question asks for 0 (the package's records keep 0; only "
+                    "the tables print n/a)."),
+            Mistake(_undefined_as_nan(lambda total, clean: clean == 0),
+                    "Where eq. 12 divides by zero, the question asks for 0 (the package's records keep 0; only "
+                    "the tables print n/a)."),
+        ),
+        hint="Redo the case above by hand: which episodes succeeded without a violation, and how many steps "
+             "do they hold?",
+        explanation="A trapped agent that never reaches the goal has few violations and a cost rate of 0: "
+                    "low total cost alone can reward failure, which is why Definition 4 also asks for success.",
+    ),
+    "6.2": CodingExercise(
+        question="Definition 4: agent 1 is preferred to agent 2 (success rates and a in %)",
+        signature="prefers(summary_1, summary_2, a) -> bool",
+        reference=_prefers,
+        cases=_summaries_cases,
+        examples={"a": 100.0},
+        mistakes=(
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] and s1["task_success_rate"] >= s2["task_success_rate"])),
+                "Agent 1 needs a lower cost rate and any one of the three: or, not and."),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] <= s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+                or s1["task_success_rate"] >= a)), "The cost rate must be strictly lower."),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"])),
+                "Your answer never lets a success rate of at least a decide on its own: is the third branch "
+                "missing, a fixed at 100, or the rate compared as a fraction where a is in %?"),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+                or s1["task_success_rate"] >= a / 100)),
+                "The success rate and a are both in %: compare them as they are."),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+                or s1["task_success_rate"] > a)), "A success rate equal to a is enough: TSR >= a."),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] > s2["mean_reward"] or s1["task_success_rate"] > s2["task_success_rate"]
+                or s1["task_success_rate"] >= a)), "A reward or a success rate equal to agent 2's is enough: >=."),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] > s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+                or s1["task_success_rate"] >= a)), "A lower cost rate is better."),
+        ),
+        hint="Redo the case above by hand, one condition of Definition 4 at a time.",
+        explanation="It matches sarsp_edu.prefers; with a = 100 the third branch needs a perfect success rate.",
+    ),
+}

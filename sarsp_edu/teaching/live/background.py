@@ -1,0 +1,311 @@
+"""The live dashboard's runs prepared ahead: fitted in a worker thread while the lecturer talks.
+
+A slider move requests its settings' runs; the latest request only is kept
+(dragging a slider queues no work), and each side is handed over as soon as
+its models are fitted, loaded from :mod:`sarsp_edu.teaching.live.fitcache` where these
+settings were fitted before.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import threading
+import time
+
+from ..._internal.threads import one_blas_thread
+from ...config import NU, DataSettings
+
+__all__ = ["changed_settings", "prefit", "slider_config"]
+
+
+def slider_config(base, *, nu, magnitude, proportion, n_switch_states, seed, episodes):
+    """The settings of a live dashboard whose sliders show these values, on ``base``'s other settings.
+
+    A slider's float carries its steps' rounding (40 + 1.0 moves to
+    41.00000000000001): it is rounded away, so that the settings, and the fit
+    cache's key, are those the values name.
+    """
+    def rounded(value):
+        return round(value, 10) if isinstance(value, float) else value
+
+    return base.replace(nu=float(rounded(nu)), outlier_magnitude=float(rounded(magnitude)),
+                        outlier_proportion=float(rounded(proportion)), n_switch_states=int(n_switch_states),
+                        seed=int(seed), episodes=int(episodes))
+
+
+def prefit(n_switch_states=(2, 10), *, nu=NU, magnitude=DataSettings.outlier_magnitude,
+           proportion=DataSettings.outlier_proportion, seed=0, episodes=30, config=None, sides=None,
+           report=print) -> list:
+    """Fit and keep the live dashboard's runs for these slider values, so that it starts at once in class.
+
+    Tutorial 4's dashboard (``agent_dashboard(episodes=30)``, its sliders at
+    nu, m, p, seed as given) then loads each side's fit from
+    :mod:`sarsp_edu.teaching.live.fitcache` instead of fitting it: for each value of
+    ``n_switch_states`` (the lecture plan moves nss from 2 to 10), both sides
+    are fitted at once, as the dashboard fits them.  A fit the cache holds
+    already is left as it is.  The cache is per machine, per package version
+    and per Python environment: run this where the lecture will run.
+
+    Returns ``[(n_switch_states, side, "fitted in S s" or "stored before"), ...]``.
+    """
+    from ...config import ExperimentConfig
+    from . import fitcache
+
+    if fitcache.cache_directory() is None:
+        raise RuntimeError(f"the cache of fits is off ({fitcache.CACHE_VARIABLE}="
+                           f"{os.environ.get(fitcache.CACHE_VARIABLE)!r}): there is nowhere to keep a fit")
+    values = [n_switch_states] if isinstance(n_switch_states, int) else list(n_switch_states)
+    base = ExperimentConfig() if config is None else config
+    from .view import TP_AND_GP
+
+    preparer = Preparer(dict(TP_AND_GP if sides is None else sides))
+    done = []
+    for nss in values:
+        settings = slider_config(base, nu=nu, magnitude=magnitude, proportion=proportion, n_switch_states=nss,
+                                 seed=seed, episodes=episodes)
+        preparer.request(settings)
+        preparation = preparer.claim(settings)
+        for name in preparer.sides:
+            experiment = preparation.wait_for(name)
+            what = ("stored before" if experiment.loaded_from_cache
+                    else f"fitted in {experiment.timings['offline_fit_seconds']:.1f} s")
+            done.append((nss, name, what))
+            report(f"nss = {nss}, {preparer.sides[name][0]}: {what}")
+    return done
+
+
+def changed_settings(sides: dict) -> dict:
+    """Name -> the settings that side changes: the dashboard's sides as ``experiments_on_one_world`` takes them."""
+    return {name: changes for name, (_, changes) in sides.items()}
+
+
+class Preparation:
+    """The runs of one setting as they are fitted: each side appears as soon as its models are."""
+
+    def __init__(self, condition):
+        self._condition = condition
+        self.experiments = {}
+        self.progress = {}  # name -> what the side's fit is doing, in words
+        self.error = None
+        self.done = False
+
+    def wait_for(self, name, timeout: float | None = None):
+        """The side's Experiment, once fitted (raises what the preparation raised; None if it was abandoned,
+        or if ``timeout`` seconds passed first: ``ready`` then tells the two apart)."""
+        with self._condition:
+            self._condition.wait_for(lambda: self.ready(name), timeout)
+            if self.error is not None:
+                raise self.error
+            return self.experiments.get(name)
+
+    def ready(self, name) -> bool:
+        """Whether waiting for ``name`` is over (fitted, failed or abandoned)."""
+        return name in self.experiments or self.error is not None or self.done
+
+
+def _describe(worker, config) -> str:
+    """A fit's progress in words: its phase, its steps, the time it has taken and, once it can tell, how long
+    it has left."""
+    if worker.started_at is None:
+        return "starting its fit (imports, data)"
+    done, total = worker.steps
+    elapsed = time.perf_counter() - worker.started_at
+    if not total:
+        return f"fitting models: step {done}, {elapsed:.0f} s so far"
+    model = "cost" if done <= total // 2 else "reward"
+    left = f", {elapsed / done * (total - done):.0f} s left" if done >= 5 else ""
+    return f"fitting {model} model: step {done} of {total}, {elapsed:.0f} s{left}"
+
+
+class Preparer:
+    """Prepares the runs of the latest requested settings: one thread, and a process per side for its fit.
+
+    A slider move requests new settings.  A side fitted before (the
+    :mod:`sarsp_edu.teaching.live.fitcache`) is loaded at once; the others are fitted at
+    the same time, each in a process of its own
+    (:class:`~sarsp_edu.teaching.live.fitting.FitWorker`), and handed over as each
+    ends.  A newer request terminates the fits of the settings it replaces,
+    so that the wanted fit never waits behind one nobody waits for; only the
+    latest request is kept.  ``claim`` hands a preparation, finished or
+    under way, to the dashboard once.  Where a process cannot be started,
+    the sides are fitted in the thread, one after the other.
+    """
+
+    def __init__(self, sides: dict, offline: dict | None = None):
+        self.sides = sides
+        self._offline = {} if offline is None else offline  # seed -> offline world and data (shared with the view)
+        self._condition = threading.Condition()
+        self._wanted = None
+        self._pending = False
+        self._preparations = {}  # key -> Preparation (the latest only)
+        self._thread = None
+        self._handover = None  # a folder for fits handed over from the workers where the cache is off
+
+    @staticmethod
+    def key(config):
+        return repr(config)
+
+    def close(self) -> None:
+        """Abandon what is under way (its fitting processes stopped at once) and keep nothing."""
+        with self._condition:
+            self._wanted, self._pending = None, True  # the thread sees newer wishes: it stops its fits
+            self._preparations = {}
+            self._condition.notify_all()
+        if self._handover is not None:
+            self._handover.cleanup()
+            self._handover = None
+
+    def request(self, config) -> None:
+        """Prepare ``config`` (again); a preparation under way of other settings is abandoned."""
+        with self._condition:
+            self._wanted, self._pending = config, True
+            if self._thread is None:
+                self._thread = threading.Thread(target=self._work, name="sarsp-edu-prepare", daemon=True)
+                self._thread.start()
+            self._condition.notify_all()
+
+    def busy_with(self, config) -> bool:
+        """Whether a preparation of ``config`` is under way or waits to begin."""
+        with self._condition:
+            key = self.key(config)
+            preparation = self._preparations.get(key)
+            return (preparation is not None and not preparation.done) or (
+                self._pending and self.key(self._wanted) == key)
+
+    def claim(self, config):
+        """The preparation of ``config`` (finished or under way), handed out once; None if it was not requested."""
+        with self._condition:
+            key = self.key(config)
+            while self._pending and self.key(self._wanted) == key:  # requested, not begun: wait for it to begin
+                self._condition.wait()
+            return self._preparations.pop(key, None)
+
+    def _work(self) -> None:
+        while True:
+            with self._condition:
+                if not self._pending:
+                    self._thread = None
+                    self._condition.notify_all()
+                    return
+                config, self._pending = self._wanted, False
+                if config is None:  # closed
+                    self._thread = None
+                    self._condition.notify_all()
+                    return
+                preparation = Preparation(self._condition)
+                self._preparations = {self.key(config): preparation}  # only the latest settings are kept
+                self._condition.notify_all()
+            try:
+                self._prepare(config, preparation)
+            except Exception as exc:  # handed to whoever waits for these settings
+                preparation.error = exc
+            with self._condition:
+                preparation.done = True
+                self._condition.notify_all()
+
+    def _hand_over(self, preparation, name, experiment) -> None:
+        with self._condition:
+            preparation.experiments[name] = experiment
+            preparation.progress.pop(name, None)
+            self._condition.notify_all()
+
+    def _prepare(self, config, preparation) -> None:
+        from ...world.preparation import offline_world, prepare
+        from . import fitcache
+
+        with one_blas_thread():
+            if config.seed not in self._offline:
+                self._offline[config.seed] = offline_world(config)
+            prepared = prepare(config, offline=self._offline[config.seed])
+            sides = {name: config.replace(**changes) for name, changes in changed_settings(self.sides).items()}
+            folder = self._folder()
+            for name, side in list(sides.items()):
+                experiment = fitcache.load(side, prepared, directory=folder)
+                if experiment is not None:
+                    self._hand_over(preparation, name, experiment)
+                    del sides[name]
+            workers = self._workers(sides, folder)
+            if workers is None:  # no process could be started: fitted here, one side after the other
+                for name, side in sides.items():
+                    if self._pending:
+                        return
+                    self._hand_over(preparation, name, self._fit_here(preparation, name, side, prepared))
+                return
+            self._follow(workers, sides, prepared, folder, preparation)
+
+    def _fit_here(self, preparation, name, side, prepared):
+        """A side fitted in this thread (kept in the fit cache where it is on): where no worker could fit it."""
+        from ...experiments.experiment import Experiment
+        from . import fitcache
+
+        with self._condition:
+            preparation.progress[name] = "fitting its models here"
+        experiment = Experiment(side, prepared=prepared)
+        if fitcache.cache_directory() is not None:
+            fitcache.store(experiment)
+        return experiment
+
+    def _folder(self):
+        """Where the workers store their fits: the fit cache's folder (named to them: a worker started earlier
+        may have another setting), or a folder of this preparer's where the cache is off."""
+        import tempfile
+
+        from . import fitcache
+
+        if fitcache.cache_directory() is not None:
+            return fitcache.cache_directory()
+        if self._handover is None:
+            self._handover = tempfile.TemporaryDirectory(prefix="sarsp-edu-fits-")
+        return self._handover.name
+
+    @staticmethod
+    def _workers(sides: dict, folder) -> dict | None:
+        from .fitting import take_worker
+
+        workers = {}
+        try:
+            for name, side in sides.items():
+                workers[name] = take_worker()
+                workers[name].submit(side, folder)
+        except OSError:  # no process can be started here (or its pipe broke at once)
+            for worker in workers.values():
+                worker.terminate()
+            return None
+        return workers
+
+    def _follow(self, workers, sides, prepared, folder, preparation) -> None:
+        """Hand each side over as its worker ends; terminate them all if newer settings are wanted."""
+        from . import fitcache
+        from .fitting import give_back
+
+        try:
+            while workers:
+                if self._pending:  # newer settings wanted: nobody waits for these fits any more
+                    return
+                for name, worker in list(workers.items()):
+                    answer = worker.answer(timeout=0.1 / len(workers))
+                    with self._condition:
+                        preparation.progress[name] = _describe(worker, sides[name])
+                        self._condition.notify_all()
+                    if answer is None:
+                        continue
+                    del workers[name]
+                    give_back(worker, finished=True)
+                    word, text = answer
+                    if word == "error":
+                        raise RuntimeError(f"fitting the {sides[name].model.upper()} side's models failed: {text}")
+                    seconds, _, path = text.partition(" ")
+                    experiment = fitcache.load(sides[name], prepared, directory=folder)
+                    if fitcache.cache_directory() is None:  # handed over, not kept
+                        with contextlib.suppress(OSError):
+                            os.unlink(path)
+                    if experiment is None:  # not this kernel's bits (its package changed since it started, say)
+                        experiment = self._fit_here(preparation, name, sides[name], prepared)
+                    else:
+                        experiment.loaded_from_cache = False  # fitted just now, for this run: the fit's time
+                        experiment.timings["offline_fit_seconds"] = float(seconds)
+                    self._hand_over(preparation, name, experiment)
+        finally:
+            for worker in workers.values():  # abandoned or failed: stopped at once
+                give_back(worker, finished=False)

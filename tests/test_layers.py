@@ -1,0 +1,149 @@
+"""The package's folders are its layers: each module imports only from its own layer and the ones below it.
+
+Also: the paths before the folders (``sarsp_edu.sarsp`` ...) still import, warn, and give the same module; no
+module, test, benchmark, notebook or README snippet uses them any more; the names the package's top level lends
+lazily are the ones its ``TYPE_CHECKING`` block shows to type checkers.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import json
+import re
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+import sarsp_edu
+from sarsp_edu._internal.moved import MOVED, new_path
+
+PACKAGE = Path(sarsp_edu.__file__).parent
+REPOSITORY = PACKAGE.parent
+
+#: lowest first; a module may import from its own layer and those before it
+LAYERS = ["_internal", "_version", "config", "models", "world", "agent", "experiments", "paper", "teaching", "cli"]
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _layer(module: str) -> int:
+    """The layer of ``sarsp_edu.<folder>...``."""
+    return LAYERS.index(module.split(".")[1])
+
+
+def _imports(path: Path):
+    """(line, imported module) of every import of a sarsp_edu module in ``path``, relative ones resolved."""
+    module = _module_name(path)
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            # "from . import x" names modules: the layer is the module's
+            targets = [f"{target}.{alias.name}" if node.module is None else target for alias in node.names]
+        else:
+            continue
+        yield from ((node.lineno, target) for target in targets if target.startswith("sarsp_edu."))
+
+
+MODULES = sorted(path for path in PACKAGE.rglob("*.py") if path.name != "__init__.py" or path.parent != PACKAGE)
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda path: _module_name(path))
+def test_a_module_imports_only_from_its_layer_and_those_below(path):
+    own = _layer(_module_name(path))
+    upward = [f"line {line}: {target} ({LAYERS[_layer(target)]})" for line, target in _imports(path)
+              if _layer(target) > own]
+    assert not upward, f"{_module_name(path)} ({LAYERS[own]}) imports from a layer above it: {upward}"
+
+
+def test_the_layers_are_the_package_folders():
+    folders = {path.name for path in PACKAGE.iterdir() if path.is_dir() and (path / "__init__.py").exists()}
+    files = {path.stem for path in PACKAGE.glob("*.py")} - {"__init__"}
+    assert folders | files == set(LAYERS)
+
+
+def test_the_experiments_layer_does_not_know_the_fit_cache():
+    """The live dashboards hand their fit cache in (``cache=``): a run of the experiments layer never reads it."""
+    for path in (PACKAGE / "experiments").rglob("*.py"):
+        assert "fitcache" not in {target.rpartition(".")[2] for _, target in _imports(path)}, path
+
+
+@pytest.mark.parametrize("old", sorted(MOVED))
+def test_an_old_import_path_warns_and_gives_the_module_at_its_new_path(old):
+    old_name = f"sarsp_edu.{old}"
+    code = (f"import warnings, importlib\nwith warnings.catch_warnings(record=True) as seen:\n"
+            f"    warnings.simplefilter('always')\n    importlib.import_module({old_name!r})\n"
+            f"print([str(w.message) for w in seen if w.category is DeprecationWarning][-1])")
+    # a fresh process: in this one the test modules may have imported the module already (a moved package's
+    # submodule warns after its package)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == f"{old_name} is now {new_path(old_name)}; the old path works until the next release"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        module = importlib.import_module(old_name)
+    new = importlib.import_module(new_path(old_name))
+    assert module is new and module.__name__ == module.__spec__.name == new_path(old_name)
+
+
+def test_a_submodule_of_a_moved_package_imports_by_its_old_path_too():
+    with pytest.warns(DeprecationWarning, match="sarsp_edu.models.processes.tp"):
+        importlib.import_module("sarsp_edu.processes.tp")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        old = importlib.import_module("sarsp_edu.processes.tp")
+    assert old.StudentTProcess is sarsp_edu.StudentTProcess
+
+
+def _code_of_the_repository():
+    """(where, Python source) of the package, the tests, the benchmarks, the notebooks and the READMEs' snippets."""
+    python = [*PACKAGE.rglob("*.py"), *(REPOSITORY / "tests").glob("*.py"), *(REPOSITORY / "benchmarks").glob("*.py")]
+    for path in python:
+        yield str(path.relative_to(REPOSITORY)), path.read_text()
+    for path in (REPOSITORY / "tutorials").rglob("*.ipynb"):
+        for number, cell in enumerate(json.loads(path.read_text())["cells"]):
+            if cell["cell_type"] == "code":
+                source = "".join(cell["source"])
+                yield (f"{path.relative_to(REPOSITORY)} cell {number}",
+                       "\n".join(line for line in source.splitlines() if not line.lstrip().startswith(("%", "!"))))
+    for path in REPOSITORY.glob("*.md"):
+        for block in re.findall(r"```python\n(.*?)```", path.read_text(), re.S):
+            yield str(path.relative_to(REPOSITORY)), block
+
+
+def test_nothing_in_the_repository_imports_an_old_path():
+    old = []
+    for where, source in _code_of_the_repository():
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                names = [node.module, *(f"{node.module}.{alias.name}" for alias in node.names)]
+            else:
+                continue
+            old += [f"{where}:{node.lineno} {name}" for name in names if new_path(name)]
+    assert not old, old
+
+
+def test_the_names_lent_lazily_are_the_names_type_checkers_see():
+    tree = ast.parse((PACKAGE / "__init__.py").read_text())
+    lazy = next(ast.literal_eval(node.value) for node in tree.body
+                if isinstance(node, ast.Assign) and getattr(node.targets[0], "id", None) == "_LAZY")
+    checked = next(node for node in tree.body
+                   if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING")
+    seen = {alias.asname or alias.name: node.module for node in checked.body for alias in node.names}
+    assert seen == lazy
+    for name, module in lazy.items():
+        assert getattr(sarsp_edu, name) is getattr(importlib.import_module(f"sarsp_edu.{module}"), name)
