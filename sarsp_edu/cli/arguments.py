@@ -36,6 +36,13 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
 
     Defaults are left to the dataclass (one source of truth): a flag not
     given is not passed on.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The (sub)command's parser; the flags go in one argument group, after ``--preset``.
+    skip : iterable of str, default ()
+        Field names given no flag (those the command sets itself, such as ``model`` for ``compare``).
     """
     from ..config import LIMITS, PRESET_DOCS, PRESET_FIELDS, ExperimentConfig
 
@@ -82,6 +89,19 @@ def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace, 
 
     A flag that the other settings leave unused (``--n-samples`` with exact
     predictions, say) is reported on standard error.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Reports a value the config refuses (``parser.error``: the usage line and exit status 2).
+    args : argparse.Namespace
+        The parsed command line: ``--preset``, the settings flags and ``command``.
+    base : ExperimentConfig, optional
+        The settings the flags change (a resumed sweep's stored ones); None: the preset's.
+
+    Returns
+    -------
+    ExperimentConfig
     """
     from ..config import ExperimentConfig
 
@@ -117,6 +137,17 @@ def check_writable(parser: argparse.ArgumentParser, flag: str, name, path) -> No
     this made is removed again: a permission, a read-only or pseudo file
     system (``/proc``), a file in the way, a name too long: each is found now,
     not after the run, and nothing is left behind.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Reports a refusal (``parser.error``: the usage line and exit status 2).
+    flag : str
+        The flag named in the message, such as ``"--out"``.
+    name : str or path-like
+        The value as the user gave it, named in the message.
+    path : pathlib.Path
+        The folder to check.
     """
     import tempfile
 
@@ -160,6 +191,19 @@ def check_out(parser: argparse.ArgumentParser, out, command: str, config=None, o
     kind of results: a sweep or an ablation resumes there; a run or a
     comparison replaces a result of the same settings there, and one of other
     settings only with ``--overwrite``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Reports a refusal (``parser.error``: the usage line and exit status 2).
+    out : str or path-like or None
+        The ``--out`` value; None (not given): nothing is checked.
+    command : str
+        ``"run"``, ``"compare"``, ``"sweep"`` or ``"ablation"``: whose results the folder may hold.
+    config : ExperimentConfig, optional
+        The settings of a run or comparison, compared with those stored in the folder; None: not compared.
+    overwrite : bool, default False
+        ``--overwrite``: replace a run or comparison of other settings.
     """
     if out is None:
         return
@@ -187,6 +231,15 @@ def stored_settings_differ(result_json, config, same_model: bool = True) -> str:
     """The settings in which a stored run differs from ``config``, in a line ('' when none).
 
     With ``same_model=False`` (a comparison, whose ``tp/`` is read) the model is not compared.
+
+    Parameters
+    ----------
+    result_json : path-like
+        The stored run's ``result.json``; one that cannot be read is reported in the line.
+    config : ExperimentConfig
+        The settings now asked for.
+    same_model : bool, default True
+        Compare the ``model`` field too.
     """
     from .._internal.io import StoredResultError, read_json
     from ..config import ExperimentConfig
@@ -206,6 +259,17 @@ def check_file(parser: argparse.ArgumentParser, flag: str, name, overwrite: bool
 
     Only a regular file is replaced (a symbolic link, a device or a pipe
     would be swapped for a file), and with ``overwrite=False`` not even that.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Reports a refusal (``parser.error``: the usage line and exit status 2).
+    flag : str
+        The flag named in the message, such as ``"--zip"``.
+    name : str or path-like
+        The file to write; its folder is checked with :func:`check_writable`.
+    overwrite : bool or None, default None
+        False: refuse a file that exists; True or None: an existing regular file may be replaced.
     """
     from pathlib import Path
 

@@ -13,6 +13,7 @@ from .reading import _check_cell, _tables
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``sarsp-edu`` parser: one subcommand per action, each with its flags and handler (``func``)."""
     from ..config import (
         ABLATION_CELLS,
         ABLATION_SEEDS,
@@ -206,6 +207,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the ``sarsp-edu`` command line and return its exit status.
+
+    Without a subcommand the help is printed. Ctrl-C (130), a closed pipe (141)
+    and an operating-system error (1) end the command with one line, not a traceback.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; None: ``sys.argv[1:]``.
+    """
     import warnings
 
     from .._internal.io import one_line_warning

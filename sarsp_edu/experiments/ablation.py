@@ -70,7 +70,15 @@ ABLATION_SETTINGS = {
 
 
 def setting_config(setting: dict, **changes) -> ExperimentConfig:
-    """The config of one ablation setting (its preset, its fields, then ``changes``)."""
+    """The config of one ablation setting (its preset, its fields, then ``changes``).
+
+    Parameters
+    ----------
+    setting : dict
+        A value of :data:`ABLATION_SETTINGS`: config fields, and optionally ``"preset"`` (default ``"default"``).
+    **changes
+        Further config fields (the cell's outlier settings and seed, say); they override the setting's.
+    """
     setting = dict(setting)
     preset = setting.pop("preset", "default")
     return ExperimentConfig.from_preset(preset, **{**setting, **changes})

@@ -106,6 +106,11 @@ def percent_difference(tp: float, gp: float) -> float:
     """``(tp - gp) / |gp| * 100``, the paper's "TP vs GP" percentage.
 
     0 when both are 0; NaN when only ``gp`` is 0, or when either is NaN.
+
+    Parameters
+    ----------
+    tp, gp : float
+        The same summary metric for the TP and for the GP (the reference).
     """
     if math.isnan(tp) or math.isnan(gp):
         return math.nan
@@ -120,6 +125,11 @@ def symmetric_percent_difference(a: float, b: float) -> float:
     Unlike :func:`percent_difference` it has no sign and no reference model.  For the non-negative totals of
     Table 1 the denominator is the mean; with the magnitudes' mean it stays defined (at most 200) where the
     values have opposite signs, as rewards can (exercise 5.1 asks for the same rule).
+
+    Parameters
+    ----------
+    a, b : float
+        The two values, in either order.
 
     >>> symmetric_percent_difference(28, 58), symmetric_percent_difference(-3, 5), symmetric_percent_difference(0, 0)
     (69.76744186046511, 200.0, 0.0)
@@ -139,7 +149,15 @@ HIGHER_IS_BETTER = {
 
 
 def better_of(metric: str, tp: float, gp: float) -> str:
-    """``"TP"``, ``"GP"``, ``"tie"``, or ``"n/a"`` when either value is undefined (NaN)."""
+    """``"TP"``, ``"GP"``, ``"tie"``, or ``"n/a"`` when either value is undefined (NaN).
+
+    Parameters
+    ----------
+    metric : str
+        A key of :data:`HIGHER_IS_BETTER`, which says which direction is better.
+    tp, gp : float
+        The metric's value for the TP and for the GP.
+    """
     if math.isnan(tp) or math.isnan(gp):
         return "n/a"
     if tp == gp:

@@ -280,7 +280,20 @@ class Comparison:
 
     @classmethod
     def load(cls, directory, a: float = DEFINITION_4_A) -> "Comparison":
-        """Read ``tp/`` and ``gp/``; refused unless they ran the same world and settings, each with its model."""
+        """Read ``tp/`` and ``gp/``; refused unless they ran the same world and settings, each with its model.
+
+        Parameters
+        ----------
+        directory : path-like
+            The comparison's folder, as written by :meth:`save`.
+        a : float, default ``DEFINITION_4_A``
+            Definition 4's TSR threshold (%), which is not stored: the verdict is recomputed with it.
+
+        Raises
+        ------
+        StoredResultError
+            When the two runs differ in a setting, their models are not TP and GP, or their episodes differ.
+        """
         directory = Path(directory)
         tp, gp = ExperimentResult.load(directory / "tp"), ExperimentResult.load(directory / "gp")
         ours, theirs = tp.config.to_dict(), gp.config.to_dict()
@@ -295,7 +308,20 @@ class Comparison:
 
 
 def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory) -> None:
-    """Refuse a TP and a GP run whose episodes did not start and end at the same cells (they are paired)."""
+    """Refuse a TP and a GP run whose episodes did not start and end at the same cells (they are paired).
+
+    Parameters
+    ----------
+    tp, gp : ExperimentResult
+        The two runs, whose records' ``start`` and ``goal`` columns are compared episode by episode.
+    directory : path-like
+        Named in the error.
+
+    Raises
+    ------
+    StoredResultError
+        At the first episode that differs.
+    """
     for column in ("start", "goal"):
         differ = [a != b for a, b in zip(tp.records[column], gp.records[column])]
         if any(differ):

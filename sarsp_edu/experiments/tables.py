@@ -52,7 +52,16 @@ def per_configuration(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def paired(frame: pd.DataFrame, metric: str):
-    """``metric``'s TP and GP values, as two arrays in the same order of configurations (m, p, nss)."""
+    """``metric``'s TP and GP values, as two arrays in the same order of configurations (m, p, nss).
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        One row per configuration and model, with columns m, p, nss, model and ``metric``
+        (as :func:`per_configuration` gives); several rows of one are averaged.
+    metric : str
+        The column to pair.
+    """
     wide = frame.pivot_table(index=["m", "p", "nss"], columns="model", values=metric)
     return wide["TP"].to_numpy(), wide["GP"].to_numpy()
 
@@ -66,6 +75,11 @@ def sign_test(tp, gp) -> float:
     1.0 when every pair is a tie.  Unlike the Wilcoxon signed-rank test it
     ignores how large each difference is, and assumes nothing about their
     distribution.
+
+    Parameters
+    ----------
+    tp, gp : array-like of shape (n,)
+        Paired values, one per configuration (:func:`paired`).
 
     Examples
     --------
@@ -91,6 +105,24 @@ def bootstrap_ci(tp, gp, statistic, n_boot, rng, level=0.95):
 
     The resamples are drawn even then, so that the intervals computed after
     this one do not depend on how many pairs it had.
+
+    Parameters
+    ----------
+    tp, gp : ndarray of shape (n,)
+        The paired values.
+    statistic : callable
+        ``statistic(tp, gp) -> float`` of a resample; non-finite values are left out of the interval.
+    n_boot : int
+        The number of resamples.
+    rng : numpy.random.Generator
+        Draws the resamples.
+    level : float, default 0.95
+        The interval's coverage.
+
+    Returns
+    -------
+    tuple of float
+        The interval's lower and upper ends, ``(nan, nan)`` when it is undefined.
     """
     n = len(tp)
     if n == 0:
@@ -265,7 +297,15 @@ def _cv(values: np.ndarray) -> float:
 
 
 def frame_to_markdown(frame: pd.DataFrame, digits: int = 3) -> str:
-    """A GitHub-flavoured Markdown table (no extra dependency)."""
+    """A GitHub-flavoured Markdown table (no extra dependency).
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The table; a named index becomes the first column.
+    digits : int, default 3
+        Decimals of each float (NaN is written ``nan``).
+    """
     frame = frame.reset_index() if frame.index.name is not None else frame
     header = "| " + " | ".join(str(c) for c in frame.columns) + " |"
     rule = "|" + "|".join("---" for _ in frame.columns) + "|"
@@ -292,7 +332,15 @@ _TABLE_TITLES = {
 
 
 def tables_markdown(tables: dict, title: str = "sarsp_edu sweep: the paper's tables") -> str:
-    """All tables of :func:`summary_tables` as one Markdown document."""
+    """All tables of :func:`summary_tables` as one Markdown document.
+
+    Parameters
+    ----------
+    tables : dict of DataFrames
+        As :func:`summary_tables` returns; each becomes a section under its table's title.
+    title : str
+        The document's heading.
+    """
     parts = [f"# {title}", ""]
     for key, frame in tables.items():
         parts += [f"## {_TABLE_TITLES.get(key, key)}", "", frame_to_markdown(frame), ""]

@@ -21,9 +21,8 @@ from .._internal.validation import check_fraction, check_int, check_positive
 
 __all__ = ["DistanceLevels", "KernelTable", "RBF", "squared_distances", "whole_distance_bound"]
 
-# the whole-number lookup of RBF.from_squared_distances: used from this many
-# entries on (below, the checks cost more than they save), for squared
-# distances below the table's largest size (8 MB)
+# the whole-number lookup of RBF.from_squared_distances: used from this many entries on (below, the checks cost more
+# than they save), for squared distances below the table's largest size (8 MB)
 _TABLE_MIN_SIZE = 256
 _TABLE_MAX_SIZE = 2**20
 
@@ -93,11 +92,9 @@ def _floating(D2) -> np.ndarray:
 class DistanceLevels:
     """The distinct values of a squared-distance matrix, and for each entry the index of its value.
 
-    A fit evaluates the kernel on one matrix of squared distances at every
-    step.  Among the cost buffer's ~800 distinct inputs the 600,000 entries
-    take only about 110,000 distinct values: exponentiating those and
-    gathering costs about a third of exponentiating every entry, and gives
-    the same numbers (the same operations on the same doubles, see
+    A fit evaluates the kernel on one matrix of squared distances at every step.  Among the cost buffer's ~800 distinct
+    inputs the 600,000 entries take only about 110,000 distinct values: exponentiating those and gathering costs about a
+    third of exponentiating every entry, and gives the same numbers (the same operations on the same doubles, see
     :meth:`RBF.from_squared_distances`).
 
     Parameters
@@ -139,6 +136,15 @@ class DistanceLevels:
         Matrices of more than ``max_size`` entries get none (their sort and
         index would cost more time and memory than their steps save: the
         ``reference`` preset's whole-buffer reward fit has 24 million).
+
+        Parameters
+        ----------
+        D2 : ndarray
+            Squared distances, as for the constructor.
+        max_fraction : float, default 0.25
+            The largest share of distinct values among the entries for which levels are worth keeping.
+        max_size : int, default 2048**2
+            The most entries a matrix may have.
         """
         max_fraction = check_fraction("max_fraction", max_fraction)
         max_size = check_int("max_size", max_size, 0)
@@ -219,16 +225,13 @@ class RBF:
         D2 : ndarray of shape (n, m)
         eval_gradient : bool, default False
         out : ndarray of shape (3, n, m), optional
-            A workspace to write into (``K`` in ``out[0]``, the gradient in
-            ``out[1:]``) instead of allocating: a fit reuses one for all its
-            steps, which spares the page faults of fresh megabyte arrays.
+            A workspace to write into (``K`` in ``out[0]``, the gradient in ``out[1:]``) instead of allocating: a fit
+            reuses one for all its steps, which spares the page faults of fresh megabyte arrays.
         whole_bound : float, optional
-            The caller's guarantee that every entry of ``D2`` is a whole
-            number no larger than this (the squared distances of whole-number
-            inputs, see :func:`whole_distance_bound`): the table lookup then
-            skips checking the entries, which costs as much as the lookup.
-            It is not checked: a wrong guarantee gives a wrong matrix.  A
-            bound too large for the table leaves the entries checked.
+            The caller's guarantee that every entry of ``D2`` is a whole number no larger than this (the squared
+            distances of whole-number inputs, see :func:`whole_distance_bound`): the table lookup then skips checking
+            the entries, which costs as much as the lookup.  It is not checked: a wrong guarantee gives a wrong
+            matrix.  A bound too large for the table leaves the entries checked.
         levels : DistanceLevels, optional
             ``D2``'s distinct values (computed once by a fit for all its
             steps): the kernel is evaluated on them and gathered, bit for bit
@@ -256,8 +259,8 @@ class RBF:
             K = K.take(levels.index, out=target)
         if not eval_gradient:
             return K
-        # Two contiguous planes seen as (n, m, 2): writing and contracting
-        # them is several times faster than filling a strided last axis.
+        # Two contiguous planes seen as (n, m, 2): writing and contracting them is several times faster than filling a
+        # strided last axis.
         planes = np.empty((2,) + K.shape) if out is None else out[1:]
         np.multiply(K, 2.0, out=planes[0])
         np.multiply(K, D2, out=planes[1])
@@ -267,13 +270,11 @@ class RBF:
     def _from_whole_distances(self, D2: np.ndarray, whole_bound: float | None = None):
         """``K`` by table lookup when every squared distance is a small whole number, else None.
 
-        The grid world's inputs are whole numbers, so are their squared
-        distances, and an agent's decision evaluates the same few hundred
-        distinct values thousands of times.  The table holds
-        ``amplitude**2 exp(-i / (2 length_scale**2))`` for ``i = 0, 1, ...``,
-        computed by the very operations of the general path on the same
-        doubles, so the result is bit for bit the same; the lookup is about
-        twice as fast as the exponential.
+        The grid world's inputs are whole numbers, so are their squared distances, and an agent's decision evaluates the
+        same few hundred distinct values thousands of times.  The table holds
+        ``amplitude**2 exp(-i / (2 length_scale**2))`` for ``i = 0, 1, ...``, computed by the very operations of the
+        general path on the same doubles, so the result is bit for bit the same; the lookup is about twice as fast as
+        the exponential.
         """
         if whole_bound is not None and whole_bound >= _TABLE_MAX_SIZE:
             whole_bound = None  # the bound is too loose to size a table: check the distances themselves
@@ -343,14 +344,11 @@ class RBF:
 class KernelTable:
     """A kernel's values among the distinct rows of an input array, to gather sub-matrices from.
 
-    SARSP builds eight kernel matrices per decision from rows of the same
-    buffer.  The cost buffer holds about 800 distinct inputs among its
-    ~4,700 rows (the grid is small): the kernel among the distinct inputs,
-    computed once, holds every entry of every prior's matrix, and gathering
-    ``K(X[rows], X[rows])`` from it costs less than computing the distances
-    and looking the kernel up again.  The entries are the very numbers
-    :meth:`RBF.from_squared_distances` gives (the same squared distances,
-    the same evaluation), so predictions are bit for bit unchanged.
+    SARSP builds eight kernel matrices per decision from rows of the same buffer.  The cost buffer holds about 800
+    distinct inputs among its ~4,700 rows (the grid is small): the kernel among the distinct inputs, computed once,
+    holds every entry of every prior's matrix, and gathering ``K(X[rows], X[rows])`` from it costs less than computing
+    the distances and looking the kernel up again.  The entries are the very numbers :meth:`RBF.from_squared_distances`
+    gives (the same squared distances, the same evaluation), so predictions are bit for bit unchanged.
 
     Parameters
     ----------
@@ -394,6 +392,13 @@ class KernelTable:
 
         The table takes ``8 G**2`` bytes: the reward buffer's ~5,000 rows are
         all distinct (200 MB), the cost buffer's ~800 distinct rows take 5 MB.
+
+        Parameters
+        ----------
+        kernel, X, whole_bound
+            As for the class.
+        max_distinct : int
+            The most distinct rows the table may hold.
         """
         unique, index = cls._distinct(X)
         if unique.shape[0] > max_distinct:
@@ -415,7 +420,14 @@ class KernelTable:
         self.K = kernel.from_squared_distances(squared_distances(unique), whole_bound=whole_bound)
 
     def cross(self, X_query: np.ndarray, whole_bound: float | None = None) -> np.ndarray:
-        """``kernel(X_query, X_unique)``, of shape (q, G): gather its columns with :meth:`gather`."""
+        """``kernel(X_query, X_unique)``, of shape (q, G): gather its columns with :meth:`gather`.
+
+        Parameters
+        ----------
+        X_query : ndarray of shape (q, d)
+        whole_bound : float, optional
+            As in :meth:`RBF.from_squared_distances`, for ``X_query`` and the distinct rows together.
+        """
         return self.kernel.from_squared_distances(squared_distances(X_query, self.X_unique), whole_bound=whole_bound)
 
     def gram(self, rows: np.ndarray) -> np.ndarray:
@@ -424,5 +436,13 @@ class KernelTable:
         return self.K.take(at, axis=0).take(at, axis=1)
 
     def gather(self, rows: np.ndarray, cross: np.ndarray):
-        """``kernel(X[rows])`` and the columns ``rows`` of a :meth:`cross` result: ``(K, K_star)``."""
+        """``kernel(X[rows])`` and the columns ``rows`` of a :meth:`cross` result: ``(K, K_star)``.
+
+        Parameters
+        ----------
+        rows : ndarray of int
+            Rows of ``X``.
+        cross : ndarray of shape (q, G)
+            A :meth:`cross` result.
+        """
         return self.gram(rows), cross.take(self.index[rows], axis=1)

@@ -36,6 +36,13 @@ def cholesky(K: np.ndarray, overwrite: bool = False):
     With ``overwrite`` a C-ordered ``K`` is factorised in its own memory (its
     transpose is the same symmetric matrix in Fortran order, LAPACK's), and
     ``K`` is lost whether or not the factorisation succeeds.
+
+    Parameters
+    ----------
+    K : ndarray of shape (n, n)
+        A symmetric matrix (only its lower triangle is read).
+    overwrite : bool, default False
+        Factorise in ``K``'s memory.
     """
     if overwrite:
         L, info = lapack.dpotrf(K.T, lower=1, clean=1, overwrite_a=1)
@@ -50,6 +57,13 @@ def cholesky_with_jitter(K: np.ndarray, max_tries: int = 6):
     Tries ``K`` as it is, then ``K + j I`` with ``j`` = 1e-10, 1e-9, ... times
     the mean of the diagonal, ``max_tries`` times.  Returns ``(L, jitter)``;
     raises ``numpy.linalg.LinAlgError`` with advice when every try fails.
+
+    Parameters
+    ----------
+    K : ndarray of shape (n, n)
+        A symmetric covariance matrix; it is not changed.
+    max_tries : int, default 6
+        How many jitters to try after ``K`` itself (the largest is 1e-10 x 10^(max_tries - 1) of the diagonal).
     """
     if not np.all(np.isfinite(np.diag(K))):
         raise np.linalg.LinAlgError(
@@ -82,6 +96,13 @@ def solve_cholesky(L: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Solve ``K x = b`` given the lower Cholesky factor ``L`` of ``K``.
 
     (scipy's ``cho_solve`` takes ``(L, lower)`` as a pair; this takes ``L``.)
+
+    Parameters
+    ----------
+    L : ndarray of shape (n, n)
+        The lower Cholesky factor of ``K``.
+    b : ndarray of shape (n,) or (n, k)
+        The right-hand side(s).
     """
     x, info = lapack.dpotrs(L, b, lower=1)
     if info != 0:
@@ -90,7 +111,15 @@ def solve_cholesky(L: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def solve_lower(L: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """Solve ``L X = B`` for lower-triangular ``L``."""
+    """Solve ``L X = B`` for lower-triangular ``L``.
+
+    Parameters
+    ----------
+    L : ndarray of shape (n, n)
+        Lower triangular.
+    B : ndarray of shape (n,) or (n, k)
+        The right-hand side(s).
+    """
     X, info = lapack.dtrtrs(L, B, lower=1)
     if info != 0:
         raise np.linalg.LinAlgError(f"LAPACK dtrtrs failed with info={info}")
@@ -104,6 +133,13 @@ def inverse_from_cholesky(L: np.ndarray, overwrite: bool = False) -> np.ndarray:
     identity.  ``L`` comes from :func:`cholesky` with zeros above the
     diagonal, and potri keeps them, so no triangle needs clearing or
     mirroring.  With ``overwrite`` the inverse replaces ``L`` in its memory.
+
+    Parameters
+    ----------
+    L : ndarray of shape (n, n)
+        The lower Cholesky factor of ``K``, zeros above the diagonal.
+    overwrite : bool, default False
+        Write the inverse into ``L``'s memory.
     """
     K_inv, info = lapack.dpotri(L, lower=1, overwrite_c=1 if overwrite else 0)
     if info != 0:
@@ -112,7 +148,15 @@ def inverse_from_cholesky(L: np.ndarray, overwrite: bool = False) -> np.ndarray:
 
 
 def trace_of_product(lower: np.ndarray, S: np.ndarray) -> float:
-    """``tr(A S) = sum(A * S)`` for symmetric ``A`` given as its lower triangle, symmetric ``S``."""
+    """``tr(A S) = sum(A * S)`` for symmetric ``A`` given as its lower triangle, symmetric ``S``.
+
+    Parameters
+    ----------
+    lower : ndarray of shape (n, n)
+        The lower triangle of ``A``, zeros above the diagonal (as :func:`inverse_from_cholesky` gives).
+    S : ndarray of shape (n, n)
+        Symmetric, both triangles filled.
+    """
     return 2.0 * float(np.vdot(lower, S)) - float(np.dot(np.diag(lower), np.diag(S)))
 
 
@@ -132,11 +176,32 @@ class GroupedRows:
 
     @classmethod
     def ungrouped(cls, X: np.ndarray, y: np.ndarray) -> "GroupedRows":
-        """Every row its own group: the textbook computation, for comparisons."""
+        """Every row its own group: the textbook computation, for comparisons.
+
+        Parameters
+        ----------
+        X : ndarray of shape (n, d)
+        y : ndarray of shape (n,)
+        """
         return cls(X, np.ones(len(X)), y, 0.0, len(X))
 
     def beta_and_log_det(self, L: np.ndarray, alpha: np.ndarray, s2: float) -> tuple:
-        """``y^T K^-1 y`` and ``log|K|`` of all the rows, from the factor ``L`` of ``A`` and ``alpha = A^-1 ybar``."""
+        """``y^T K^-1 y`` and ``log|K|`` of all the rows, from the factor ``L`` of ``A`` and ``alpha = A^-1 ybar``.
+
+        Parameters
+        ----------
+        L : ndarray of shape (G, G)
+            The lower Cholesky factor of ``A = K(U, U) + s2 N^-1`` (see :func:`group_rows`).
+        alpha : ndarray of shape (G,)
+            ``A^-1 ybar``, with ``ybar`` the groups' mean targets.
+        s2 : float
+            The noise variance.
+
+        Returns
+        -------
+        tuple of float
+            ``(beta, log_det)``.
+        """
         G = self.counts.shape[0]
         beta = self.rss / s2 + float(self.mean @ alpha)
         log_det = (2.0 * float(np.sum(np.log(np.diag(L)))) + (self.n - G) * math.log(s2)
@@ -159,6 +224,13 @@ def group_rows(X: np.ndarray, y: np.ndarray) -> GroupedRows:
     n rows costs a factorisation of the distinct inputs' size.  The
     predictive distribution is that of the group means with noise
     ``s2 / n_g``.  With distinct inputs ``A = K`` and nothing changes.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n, d)
+        The inputs; rows are equal when every entry is (``-0.0`` equals ``0.0``).
+    y : ndarray of shape (n,)
+        The targets.
     """
     n = X.shape[0]
     keyed = np.ascontiguousarray(X + 0.0)  # + 0.0 folds -0.0 into 0.0

@@ -41,6 +41,26 @@ def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, 
     """Adam as TensorFlow/Keras implements it, projected onto ``bounds``.
 
     Returns the last iterate and the objective value at each step's start.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(theta) -> (value, gradient)``, the objective to minimise.
+    theta0 : array-like of shape (k,)
+        The starting log hyperparameters.
+    bounds : ndarray of shape (k, 2)
+        Lower and upper bound of each; every step is clipped into them.
+    learning_rate : float
+        Adam's step size.
+    n_steps : int
+        The number of steps (no convergence test).
+    beta_1, beta_2, epsilon : float, default 0.9, 0.999, 1e-7
+        Adam's moment decay rates and its denominator's offset (Keras's defaults).
+
+    Returns
+    -------
+    tuple
+        ``(theta, trace, n_steps)``; ``trace`` ends with the value at the last iterate.
     """
     theta = np.array(theta0, dtype=float)
     m = np.zeros_like(theta)
@@ -66,6 +86,24 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
     throws the search onto the corner of ``bounds`` (seen with the TP, whose
     likelihood is numerically flat there).  Dividing by the number of points
     leaves the optimum where it is and keeps the first step O(1) in log space.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(theta) -> (value, gradient)``, the objective to minimise.
+    theta0 : array-like of shape (k,)
+        The starting log hyperparameters.
+    bounds : sequence of (low, high) pairs
+        The box searched.
+    max_iter : int or None
+        L-BFGS-B's ``maxiter``; None: scipy's default.
+    scale : float
+        The divisor of the objective and its gradient (the number of points).
+
+    Returns
+    -------
+    tuple
+        ``(theta, [start value, final value], iterations)``; a search that did not converge warns.
     """
     options = {} if max_iter is None else {"maxiter": max_iter}
 

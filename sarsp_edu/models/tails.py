@@ -58,7 +58,12 @@ PAPER_CHECK_VALUE = 5.0 ** (-1 - 3)
 
 
 def student_t_pdf(x=X, nu=NU) -> sp.Expr:
-    """Student-t density with ``nu`` degrees of freedom (paper appendix C, eq. C.1)."""
+    """Student-t density with ``nu`` degrees of freedom (paper appendix C, eq. C.1).
+
+    Parameters
+    ----------
+    x, nu : sympy expressions or numbers, default the symbols ``X`` and ``NU``
+    """
     return sp.gamma((nu + 1) / 2) / (sp.sqrt(nu * sp.pi) * sp.gamma(nu / 2)) * (1 + x**2 / nu) ** (-(nu + 1) / 2)
 
 
@@ -89,6 +94,10 @@ def karamata_ratio(density: str, lam=LAMBDA, nu=NU) -> sp.Expr:
 
 def student_t_tail_limit(nu=NU, lam=LAMBDA) -> sp.Expr:
     """``lim_{x -> oo} f(lambda x) / f(x)`` for the Student-t density (paper eq. 8).
+
+    Parameters
+    ----------
+    nu, lam : sympy expressions or numbers, default the symbols ``NU`` and ``LAMBDA``
 
     Examples
     --------
@@ -132,6 +141,10 @@ def gaussian_over_student_t_limit(nu=NU) -> sp.Expr:
 
 def printed_eq8_limit(nu=NU, lam=LAMBDA) -> sp.Expr:
     """The limit of paper eq. 8 *as printed*, with ``lambda x**2`` in the numerator.
+
+    Parameters
+    ----------
+    nu, lam : sympy expressions or numbers, default the symbols ``NU`` and ``LAMBDA``
 
     Examples
     --------
@@ -230,6 +243,13 @@ def compute_tail_ratios(nus=(3.0, 6.0), lam: float = 5.0, x_t=None, x_gauss=None
 
 def compute_densities(nu: float, x=None) -> dict:
     """Student-t and standard Gaussian densities on a grid (for linear and log plots).
+
+    Parameters
+    ----------
+    nu : float
+        The Student-t's degrees of freedom (> 0).
+    x : array-like, optional
+        Where to evaluate them; default 801 points on [-8, 8].
 
     Returns
     -------

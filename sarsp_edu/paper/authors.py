@@ -167,6 +167,15 @@ class AuthorsRuns:
 
         The same frame as :meth:`sarsp_edu.experiments.sweep.SweepResults.curves` (index
         episode, a column per nss), from the authors' one run per configuration.
+
+        Parameters
+        ----------
+        metric : str
+            One of ``SUMMARY_METRICS``.
+        model : {"TP", "GP"}
+            Either case.
+        m, p : float
+            The outlier magnitude and proportion (compared with ``numpy.isclose``).
         """
         if metric not in SUMMARY_METRICS:
             raise ValueError(f"metric must be one of {SUMMARY_METRICS}, got metric={metric!r}")
@@ -256,6 +265,15 @@ def agreement(results, metric: str, authors: AuthorsRuns | None = None) -> pd.Da
     set "ours against the authors" beside that yardstick, measured on our own
     seeds.
 
+    Parameters
+    ----------
+    results : SweepResults
+        Our runs (any number of seeds per configuration).
+    metric : str
+        One of ``SUMMARY_METRICS``.
+    authors : AuthorsRuns, optional
+        The authors' runs; default ``AuthorsRuns()``, all of them.
+
     Returns
     -------
     DataFrame, one row per comparison: ours (mean over seeds) against the
@@ -288,6 +306,15 @@ def agreement(results, metric: str, authors: AuthorsRuns | None = None) -> pd.Da
 
 def learning_curves(results, metric: str, authors: AuthorsRuns | None = None) -> pd.DataFrame:
     """``metric`` per episode, mean over the configurations both hold: ours beside the authors'.
+
+    Parameters
+    ----------
+    results : SweepResults
+        Our runs (any number of seeds per configuration).
+    metric : str
+        One of ``SUMMARY_METRICS``.
+    authors : AuthorsRuns, optional
+        The authors' runs; default ``AuthorsRuns()``, all of them.
 
     Returns
     -------
@@ -349,6 +376,12 @@ def verdicts_beside_authors(tables: dict, authors_tables: dict) -> pd.DataFrame:
 
     The paper's Table 1 gives six configurations and no cost rate; the
     authors' records give the cost rate, hence the verdict, at all 45.
+
+    Parameters
+    ----------
+    tables, authors_tables : dict
+        :func:`sarsp_edu.experiments.tables.summary_tables` of our sweep and of
+        :class:`AuthorsRuns`; their ``"table1"`` is read.
 
     Returns
     -------

@@ -80,6 +80,13 @@ def _regions(lines: list[str], begin: str, end: str):
 def clear_solutions(source: str, stub: str = CODE_STUB) -> str:
     """``source`` with every solution region replaced by ``stub``, indented as its BEGIN marker.
 
+    Parameters
+    ----------
+    source : str
+        A cell's source; an unpaired marker is a ``ValueError``.
+    stub : str, default :data:`CODE_STUB`
+        The text that replaces each region, its two marker lines included.
+
     Examples
     --------
     >>> print(clear_solutions("def f(x):\\n    ### BEGIN SOLUTION\\n    return x\\n    ### END SOLUTION"))
@@ -163,7 +170,15 @@ def check_source(source) -> list[str]:
 
 
 def sources(tutorials: Path, only=None) -> list[Path]:
-    """The source notebooks of a tutorials folder, in order (``only``: those whose number NN is listed)."""
+    """The source notebooks of a tutorials folder, in order (``only``: those whose number NN is listed).
+
+    Parameters
+    ----------
+    tutorials : path-like
+        The tutorials folder; the sources are ``source/NN_name.ipynb`` in it.
+    only : iterable of int or str, optional
+        Tutorial numbers to keep; a number with no source is a ``ValueError``.  None or empty: all.
+    """
     found = sorted((Path(tutorials) / "source").glob("[0-9][0-9]_*.ipynb"))
     if not found:
         raise FileNotFoundError(f"{tutorials}/source holds no source notebook (NN_name.ipynb)")
@@ -203,6 +218,15 @@ def execute(notebook, folder, timeout: int = 900):
     dashboard's picture, the PNG its output carries beside the widget, where
     a stored state would make an export load the widgets from the network.
     Run times are not stored either: they change at every run.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        Executed and changed in place, and returned.
+    folder : path-like
+        The kernel's working folder.
+    timeout : int, default 900
+        Seconds each cell may run (nbclient's ``timeout``).
     """
     from nbclient import NotebookClient
 
@@ -232,6 +256,20 @@ def execute_sources(tutorials="tutorials", timeout: int = 900, only=None) -> lis
     """Execute the source notebooks in place (their stored outputs are nbval's reference).
 
     ``only`` lists the tutorials' numbers to run (all by default).
+
+    Parameters
+    ----------
+    tutorials : path-like, default "tutorials"
+        The tutorials folder.
+    timeout : int, default 900
+        Seconds each cell may run (nbclient's ``timeout``).
+    only : iterable of int or str, optional
+        As in :func:`sources`.
+
+    Returns
+    -------
+    list of Path
+        The notebooks written.
     """
     import nbformat
 
@@ -261,6 +299,22 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
     breaks nbgrader's format is refused before anything is written.  The
     cells that reveal a prediction's answer keep no output (:func:`clear_reveals`).
     ``only`` lists the tutorials' numbers to write (all by default).
+
+    Parameters
+    ----------
+    tutorials : path-like, default "tutorials"
+        The tutorials folder.
+    run : bool, default True
+        Execute each student notebook before writing it (in ``tutorials``).
+    timeout : int, default 900
+        Seconds each cell may run (nbclient's ``timeout``).
+    only : iterable of int or str, optional
+        As in :func:`sources`.
+
+    Returns
+    -------
+    list of Path
+        The notebooks written.
     """
     import nbformat
 

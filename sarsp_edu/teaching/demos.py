@@ -29,6 +29,18 @@ def regression_data(n: int = 40, magnitude: float = 40.0, proportion: float = 0.
     replacement have their target (and, if ``scale_inputs``, their input)
     multiplied by ``m``.
 
+    Parameters
+    ----------
+    n : int, default 40
+        The number of points (at least 2).
+    magnitude, proportion : float
+        The outliers' ``m`` (> 0) and ``p`` (in [0, 1]).
+    seed : None, int or numpy.random.Generator
+    scale_inputs : bool, default False
+        Multiply the outliers' inputs by ``m`` too, as the paper does.
+    noise : float, default 0.2
+        The standard deviation of the Gaussian noise added to every target.
+
     Returns
     -------
     X : ndarray of shape (n, 1)
@@ -68,6 +80,10 @@ def compute_posteriors(nu: float = NU, magnitude: float = 40.0, proportion: floa
     scale_inputs : bool, default False
         Multiply the outliers' inputs by ``m`` too, as the paper does; they
         then leave the plotted range.
+    n : int, default 40
+        The number of points.
+    noise_convention : {"shah", "tfp"}, default "shah"
+        The TP's ``noise_convention``.
 
     Returns
     -------
@@ -112,6 +128,16 @@ def compute_robust(nu: float = NU, magnitude: float = 10.0, proportion: float = 
     hyperparameters as the paper does (50 Adam steps); the Student-t
     likelihood GP fits its own by L-BFGS-B on the Laplace approximation.
 
+    Parameters
+    ----------
+    nu : float
+        The degrees of freedom of both Student-t models.
+    magnitude, proportion : float
+        The outliers' ``m`` (> 0) and ``p`` (in [0, 1]).
+    seed : int
+    n : int, default 40
+        The number of points (:func:`regression_data`).
+
     Returns
     -------
     dict
@@ -149,6 +175,19 @@ def compute_nu_path(nus, magnitude: float = 40.0, proportion: float = 0.1, seed:
 
     The hyperparameters are ``kernel`` and ``noise_variance`` if given, else
     the GP's fit to the data; the GP with the same ones is the reference.
+
+    Parameters
+    ----------
+    nus : sequence of float
+        The TP's degrees of freedom to try (> 2).
+    magnitude, proportion : float
+        The outliers' ``m`` (> 0) and ``p`` (in [0, 1]).
+    seed : int
+    n : int, default 40
+        The number of points (:func:`regression_data`).
+    kernel : RBF, optional
+    noise_variance : float, optional
+        The hyperparameters to hold; both must be given, else the GP's fit is used.
 
     Returns
     -------
@@ -189,6 +228,20 @@ def compute_world(seed: int = 0, n_switch_states: int = 6, magnitude: float = 40
     ``ExperimentConfig(seed=0, ...)`` in a run, a sweep and tutorial 4.  The
     world and its offline data are cached per seed, so moving the nss, m or
     p sliders only redoes the injection and the shift.
+
+    Parameters
+    ----------
+    seed : int, default 0
+    n_switch_states : int, default 6
+        nss: the unsafe states the covariate shift moves.
+    magnitude, proportion : float
+        The outliers' ``m`` (> 0) and ``p`` (in [0, 1]).
+    offline_episodes : int
+        Random-policy episodes of offline data.
+    size : int
+        The grid's side.
+    n_unsafe : int
+        The number of unsafe states.
 
     Returns
     -------

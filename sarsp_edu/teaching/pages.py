@@ -205,7 +205,14 @@ def _nbconvert():
 
 def page_title(notebook, fallback: str) -> str:
     """The text of a notebook's first Markdown heading (its maths as the characters its MathML shows), else
-    ``fallback``."""
+    ``fallback``.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+    fallback : str
+        The title when no Markdown cell has a heading, or the heading has no text.
+    """
     for cell in notebook.cells:
         if cell.cell_type != "markdown":
             continue
@@ -222,6 +229,13 @@ def describe_figures(notebook, title: str) -> int:
     """Give every image output without alt text in its metadata one that says where it comes from, in place.
 
     Returns how many images had none.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        Changed in place.
+    title : str
+        The page's title, named in each alt text given ('Figure output of cell N of TITLE').
     """
     missing = 0
     for number, cell in enumerate(notebook.cells, start=1):
@@ -253,6 +267,13 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
     TeX) or where figures carry no alt text of their own (with the count).
 
     Returns the index page.
+
+    Parameters
+    ----------
+    tutorials : path-like, default "tutorials"
+        The tutorials folder, whose student notebooks must have been written.
+    out : path-like, default "pages"
+        The folder the pages and ``index.html`` are written to (made if missing).
     """
     import nbformat
 

@@ -110,6 +110,13 @@ def traces(stated: Number, printed) -> bool:
     """Whether a stated number is one of ``printed``, at the same digits or at more digits that round to it.
 
     A percentage is also traced by a printed fraction (43% by 0.432).
+
+    Parameters
+    ----------
+    stated : Number
+        A number of the prose (:func:`prose_numbers`).
+    printed : iterable of Number
+        The numbers printed (:func:`output_numbers`) or declared.
     """
     for number in printed:
         for scale in ((1.0, 100.0) if stated.percent else (1.0,)):
@@ -160,6 +167,12 @@ def untraced(notebook, outputs_of=None) -> list[str]:
     ``outputs_of(index, cell)`` gives the text of a code cell's outputs (by
     default its stored outputs): a student notebook passes the source's
     outputs for the cells whose outputs it does not store (the reveals).
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+    outputs_of : callable, optional
+        ``outputs_of(index, cell) -> str``; default the cell's stored outputs.
     """
     outputs_of = outputs_of or (lambda index, cell: _output_text(cell))
     declared, problems = declared_numbers(notebook)

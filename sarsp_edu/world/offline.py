@@ -69,6 +69,13 @@ def reward_inputs(observation, actions=None) -> np.ndarray:
 
     The target is the reward after the step (minus the L2 distance to the goal).
 
+    Parameters
+    ----------
+    observation : array-like of shape (8,)
+        An observation of :class:`SafeGridWorld`.
+    actions : int or array-like of ints, optional
+        Default: all four actions.
+
     Returns
     -------
     ndarray of shape (n_actions, 5)
@@ -149,6 +156,12 @@ class ObservationBuffer:
     def add(self, x, target: float) -> bool:
         """Append ``(x, target)`` unless ``x`` already fills its duplicate cap.
 
+        Parameters
+        ----------
+        x : array-like of shape (n_features,)
+            The input.
+        target : float
+
         Returns
         -------
         bool
@@ -173,6 +186,13 @@ class ObservationBuffer:
 
         Algorithm 1's corrective update: the observed cost replaces what the
         offline data said about this state-action pair.
+
+        Parameters
+        ----------
+        x : array-like of shape (n_features,)
+            The input.
+        target : float
+            The new target of each of those rows.
         """
         rows = self._rows.get(self._key(x), [])
         self._y[rows] = float(target)
@@ -185,6 +205,12 @@ class ObservationBuffer:
         ``"unchanged"`` when every row with input ``x`` already held
         ``target`` (nothing to learn), or ``"added"``.  (A new input is
         always under its cap, so the add cannot be refused.)
+
+        Parameters
+        ----------
+        x : array-like of shape (n_features,)
+            The input.
+        target : float
         """
         rows = self._rows.get(self._key(x), [])
         if not rows:
@@ -196,6 +222,7 @@ class ObservationBuffer:
         return "overwritten"
 
     def copy(self) -> "ObservationBuffer":
+        """An independent copy: the same rows, caps and index."""
         other = ObservationBuffer(self.n_features, self.max_duplicates, capacity=max(self._n, 1))
         other._X[: self._n] = self._X[: self._n]
         other._y[: self._n] = self._y[: self._n]
@@ -204,7 +231,15 @@ class ObservationBuffer:
         return other
 
     def scaled(self, rows, factor: float) -> "ObservationBuffer":
-        """A copy whose ``rows`` have inputs and targets multiplied by ``factor``."""
+        """A copy whose ``rows`` have inputs and targets multiplied by ``factor``.
+
+        Parameters
+        ----------
+        rows : array-like of int
+            Row indices (as :func:`inject_outliers` draws them).
+        factor : float
+            The multiplier (the outliers' magnitude ``m``).
+        """
         other = self.copy()
         rows = np.asarray(rows, dtype=int)
         other._X[rows] *= factor
@@ -260,6 +295,7 @@ class OfflineData:
     outliers_in: tuple = ()
 
     def copy(self) -> "OfflineData":
+        """A copy whose buffers and arrays are copies too, so changing it leaves this one as it is."""
         return replace(
             self,
             cost=self.cost.copy(),

@@ -28,13 +28,32 @@ _KEY = ["m", "p", "nss", "seed"]
 
 
 def cell_seed(sweep_seed: int, m: float, p: float, nss: int) -> int:
-    """The run seed of one cell: a hash of the sweep seed and the cell, not of the run order."""
+    """The run seed of one cell: a hash of the sweep seed and the cell, not of the run order.
+
+    Parameters
+    ----------
+    sweep_seed : int
+        The sweep's seed (a cell key's ``seed``).
+    m, p, nss : float, float, int
+        The cell's outlier magnitude, outlier proportion and number of switch states; ``m`` is
+        rounded to 0.001 and ``p`` to 1e-6 first, so float noise does not change the seed.
+    """
     entropy = [int(sweep_seed), int(round(float(m) * 1000)), int(round(float(p) * 1_000_000)), int(nss)]
     return int(np.random.SeedSequence(entropy).generate_state(1, dtype=np.uint32)[0])
 
 
 def cell_config(base: ExperimentConfig, m: float, p: float, nss: int, seed: int) -> ExperimentConfig:
-    """The config of the cell (m, p, nss) for sweep seed ``seed``."""
+    """The config of the cell (m, p, nss) for sweep seed ``seed``.
+
+    Parameters
+    ----------
+    base : ExperimentConfig
+        The sweep's shared settings; its ``model`` is kept.
+    m, p, nss : float, float, int
+        The cell's outlier magnitude, outlier proportion and number of switch states.
+    seed : int
+        The sweep seed; the run's own seed is :func:`cell_seed` of it and the cell.
+    """
     return base.replace(
         outlier_magnitude=float(m),
         outlier_proportion=float(p),

@@ -69,6 +69,24 @@ class SweepResults:
         With several seeds, the mean over seeds (or one seed if given);
         ``over_seeds="min"`` or ``"max"`` gives the lowest or highest seed's
         value at each episode instead: the band over seeds.
+
+        Parameters
+        ----------
+        metric : str
+            A records column, such as one of ``SUMMARY_METRICS``.
+        model : str
+            ``"TP"`` or ``"GP"`` (either case).
+        m, p : float
+            The outlier magnitude and proportion of the cells (compared with ``math.isclose``).
+        seed : int, optional
+            Only this sweep seed's cells; None: every seed's.
+        over_seeds : {"mean", "min", "max"}, default "mean"
+            How the seeds' values at each episode are combined.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Indexed by episode, one column per nss.
         """
         if metric not in self._record_columns():
             raise ValueError(f"metric must be a records column such as {SUMMARY_METRICS}, got metric={metric!r}")
@@ -230,6 +248,17 @@ def _check_base_against_cells(meta: Path, base: ExperimentConfig) -> None:
 
 def load_cell(base: ExperimentConfig, cell: Path, key: tuple, a: float = DEFINITION_4_A) -> Comparison:
     """The comparison stored in ``cell``, checked to be the sweep's cell ``key``.
+
+    Parameters
+    ----------
+    base : ExperimentConfig
+        The sweep's shared settings, from which the cell's are derived (:func:`cell_config`).
+    cell : pathlib.Path
+        The cell's folder, holding ``cell.json``, ``tp/`` and ``gp/``.
+    key : tuple
+        The cell's ``(m, p, nss, seed)``.
+    a : float, default ``DEFINITION_4_A``
+        Definition 4's TSR threshold (%).
 
     Raises
     ------

@@ -194,6 +194,11 @@ class Objective:
         Takes the arguments of :meth:`log_marginal_likelihood`.  A fit
         evaluates it on the rows its search uses (all of them unless
         ``max_fit_points`` binds); this is on all the training data.
+
+        Parameters
+        ----------
+        theta, eval_gradient, fold_repeats
+            As in :meth:`log_marginal_likelihood`.
         """
         theta, data, D2 = self._objective_inputs(theta, fold_repeats)
         value, grad = self._lml_from_distances(theta, D2, data, eval_gradient=True)

@@ -221,6 +221,12 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         fit, the training points from a strategic prior drawn per decision.
         No optimisation is run, so the call costs one Cholesky factorisation.
 
+        Parameters
+        ----------
+        X : array-like of shape (n, d)
+            Training inputs, with the fitted model's number of features.
+        y : array-like of shape (n,)
+
         Returns
         -------
         model : same type as ``self``, fitted

@@ -45,6 +45,15 @@ def student_t_log_likelihood(residual, nu: float, scale: float):
     """``log p(y | f)`` of the Student-t noise, its first derivative in ``f`` and ``W`` (minus the second).
 
     Returns three arrays shaped as ``residual = y - f``.
+
+    Parameters
+    ----------
+    residual : ndarray
+        ``y - f``.
+    nu : float
+        The noise's degrees of freedom (> 0).
+    scale : float
+        The noise's scale ``s`` (> 0).
     """
     r2 = residual * residual
     nus2 = nu * scale * scale
@@ -153,7 +162,17 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     # -- scikit-learn's API ----------------------------------------------------------------
     def fit(self, X, y):
-        """Find the posterior mode (and, with ``optimizer="lbfgs"``, the hyperparameters first)."""
+        """Find the posterior mode (and, with ``optimizer="lbfgs"``, the hyperparameters first).
+
+        Parameters
+        ----------
+        X : array-like of shape (n, d)
+        y : array-like of shape (n,)
+
+        Returns
+        -------
+        self
+        """
         if self.kernel is not None and not isinstance(self.kernel, RBF):
             raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
         check_positive("nu", self.nu)
@@ -195,6 +214,20 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
         ``include_noise`` adds the Student-t noise's variance ``s^2 nu / (nu - 2)``
         (finite only for ``nu > 2``): the variance of a new observation.
+
+        Parameters
+        ----------
+        X : array-like of shape (m, d)
+            Query points.
+        return_std, return_var : bool, default False
+            Also return the standard deviation, the variance, of each prediction.
+        include_noise : bool, default False
+            Add the noise's variance (refused when ``nu <= 2``).
+
+        Returns
+        -------
+        mean : ndarray of shape (m,)
+            Alone, or a tuple ``(mean, std, var)`` of those asked for, in that order.
         """
         self._check_fitted()
         X = check_X(validate_data(self, X, reset=False, dtype=np.float64))
@@ -220,6 +253,13 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
         Evaluated by Gauss-Hermite quadrature (60 nodes) at each point of ``X``
         for each value in ``y_values``; returns an array ``(len(X), len(y_values))``.
+
+        Parameters
+        ----------
+        X : array-like of shape (m, d)
+            Query points.
+        y_values : array-like of shape (k,)
+            Values of the new observation ``y*`` at which the density is evaluated.
         """
         mean, var = self.predict(X, return_var=True)
         nodes, weights = np.polynomial.hermite_e.hermegauss(60)  # for the weight exp(-x^2 / 2)

@@ -111,6 +111,11 @@ def check(exercise: str, answer, **context) -> None:
     diagnosis: a second) and returns nothing, so that a notebook cell shows
     only the verdict.  In a kernel that Voila runs (``VOILA_KERNEL_ID`` set)
     it checks and prints nothing.
+
+    Parameters
+    ----------
+    exercise, answer, **context
+        As in :func:`is_right`.
     """
     if os.environ.get(VOILA_VARIABLE):
         return

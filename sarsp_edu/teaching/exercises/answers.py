@@ -80,7 +80,15 @@ def _text(answer) -> str | None:
 
 
 def read_word(answer, options: dict) -> str:
-    """The option (a key of ``options``) whose spellings include ``answer``; raises :class:`Unreadable`."""
+    """The option (a key of ``options``) whose spellings include ``answer``; raises :class:`Unreadable`.
+
+    Parameters
+    ----------
+    answer : object
+        The student's answer; only text (str, numpy's str, bytes) can be read.
+    options : dict
+        ``{option: spellings}``, the spellings a set of compacted forms such as :data:`ABOVE`.
+    """
     text = _text(answer)
     if text is not None:
         compact = _compact(text)

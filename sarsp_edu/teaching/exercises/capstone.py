@@ -417,6 +417,12 @@ class Capstone:
 
         ``is_right`` reuses the verdict of the ``check`` just before it (an
         nbgrader test cell calls both), since a run takes seconds.
+
+        Parameters
+        ----------
+        answer, config, progress
+            As in :func:`run_check`.
+        reuse : bool, default False
         """
         parts, _ = _read(answer)
         key = None if parts is None else (tuple(getattr(parts, name) for name in PART_FUNCTIONS),

@@ -111,6 +111,15 @@ def same(got, expected, rtol: float = RTOL) -> bool:
     Infinities must match exactly, NaN matches NaN, booleans and integers
     match exactly; any numeric type is accepted (int, float, numpy scalar,
     0-d array).  Anything that cannot be read as numbers is not equal.
+
+    Parameters
+    ----------
+    got : object
+        The student's result.
+    expected : object
+        The reference result; its structure says how ``got`` is split into parts.
+    rtol : float, default :data:`RTOL`
+        The relative tolerance; the absolute one is this times the largest finite ``|expected|`` of each part.
     """
     try:
         return _same(got, expected, rtol)
@@ -204,6 +213,17 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
     seconds.  A wrong answer is matched against the usual mistakes on every
     input; the first mistake that reproduces all of its results gives the
     diagnosis.
+
+    Parameters
+    ----------
+    name : str
+        The exercise's name, such as ``"2.1"``; it seeds the default ``rng``.
+    exercise : CodingExercise
+        Its reference function, inputs, usual mistakes and hint.
+    function : callable
+        The student's function.
+    rng : None, int or numpy.random.Generator
+        Draws the inputs; None: a seed of ``name``.
     """
     if not callable(function):
         return False, f"This exercise asks for a function, {exercise.signature}; got {type(function).__name__}."
@@ -248,6 +268,14 @@ def known_mistake(exercise: CodingExercise, cases: list, answers: list) -> str |
     ``cases`` are the inputs (dicts in the signature's order), ``answers``
     what the student's function returned on each; the mistakes are the
     exercise's own, then a number argument written in and rounded results.
+
+    Parameters
+    ----------
+    exercise : CodingExercise
+    cases : list of dict
+        The inputs.
+    answers : list
+        The student's result on each case.
     """
     for mistake in (*exercise.mistakes, *_fixed_arguments(exercise, cases), *_rounding(exercise)):
         if _reproduces(mistake, cases, answers):

@@ -46,6 +46,15 @@ def run_limited(function, args=(), limit: float | None = None):
 
     Returns its result or raises what it raised; raises :class:`TimedOut`
     when it runs longer.
+
+    Parameters
+    ----------
+    function : callable
+        The student's function, run in a daemon thread.
+    args : sequence, default ()
+        Its positional arguments.
+    limit : float, optional
+        Seconds to wait; None: :data:`TIME_LIMIT`.
     """
     limit = TIME_LIMIT if limit is None else limit
     box: dict = {}
@@ -77,6 +86,14 @@ def call_copies(function, case: dict, limited: bool = False):
     """``function`` on copies of ``case``'s values, passed in order (a student may name them as they like).
 
     Returns ``(result, copies)``; the copies show what the function did to its inputs.
+
+    Parameters
+    ----------
+    function : callable
+    case : dict
+        The inputs, by name, in the signature's order (deep-copied before the call).
+    limited : bool, default False
+        Run it with :func:`run_limited`'s time limit.
     """
     args = copy.deepcopy(list(case.values()))
     result = run_limited(function, args) if limited else function(*args)
@@ -84,7 +101,15 @@ def call_copies(function, case: dict, limited: bool = False):
 
 
 def changed(before, after) -> bool:
-    """Whether ``after`` (a copy of ``before`` that a function was given) was changed in place."""
+    """Whether ``after`` (a copy of ``before`` that a function was given) was changed in place.
+
+    Parameters
+    ----------
+    before : object
+        The input as it was (arrays, dicts, lists and tuples compared item by item; NaN equals NaN).
+    after : object
+        The copy after the call.
+    """
     if isinstance(before, np.ndarray):
         if not isinstance(after, np.ndarray) or after.shape != before.shape or after.dtype != before.dtype:
             return True

@@ -43,6 +43,13 @@ def parts(value, many: bool) -> list:
     """A result as a list of arrays: several parts where the reference returns a tuple, else one array.
 
     A part that numpy cannot read as an array (ragged lists, say) becomes an array of one object.
+
+    Parameters
+    ----------
+    value : object
+        The result.
+    many : bool
+        Split a tuple or list into its parts (:func:`several` of the reference).
     """
     values = list(value) if many and isinstance(value, (tuple, list)) else [value]
     return [_array(v) for v in values]
@@ -104,7 +111,15 @@ def describe(case: dict) -> str:
 
 
 def shape_problem(got, expected) -> str | None:
-    """A sentence about a result of the wrong structure or shape, or None."""
+    """A sentence about a result of the wrong structure or shape, or None.
+
+    Parameters
+    ----------
+    got : object
+        The student's result.
+    expected : object
+        The reference result; a tuple is several results.
+    """
     got_parts, expected_parts = parts(got, several(expected)), parts(expected, several(expected))
     if len(expected_parts) > 1 and len(got_parts) != len(expected_parts):
         if isinstance(got, np.ndarray) and got.ndim and len(got) == len(expected_parts):
@@ -121,7 +136,17 @@ def shape_problem(got, expected) -> str | None:
 
 
 def which_differ(got, expected, same) -> str:
-    """'it gives other values than the package', naming which results differ where there are several."""
+    """'it gives other values than the package', naming which results differ where there are several.
+
+    Parameters
+    ----------
+    got : object
+        The student's result.
+    expected : object
+        The reference result; a tuple is several results.
+    same : callable
+        ``same(got_part, expected_part) -> bool``, as :func:`~sarsp_edu.teaching.exercises.grading.same`.
+    """
     if not several(expected):
         return "it gives other values than the package"
     pairs = list(zip(parts(got, True), parts(expected, True)))

@@ -27,6 +27,12 @@ def figure_bundle(figure, alt: str) -> tuple[dict, dict]:
     The PNG is rendered as ``%matplotlib inline`` renders it (the figure's
     dpi, ``bbox_inches="tight"``), so a notebook cell that calls
     :func:`show_figure` instead of ``plt.show()`` stores the same picture.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+    alt : str
+        What the figure shows (see :func:`show_figure`); a blank one is a ``ValueError``.
     """
     from IPython.core.pylabtools import print_figure
 

@@ -23,6 +23,14 @@ def plot_densities(ax, data, *, log: bool = False):
     """Student-t and Gaussian densities (``tails.compute_densities``), linear or log scale.
 
     The Gaussian is dashed (drawn on top, so that both show where they meet), the Student-t solid.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.models.tails.compute_densities`'s output.
+    log : bool, default False
+        A log y axis (down to 1e-16), to show the tails.
     """
     ax.plot(data["x"], data["gaussian"], lw=2, zorder=2.5, label="Gaussian N(0, 1)", **model_style("gp"))
     ax.plot(data["x"], data["student_t"], lw=2, label=f"Student-t, nu = {data['nu']:g}", **model_style("tp"))
@@ -42,7 +50,18 @@ def plot_densities(ax, data, *, log: bool = False):
 
 
 def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = None):
-    """Paper Figure 1(a): the Student-t ratio f(lambda x)/f(x) against x, with its limit lambda^(-1-nu)."""
+    """Paper Figure 1(a): the Student-t ratio f(lambda x)/f(x) against x, with its limit lambda^(-1-nu).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.models.tails.compute_tail_ratios`'s output: one curve per nu.
+    show_limits : bool, default True
+        Draw each limit as a dashed line and give it in the legend.
+    title : str, optional
+        The panel's title; default one naming lambda.
+    """
     from matplotlib import colormaps
 
     cmap = colormaps["Blues"]
@@ -60,7 +79,16 @@ def plot_tail_ratios(ax, data, *, show_limits: bool = True, title: str | None = 
 
 
 def plot_tail_ratio_comparison(ax, data, nu: float):
-    """The Student-t ratio for one nu beside the Gaussian's, on a log scale (tutorial 1's dashboard)."""
+    """The Student-t ratio for one nu beside the Gaussian's, on a log scale (tutorial 1's dashboard).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.models.tails.compute_tail_ratios`'s output (its every nu is drawn).
+    nu : float
+        A key of ``data["limits"]``: its limit sets the bottom of the y axis.
+    """
     plot_tail_ratios(ax, data, title="Karamata ratio f(λx)/f(x)")
     ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, ls=":", label="Gaussian")
     log_scale(ax)
@@ -78,7 +106,16 @@ def plot_tail_ratio_comparison(ax, data, nu: float):
 
 
 def plot_gaussian_ratio(ax, data, *, title: str | None = None):
-    """Paper Figure 1(b): the Gaussian ratio f(lambda x)/f(x) = exp((1 - lambda^2) x^2 / 2) on [0, 1]."""
+    """Paper Figure 1(b): the Gaussian ratio f(lambda x)/f(x) = exp((1 - lambda^2) x^2 / 2) on [0, 1].
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.models.tails.compute_tail_ratios`'s output.
+    title : str, optional
+        The panel's title; default one naming lambda.
+    """
     ax.plot(data["x_gauss"], data["gaussian"], color=COLOURS["gp"], lw=2, label="Gaussian")
     finish_axes(ax, "x", f"f({data['lam']:g} x) / f(x)", title or f"Gaussian ratio, lambda = {data['lam']:g}")
     return ax
@@ -105,6 +142,18 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     shows the fitted noise, where the GP and the TP differ most visibly.
 
     Outliers outside ``ylim`` are drawn as triangles on the edge they lie beyond.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.teaching.demos.compute_posteriors`'s output.
+    model : {"gp", "tp"}
+        Which posterior to draw.
+    title : str, optional
+        The panel's title; default the model's name.
+    ylim : (float, float), optional
+        The y range of the data; default matplotlib's.
     """
     post = data[model]
     colour = COLOURS[model]
@@ -159,6 +208,14 @@ def plot_variances(ax, data, *, title: str | None = None):
 
     The GP's curves are dashed and drawn on top, the TP's solid; the latent
     variances thick, those of a new observation y* (with the noise) thin.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.teaching.demos.compute_posteriors`'s output.
+    title : str, optional
+        The panel's title; default one naming both equations.
     """
     x = data["x_grid"]
     ax.plot(x, data["gp"]["var"], lw=2, zorder=2.5, label="GP, eq. 5", **model_style("gp"))
@@ -187,6 +244,14 @@ def plot_robust(ax, data, *, ylim=None):
     GP's latent 2-sd band is shaded.  The GP's mean is dashed and drawn over
     the TP's solid one (the two often coincide), the Student-t likelihood's
     dash-dotted.  Outliers beyond ``ylim`` are drawn as triangles on its edge.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.teaching.demos.compute_robust`'s output.
+    ylim : (float, float), optional
+        The y range of the data; default matplotlib's.
     """
     x = data["x_grid"]
     ax.plot(x, data["truth"], color="grey", lw=1.5, ls=":", label="the function without noise")
@@ -229,6 +294,12 @@ def plot_outlier_weights(ax, data):
 
     ``data["weights"]`` are ``(nu + 1) s^2 / (nu s^2 + r^2)`` at the
     posterior mode: an outlier's falls towards 0.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    data : dict
+        :func:`~sarsp_edu.teaching.demos.compute_robust`'s output.
     """
     xs, weights, outliers = data["X"], data["weights"], data["outliers"]
     ax.vlines(xs[~outliers], 0, weights[~outliers], color=COLOURS["data"], lw=1.2, label="data")

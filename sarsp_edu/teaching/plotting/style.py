@@ -74,7 +74,14 @@ class PlainLogFormatter(ticker.Formatter):
 
 def log_scale(ax, axis: str = "y") -> None:
     """A log axis with plain tick labels ("0.5", "20", "1e-06"), minor ticks at 2 and 5
-    times each power of ten (labelled on a short axis)."""
+    times each power of ten (labelled on a short axis).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    axis : {"y", "x"}, default "y"
+        Which axis (any value but ``"y"`` is the x axis).
+    """
     target = ax.yaxis if axis == "y" else ax.xaxis
     (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
     target.set_minor_locator(ticker.LogLocator(subs=(2.0, 5.0)))
@@ -83,7 +90,15 @@ def log_scale(ax, axis: str = "y") -> None:
 
 
 def finish_axes(ax, xlabel: str, ylabel: str, title: str, legend_loc="best") -> None:
-    """The labels, light grid and frameless legend every line plot here ends with."""
+    """The labels, light grid and frameless legend every line plot here ends with.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    xlabel, ylabel, title : str
+    legend_loc : str, default "best"
+        The legend's ``loc``.
+    """
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)

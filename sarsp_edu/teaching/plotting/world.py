@@ -217,6 +217,14 @@ def plot_outlier_scatter(ax, world, *, title: str | None = None):
     distinct point is drawn once, its area growing with the rows behind it.
     Clean rows are black dots: black and red differ in lightness as well as
     hue, and the triangles in shape.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    world : dict
+        :func:`~sarsp_edu.teaching.demos.compute_world`'s output.
+    title : str, optional
+        The panel's title; default one giving how many rows are outliers.
     """
     X, y = world["dirty"]["X"], world["dirty"]["y"]
     size = np.linalg.norm(X[:, 1:], axis=1) + 1.0

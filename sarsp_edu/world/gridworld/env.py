@@ -161,6 +161,13 @@ class SafeGridWorld(Rendering, gym.Env):
 
         No world can hold more; :meth:`capacity` is how many it always
         places *and* shifts.
+
+        Parameters
+        ----------
+        size : int
+            The grid's side.
+        placement : {"full", "reference"}, default ``WorldSettings.placement``
+            Where objects may be placed: the whole grid, or (``"reference"``) all but the last row and column.
         """
         span = placement_span(size, placement)
         return math.ceil(span * span / 2)

@@ -20,6 +20,15 @@ def moved(position, action: int, size: int) -> tuple[int, int]:
     """The cell an action leads to from ``position`` on a ``size`` x ``size`` grid: a move into a wall stays put.
 
     The world's step (:meth:`SafeGridWorld.step`) and exercise 3.3's answer key both move by it.
+
+    Parameters
+    ----------
+    position : (int, int)
+        The cell ``(x, y)``.
+    action : int
+        One of :data:`ACTIONS` (``RIGHT``, ``DOWN``, ``LEFT``, ``UP``).
+    size : int
+        The grid's side.
     """
     dx, dy = MOVES[int(action)]
     return (min(max(int(position[0]) + int(dx), 0), size - 1), min(max(int(position[1]) + int(dy), 0), size - 1))
@@ -29,6 +38,13 @@ def nearest(position, unsafe) -> tuple[int, float]:
     """The index of the unsafe state nearest to ``position`` (ties: the first listed) and its Euclidean distance.
 
     The world's cost signal (:meth:`SafeGridWorld.nearest_unsafe`) and exercise 3.2's answer key both use it.
+
+    Parameters
+    ----------
+    position : (int, int)
+        The cell ``(x, y)``.
+    unsafe : array-like of shape (k, 2)
+        The unsafe cells, k >= 1.
     """
     diff = np.asarray(unsafe) - np.asarray(position)
     d2 = np.einsum("ij,ij->i", diff, diff)
