@@ -53,7 +53,7 @@ def main(argv=None):
             redrawn = f"{len(dashboard.last_redrawn)} of {len(dashboard.panels)} panels"
             print(f"  {factory.__name__:22s} {name:16s} {redrawn:14s} {statistics.median(times) * 1e3:7.1f} ms{note}")
 
-    live = agent_dashboard(prepare_ahead=False)  # slider moves alone: no fits begun in the background
+    live = agent_dashboard(fit_ahead=False)  # slider moves alone: no fits begun in the background
     for name, (a, b) in (("n_switch_states", (2, 9)), ("proportion", (0.2, 0.4)), ("magnitude", (40, 80))):
         times = []
         for i in range(args.repeats):
@@ -64,7 +64,7 @@ def main(argv=None):
               "  (target < 1 s: the world, shift and outliers the sliders imply)")
     live.reset()
     start = time.perf_counter()
-    live.prepare()
+    live.build_runs()
     prepare = time.perf_counter() - start
     live.run_steps(5)
     start = time.perf_counter()
@@ -73,16 +73,16 @@ def main(argv=None):
     print(f"live agent dashboard, paper's settings: preparation (data, outliers, 4 fits) {prepare:.1f} s; "
           f"300 paired steps drawn in {elapsed:.2f} s = {300 / elapsed:.1f} steps per second "
           f"(the animation runs at its speed slider, default 30)")
-    # Prepared ahead: the fits begin when the dashboard is made; each side can start once its own are done.
+    # Fitted ahead: the fits begin when the dashboard is made; each side can start once its own are done.
     start = time.perf_counter()
     ahead = agent_dashboard()
     made = time.perf_counter() - start
-    preparation = ahead._preparer.claim(ahead.config())
+    fits = ahead.run.fits.claim(ahead.config())
     ready = []
     for name in ahead.sides:
-        preparation.wait_for(name)
+        fits.wait_for(name)
         ready.append(f"{name.upper()} ready {time.perf_counter() - start:.1f} s")
-    print(f"prepared ahead: dashboard made in {made:.2f} s, then {', '.join(ready)} after it was made "
+    print(f"fitted ahead: dashboard made in {made:.2f} s, then {', '.join(ready)} after it was made "
           "(the first agent moves at the first of these, or at once if Run comes later)")
 
 

@@ -427,7 +427,7 @@ def test_live_dashboard_reads_the_sliders(live):
     live.controls["n_switch_states"].value = 3
     config = live.config()
     assert config.nu == 5.0 and config.n_switch_states == 3 and config.grid_size == 6
-    live.prepare()
+    live.build_runs()
     assert len(live.experiments["gp"].env.moved_indices) == 3
 
 
@@ -458,7 +458,7 @@ def test_stop_pressed_while_a_side_steps_stays_said(live):
     import threading
     import time
 
-    live.prepare()
+    live.build_runs()
     entered, release, calls = threading.Event(), threading.Event(), []
     step = live.experiments["gp"].step
 
@@ -474,9 +474,9 @@ def test_stop_pressed_while_a_side_steps_stays_said(live):
     thread = live.play_in_background()
     assert entered.wait(60)
     deadline = time.time() + 60
-    while len(live._frame_times["tp"]) < 10 and time.time() < deadline:  # the other side reaches 10 too
+    while len(live.run.frame_times["tp"]) < 10 and time.time() < deadline:  # the other side reaches 10 too
         time.sleep(0.01)
-    assert len(live._frame_times["tp"]) >= 10
+    assert len(live.run.frame_times["tp"]) >= 10
     live.stop()
     release.set()
     thread.join(60)
@@ -715,13 +715,13 @@ def test_fast_forward_shows_its_progress_and_a_second_press_while_running_is_ans
 
 
 # -- no silent freezes, a quick start, projector size (issue 30, items 2 and 3) ------------------------------
-def test_the_runs_are_prepared_ahead_and_run_as_the_plain_paired_runs():
+def test_the_runs_fitted_ahead_run_as_the_plain_paired_runs():
     from sarsp_edu.experiments.experiment import paired_experiments
 
     live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL))
-    preparation = live._preparer.claim(live.config())  # begun in the background at construction
-    assert preparation is not None
-    ahead = {name: preparation.wait_for(name) for name in live.sides}
+    fits = live.run.fits.claim(live.config())  # begun in the background at construction
+    assert fits is not None
+    ahead = {name: fits.wait_for(name) for name in live.sides}
     plain = paired_experiments(live.config())
     for name in live.sides:
         ahead[name].run_episode()
@@ -735,19 +735,19 @@ def test_a_slow_side_says_why_it_waits_and_the_other_side_goes_on(monkeypatch):
 
     live = agent_dashboard(episodes=3, n_switch_states=1, config=ExperimentConfig(**SMALL))
     live.speed.value = 60
-    live.prepare()
+    live.build_runs()
     slow = live.experiments["gp"]
     plain_step = slow.step
     seen = []
 
     def retraining_step():  # a corrective update's refit, made to last until the other side has gone on
-        slow.agent.retraining = True
+        live.run.retraining["gp"] = True
         deadline = clock.monotonic() + 60
         while clock.monotonic() < deadline and not (
-                len(live._frame_times["tp"]) >= 5 and any("retraining its cost model" in t for t in seen)):
+                len(live.run.frame_times["tp"]) >= 5 and any("retraining its cost model" in t for t in seen)):
             clock.sleep(0.02)
-        steps_of_tp_while_gp_waits.append(len(live._frame_times["tp"]))
-        slow.agent.retraining = False
+        steps_of_tp_while_gp_waits.append(len(live.run.frame_times["tp"]))
+        live.run.retraining["gp"] = False
         return plain_step()
 
     steps_of_tp_while_gp_waits = []
@@ -773,7 +773,7 @@ def test_projector_size_is_one_switch_for_every_dashboard(monkeypatch):
     monkeypatch.delenv("VOILA_KERNEL_ID", raising=False)
     monkeypatch.setenv("SARSP_EDU_PROJECTOR", "0")
     tails = tail_decay_dashboard()
-    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), prepare_ahead=False)
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), fit_ahead=False)
     assert not tails.projector and "sarsp-projector" not in tails._dom_classes
     normal_width = tails.controls["nu"].layout.width
     assert 'font-size="13"' in live.worlds["tp"].value
@@ -849,7 +849,7 @@ def test_a_slider_moved_by_steps_gives_the_number_it_shows():
     from sarsp_edu import ExperimentConfig
     from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard
 
-    dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL), prepare_ahead=False)
+    dashboard = agent_dashboard(episodes=1, n_switch_states=1, config=ExperimentConfig(**SMALL), fit_ahead=False)
     dashboard.controls["proportion"].value = 0.1 + 0.2
     assert dashboard.config().outlier_proportion == 0.3
     assert dashboard.status.value.startswith("p = 0.3: ")

@@ -1,4 +1,4 @@
-"""The live dashboard's fits in processes of their own (sarsp_edu.teaching.live.fitting and background.Preparer).
+"""The live dashboard's fits in processes of their own (sarsp_edu.teaching.live.fitting and background.FitQueue).
 
 Both sides fitted at once, each in a worker process, must give the very runs
 a fit in the kernel gives; a newer request must stop the fits it replaces at
@@ -19,7 +19,7 @@ import pytest
 from sarsp_edu.config import ExperimentConfig
 from sarsp_edu.experiments.experiment import paired_experiments
 from sarsp_edu.teaching.live import TP_AND_GP, fitting, prefit
-from sarsp_edu.teaching.live.background import Preparer, _describe
+from sarsp_edu.teaching.live.background import FitQueue, _describe
 
 SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
              optimizer_steps=5, k_prior=30, episodes=3)
@@ -32,15 +32,15 @@ def cache(request, monkeypatch, tmp_path):
     return request.param
 
 
-def prepared_runs(preparer, config):
-    preparer.request(config)
-    preparation = preparer.claim(config)
-    return {name: preparation.wait_for(name) for name in preparer.sides}
+def prepared_runs(queue, config):
+    queue.request(config)
+    fits = queue.claim(config)
+    return {name: fits.wait_for(name) for name in queue.sides}
 
 
 def test_fits_in_worker_processes_give_the_runs_a_fit_in_the_kernel_gives(cache):
     config = ExperimentConfig(**SMALL)
-    runs = prepared_runs(Preparer(dict(TP_AND_GP)), config)
+    runs = prepared_runs(FitQueue(dict(TP_AND_GP)), config)
     expected = paired_experiments(config)
     for name in ("tp", "gp"):
         assert not runs[name].loaded_from_cache  # fitted now, in a worker
@@ -57,17 +57,17 @@ def test_settings_fitted_before_are_loaded_and_a_newer_request_stops_the_fits_it
     started = []
     plain = fitting.take_worker
     monkeypatch.setattr(fitting, "take_worker", lambda: started.append(plain()) or started[-1])
-    preparer = Preparer(dict(TP_AND_GP))
+    queue = FitQueue(dict(TP_AND_GP))
     fitted = ExperimentConfig(**SMALL)
-    prepared_runs(preparer, fitted)
+    prepared_runs(queue, fitted)
     abandoned = fitted.replace(n_switch_states=2, optimizer_steps=2000)  # a fit that would take minutes
-    preparer.request(abandoned)
+    queue.request(abandoned)
     deadline = time.monotonic() + 60
     while len(started) < 4 and time.monotonic() < deadline:
         time.sleep(0.05)
     slow = started[2:]
     assert len(slow) == 2, "the abandoned settings' fits should have begun in two workers"
-    back = prepared_runs(preparer, fitted)  # back to the settings fitted before
+    back = prepared_runs(queue, fitted)  # back to the settings fitted before
     assert all(run.loaded_from_cache for run in back.values())
     for worker in slow:  # stopped, not left running behind the wanted settings
         assert worker.process.wait(timeout=30) is not None
@@ -96,7 +96,7 @@ def test_where_no_process_can_be_started_the_sides_are_fitted_in_the_thread(monk
 
     monkeypatch.setattr(fitting, "take_worker", refused)
     config = ExperimentConfig(**SMALL)
-    runs = prepared_runs(Preparer(dict(TP_AND_GP)), config)
+    runs = prepared_runs(FitQueue(dict(TP_AND_GP)), config)
     expected = paired_experiments(config)
     for name in ("tp", "gp"):
         runs[name].run_episode()
@@ -115,8 +115,8 @@ def test_a_worker_fails_with_its_message_and_ends_with_its_kernel(tmp_path):
 
 def test_a_script_that_starts_fits_ends_when_it_reaches_its_end(tmp_path):
     script = ("from sarsp_edu.config import ExperimentConfig\n"
-              "from sarsp_edu.teaching.live import TP_AND_GP\nfrom sarsp_edu.teaching.live.background import Preparer\n"
-              f"Preparer(dict(TP_AND_GP)).request(ExperimentConfig(**{dict(SMALL, optimizer_steps=5000)!r}))\n"
+              "from sarsp_edu.teaching.live import TP_AND_GP\nfrom sarsp_edu.teaching.live.background import FitQueue\n"
+              f"FitQueue(dict(TP_AND_GP)).request(ExperimentConfig(**{dict(SMALL, optimizer_steps=5000)!r}))\n"
               "import time; time.sleep(1)\n")
     mark = f"SARSP_EDU_TEST_MARK={uuid.uuid4().hex}"  # the workers of this script, and no other, carry it
     start = time.monotonic()
@@ -179,7 +179,7 @@ def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkey
     assert calls and len(calls) == len(live.experiments["yours"].act_seconds)  # every decision of "yours" only
     assert live.experiments["yours"].records().equals(live.experiments["package"].records())  # the same choice
     with pytest.raises(ValueError, match=r"parts names sides \['theirs'\]"):
-        agent_dashboard(config=config, sides=sides, parts={"theirs": {}}, prepare_ahead=False)
+        agent_dashboard(config=config, sides=sides, parts={"theirs": {}}, fit_ahead=False)
 
 
 # -- the live run's controls: a clean exit, one stepper at a time, no stale run after a slider move -------------
@@ -213,11 +213,11 @@ def test_stepping_from_a_cell_while_the_agents_walk_is_refused_and_close_stops_e
     live.close()
     thread.join(timeout=30)
     assert not thread.is_alive() and not live.running and live.experiments is None
-    assert live._preparer._thread is None or not live._preparer._thread.is_alive()
+    assert live.run.fits._thread is None or not live.run.fits._thread.is_alive()
 
 
-def test_a_slider_moved_while_a_run_claims_its_preparation_leaves_no_stale_run(monkeypatch):
-    """The claim checks that the sliders did not move, then takes the preparation: a move between the two must
+def test_a_slider_moved_while_a_run_claims_its_fits_leaves_no_stale_run(monkeypatch):
+    """The claim checks that the sliders did not move, then takes the fits: a move between the two must
     not leave the old settings' run to animate at the next Run."""
     import threading
 
@@ -226,19 +226,19 @@ def test_a_slider_moved_while_a_run_claims_its_preparation_leaves_no_stale_run(m
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
     live = agent_dashboard(episodes=2, n_switch_states=1, config=config)
-    plain_begin, between = live._begin, threading.Event()
+    plain_begin, between = live.run._begin, threading.Event()
 
     def slow_begin(experiments):  # the claim is between its check and its write
         between.set()
         time.sleep(0.5)
         plain_begin(experiments)
 
-    monkeypatch.setattr(live, "_begin", slow_begin)
-    claim = threading.Thread(target=live._claim_preparation, args=(live._generation,))
+    monkeypatch.setattr(live.run, "_begin", slow_begin)
+    claim = threading.Thread(target=live.run._claim, args=(live.run.generation,))
     claim.start()
     assert between.wait(60)
     live.controls["n_switch_states"].value = 2  # a slider move meanwhile
     claim.join(60)
-    assert live.experiments is None  # the old run is not kept: the next Run prepares nss = 2
-    live.prepare()
+    assert live.experiments is None  # the old run is not kept: the next Run builds nss = 2
+    live.build_runs()
     assert all(len(e.env.moved_indices) == 2 for e in live.experiments.values())

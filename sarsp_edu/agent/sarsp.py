@@ -171,10 +171,9 @@ class SARSPAgent:
             self.unsafe_pairs.add((tuple(int(v) for v in position), int(action)))
         self.corrective_updates = 0
         self.retrains = 0
-        #: True while a corrective update refits the cost model (a live view shows the wait)
-        self.retraining = False
         #: ``refit_model(model, X, y)`` in place of ``model.fit(X, y)`` in a corrective update's refit (None:
-        #: ``model.fit``); the capstone's check lets an agent whose data equal another's take that one's refit
+        #: ``model.fit``); the capstone's check lets an agent whose data equal another's take that one's refit,
+        #: the live run watches it to say that a side waits for a retrain
         self.refit_model = None
 
     # -- training -------------------------------------------------------------
@@ -419,12 +418,8 @@ class SARSPAgent:
             changed = outcome.buffer_update != "unchanged"
             if self.retrain == "always" or (self.retrain == "if_changed" and changed):
                 start = time.perf_counter()
-                self.retraining = True  # read by the live dashboard, which shows the wait
-                try:
-                    with one_blas_thread():  # as the offline fit: the same bits wherever learn is called from
-                        self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
-                finally:
-                    self.retraining = False
+                with one_blas_thread():  # as the offline fit: the same bits wherever learn is called from
+                    self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
                 outcome.retrain_seconds = time.perf_counter() - start
                 outcome.retrained = True
                 self.retrains += 1

@@ -2,26 +2,22 @@
 
 Tutorial 4 runs the TP agent beside the GP agent, tutorial 6 one agent as the
 printed algorithm and as the reference code run it.  The runs of
-:func:`sarsp_edu.experiments.experiment.experiments_on_one_world` are prepared ahead: a
+:func:`sarsp_edu.experiments.experiment.experiments_on_one_world` are fitted ahead: a
 side fitted before is loaded from :mod:`sarsp_edu.teaching.live.fitcache`, the others are
 fitted at once, each in a process of its own (:mod:`.fitting`), and a slider
 move stops the fits nobody waits for; :func:`prefit` fills the cache before
-class.  Each side steps in its own worker thread under an asyncio loop, so the
-notebook stays responsive and one side's retrain of its cost model does not
-stop the other; the pictures come from :mod:`sarsp_edu.teaching.plotting`
+class.  :class:`LiveRun` (:mod:`.controller`) runs the agents with no widgets:
+each side steps in a daemon thread of its own, so the notebook stays
+responsive and one side's retrain of its cost model does not stop the other;
+:class:`AgentDashboard` (:mod:`.view`) is its view, whose pictures come from :mod:`sarsp_edu.teaching.plotting`
 (``plot_live_metrics``) and :mod:`sarsp_edu.teaching.live.markup` (``gridworld_svg``,
 ``decision_table_html``).
 """
 
-from .animation import WAIT_SHOWN_AFTER
 from .background import changed_settings, prefit, slider_config
-from .view import (
-           AUTOPLAY_VARIABLE,
-           SNAPSHOT_VARIABLE,
-           TP_AND_GP,
-           AgentDashboard,
-           agent_dashboard,
-)
+from .controller import WAIT_SHOWN_AFTER, LiveRun
+from .snapshot import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE
+from .view import TP_AND_GP, AgentDashboard, agent_dashboard
 
-__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard",
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard", "LiveRun",
            "agent_dashboard", "changed_settings", "prefit", "slider_config"]

@@ -1,4 +1,4 @@
-"""The live dashboard's runs prepared ahead: fitted in a worker thread while the lecturer talks.
+"""The live dashboard's runs fitted ahead, in the background, while the lecturer talks.
 
 A slider move requests its settings' runs; the latest request only is kept
 (dragging a slider queues no work), and each side is handed over as soon as
@@ -59,19 +59,19 @@ def prefit(n_switch_states=(2, 10), *, nu=NU, magnitude=DataSettings.outlier_mag
     base = ExperimentConfig() if config is None else config
     from .view import TP_AND_GP
 
-    preparer = Preparer(dict(TP_AND_GP if sides is None else sides))
+    queue = FitQueue(dict(TP_AND_GP if sides is None else sides))
     done = []
     for nss in values:
         settings = slider_config(base, nu=nu, magnitude=magnitude, proportion=proportion, n_switch_states=nss,
                                  seed=seed, episodes=episodes)
-        preparer.request(settings)
-        preparation = preparer.claim(settings)
-        for name in preparer.sides:
-            experiment = preparation.wait_for(name)
+        queue.request(settings)
+        fits = queue.claim(settings)
+        for name in queue.sides:
+            experiment = fits.wait_for(name)
             what = ("stored before" if experiment.loaded_from_cache
                     else f"fitted in {experiment.timings['offline_fit_seconds']:.1f} s")
             done.append((nss, name, what))
-            report(f"nss = {nss}, {preparer.sides[name][0]}: {what}")
+            report(f"nss = {nss}, {queue.sides[name][0]}: {what}")
     return done
 
 
@@ -80,7 +80,7 @@ def changed_settings(sides: dict) -> dict:
     return {name: changes for name, (_, changes) in sides.items()}
 
 
-class Preparation:
+class PendingFits:
     """The runs of one setting as they are fitted: each side appears as soon as its models are."""
 
     def __init__(self, condition):
@@ -91,7 +91,7 @@ class Preparation:
         self.done = False
 
     def wait_for(self, name, timeout: float | None = None):
-        """The side's Experiment, once fitted (raises what the preparation raised; None if it was abandoned,
+        """The side's Experiment, once fitted (raises what its fit raised; None if it was abandoned,
         or if ``timeout`` seconds passed first: ``ready`` then tells the two apart)."""
         with self._condition:
             self._condition.wait_for(lambda: self.ready(name), timeout)
@@ -118,8 +118,8 @@ def _describe(worker, config) -> str:
     return f"fitting {model} model: step {done} of {total}, {elapsed:.0f} s{left}"
 
 
-class Preparer:
-    """Prepares the runs of the latest requested settings: one thread, and a process per side for its fit.
+class FitQueue:
+    """Fits the runs of the latest requested settings: one thread, and a process per side for its fit.
 
     A slider move requests new settings.  A side fitted before (the
     :mod:`sarsp_edu.teaching.live.fitcache`) is loaded at once; the others are fitted at
@@ -127,7 +127,7 @@ class Preparer:
     (:class:`~sarsp_edu.teaching.live.fitting.FitWorker`), and handed over as each
     ends.  A newer request terminates the fits of the settings it replaces,
     so that the wanted fit never waits behind one nobody waits for; only the
-    latest request is kept.  ``claim`` hands a preparation, finished or
+    latest request is kept.  ``claim`` hands the pending fits, finished or
     under way, to the dashboard once.  Where a process cannot be started,
     the sides are fitted in the thread, one after the other.
     """
@@ -138,7 +138,7 @@ class Preparer:
         self._condition = threading.Condition()
         self._wanted = None
         self._pending = False
-        self._preparations = {}  # key -> Preparation (the latest only)
+        self._pending_fits = {}  # key -> PendingFits (the latest only)
         self._thread = None
         self._handover = None  # a folder for fits handed over from the workers where the cache is off
 
@@ -150,36 +150,36 @@ class Preparer:
         """Abandon what is under way (its fitting processes stopped at once) and keep nothing."""
         with self._condition:
             self._wanted, self._pending = None, True  # the thread sees newer wishes: it stops its fits
-            self._preparations = {}
+            self._pending_fits = {}
             self._condition.notify_all()
         if self._handover is not None:
             self._handover.cleanup()
             self._handover = None
 
     def request(self, config) -> None:
-        """Prepare ``config`` (again); a preparation under way of other settings is abandoned."""
+        """Fit the runs of ``config`` (again); fits under way of other settings are abandoned."""
         with self._condition:
             self._wanted, self._pending = config, True
             if self._thread is None:
-                self._thread = threading.Thread(target=self._work, name="sarsp-edu-prepare", daemon=True)
+                self._thread = threading.Thread(target=self._work, name="sarsp-edu-fit-queue", daemon=True)
                 self._thread.start()
             self._condition.notify_all()
 
     def busy_with(self, config) -> bool:
-        """Whether a preparation of ``config`` is under way or waits to begin."""
+        """Whether the fits of ``config`` are under way or wait to begin."""
         with self._condition:
             key = self.key(config)
-            preparation = self._preparations.get(key)
-            return (preparation is not None and not preparation.done) or (
+            fits = self._pending_fits.get(key)
+            return (fits is not None and not fits.done) or (
                 self._pending and self.key(self._wanted) == key)
 
     def claim(self, config):
-        """The preparation of ``config`` (finished or under way), handed out once; None if it was not requested."""
+        """The fits of ``config`` (finished or under way), handed out once; None if it was not requested."""
         with self._condition:
             key = self.key(config)
             while self._pending and self.key(self._wanted) == key:  # requested, not begun: wait for it to begin
                 self._condition.wait()
-            return self._preparations.pop(key, None)
+            return self._pending_fits.pop(key, None)
 
     def _work(self) -> None:
         while True:
@@ -193,24 +193,24 @@ class Preparer:
                     self._thread = None
                     self._condition.notify_all()
                     return
-                preparation = Preparation(self._condition)
-                self._preparations = {self.key(config): preparation}  # only the latest settings are kept
+                fits = PendingFits(self._condition)
+                self._pending_fits = {self.key(config): fits}  # only the latest settings are kept
                 self._condition.notify_all()
             try:
-                self._prepare(config, preparation)
+                self._fit_settings(config, fits)
             except Exception as exc:  # handed to whoever waits for these settings
-                preparation.error = exc
+                fits.error = exc
             with self._condition:
-                preparation.done = True
+                fits.done = True
                 self._condition.notify_all()
 
-    def _hand_over(self, preparation, name, experiment) -> None:
+    def _hand_over(self, fits, name, experiment) -> None:
         with self._condition:
-            preparation.experiments[name] = experiment
-            preparation.progress.pop(name, None)
+            fits.experiments[name] = experiment
+            fits.progress.pop(name, None)
             self._condition.notify_all()
 
-    def _prepare(self, config, preparation) -> None:
+    def _fit_settings(self, config, fits) -> None:
         from ...world.preparation import offline_world, prepare
         from . import fitcache
 
@@ -223,24 +223,24 @@ class Preparer:
             for name, side in list(sides.items()):
                 experiment = fitcache.load(side, prepared, directory=folder)
                 if experiment is not None:
-                    self._hand_over(preparation, name, experiment)
+                    self._hand_over(fits, name, experiment)
                     del sides[name]
             workers = self._workers(sides, folder)
             if workers is None:  # no process could be started: fitted here, one side after the other
                 for name, side in sides.items():
                     if self._pending:
                         return
-                    self._hand_over(preparation, name, self._fit_here(preparation, name, side, prepared))
+                    self._hand_over(fits, name, self._fit_here(fits, name, side, prepared))
                 return
-            self._follow(workers, sides, prepared, folder, preparation)
+            self._follow(workers, sides, prepared, folder, fits)
 
-    def _fit_here(self, preparation, name, side, prepared):
+    def _fit_here(self, fits, name, side, prepared):
         """A side fitted in this thread (kept in the fit cache where it is on): where no worker could fit it."""
         from ...experiments.experiment import Experiment
         from . import fitcache
 
         with self._condition:
-            preparation.progress[name] = "fitting its models here"
+            fits.progress[name] = "fitting its models here"
         experiment = Experiment(side, prepared=prepared)
         if fitcache.cache_directory() is not None:
             fitcache.store(experiment)
@@ -248,7 +248,7 @@ class Preparer:
 
     def _folder(self):
         """Where the workers store their fits: the fit cache's folder (named to them: a worker started earlier
-        may have another setting), or a folder of this preparer's where the cache is off."""
+        may have another setting), or a folder of this queue's where the cache is off."""
         import tempfile
 
         from . import fitcache
@@ -274,7 +274,7 @@ class Preparer:
             return None
         return workers
 
-    def _follow(self, workers, sides, prepared, folder, preparation) -> None:
+    def _follow(self, workers, sides, prepared, folder, fits) -> None:
         """Hand each side over as its worker ends; terminate them all if newer settings are wanted."""
         from . import fitcache
         from .fitting import give_back
@@ -286,7 +286,7 @@ class Preparer:
                 for name, worker in list(workers.items()):
                     answer = worker.answer(timeout=0.1 / len(workers))
                     with self._condition:
-                        preparation.progress[name] = _describe(worker, sides[name])
+                        fits.progress[name] = _describe(worker, sides[name])
                         self._condition.notify_all()
                     if answer is None:
                         continue
@@ -301,11 +301,11 @@ class Preparer:
                         with contextlib.suppress(OSError):
                             os.unlink(path)
                     if experiment is None:  # not this kernel's bits (its package changed since it started, say)
-                        experiment = self._fit_here(preparation, name, sides[name], prepared)
+                        experiment = self._fit_here(fits, name, sides[name], prepared)
                     else:
                         experiment.loaded_from_cache = False  # fitted just now, for this run: the fit's time
                         experiment.timings["offline_fit_seconds"] = float(seconds)
-                    self._hand_over(preparation, name, experiment)
+                    self._hand_over(fits, name, experiment)
         finally:
             for worker in workers.values():  # abandoned or failed: stopped at once
                 give_back(worker, finished=False)

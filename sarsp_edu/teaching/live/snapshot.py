@@ -2,12 +2,24 @@
 
 from __future__ import annotations
 
+import base64
+import os
+
 from matplotlib.figure import Figure
 
 from .. import plotting
 from ..dashboards.framework import SNAPSHOT_WIDTH_PX, readable_png
+from ..plotting.display import alt_metadata
 
-__all__ = ["first_episode", "picture", "picture_alt_text"]
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "StaticPicture", "first_episode", "picture",
+           "picture_alt_text"]
+
+#: the environment variable that, set to 0, keeps ``autoplay`` from starting: batch runs of the notebooks
+#: (the test suite, ``sarsp-edu course``), where nobody watches and the agents would only compete for the cores
+AUTOPLAY_VARIABLE = "SARSP_EDU_AUTOPLAY"
+#: the environment variable that, set to N, makes a dashboard shown in a batch run fast-forward N episodes
+#: before its picture is stored (``sarsp-edu course`` sets 10), so that a static copy shows the agents at work
+SNAPSHOT_VARIABLE = "SARSP_EDU_SNAPSHOT_EPISODES"
 
 #: the metrics the live dashboard draws, episode by episode
 LIVE_METRICS = ("mean_reward", "total_cost", "task_success_rate", "mean_steps", "cost_rate")
@@ -56,7 +68,7 @@ def picture(dashboard) -> bytes:
         text.text(0, 0.97, "\n".join(f"{label_}: {value}" for label_, value in numbers), va="top",
                   linespacing=1.6, transform=text.transAxes)
         text.text(0, 0.0, key, va="bottom", linespacing=1.4, color="0.3", transform=text.transAxes)
-    if bottom is not None and dashboard._drawn_episodes > 0:
+    if bottom is not None and dashboard.metrics_shown:
         axes = bottom.subplots(1, len(LIVE_METRICS))
         plotting.plot_live_metrics(axes, {m: e.records() for m, e in dashboard.experiments.items()},
                                    LIVE_METRICS, labels=dashboard._legend_labels())
@@ -73,8 +85,42 @@ def picture_alt_text(dashboard) -> str:
     if dashboard.experiments is not None:
         text += ("; on each grid, the agent's path in its current episode and red ticks for the moves it has "
                  "learned are unsafe (S_u), its key numbers beside it")
-        if dashboard._drawn_episodes > 0:
+        if dashboard.metrics_shown:
             text += ("; below, both agents' running metrics against the episode ("
                      + ", ".join(metric.replace("_", " ") for metric in LIVE_METRICS)
                      + "), the left side's solid with circles, the right side's dashed with squares")
     return text + "."
+
+
+class StaticPicture:
+    """The live dashboard's static half (a mixin): its picture and alt text, and what it shows where.
+
+    Live front ends show the widgets; static ones (GitHub, nbviewer, the
+    course's pages) a PNG of :func:`picture` with its alt text.  Voila shows
+    the live view only, and its page waits for the cell: no PNG there.
+    """
+
+    def snapshot(self) -> bytes:
+        """A static picture of the dashboard as one PNG (:func:`picture`)."""
+        return picture(self)
+
+    def alt_text(self) -> str:
+        """What the static picture (``snapshot``) shows, for a screen reader: its alt text."""
+        return picture_alt_text(self)
+
+    def _snapshot_run(self) -> None:
+        """In a batch run that asks for it (SARSP_EDU_SNAPSHOT_EPISODES), run that many episodes for the picture."""
+        episodes = int(os.environ.get(SNAPSHOT_VARIABLE, "0") or 0)
+        if episodes > 0 and self.experiments is None and not self.running:
+            self.build_runs()
+            self.fast_forward(min(episodes, self.config().episodes))
+
+    def _repr_mimebundle_(self, **kwargs):
+        bundle = dict(super()._repr_mimebundle_(**kwargs))
+        self._snapshot_run()
+        if not os.environ.get("VOILA_KERNEL_ID"):
+            bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
+        if self.autoplay and not self._autoplayed and os.environ.get(AUTOPLAY_VARIABLE, "1") != "0":
+            self._autoplayed = True
+            self.play_in_background()
+        return bundle, alt_metadata(self.alt_text())

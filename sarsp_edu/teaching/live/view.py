@@ -2,16 +2,12 @@
 
 from __future__ import annotations
 
-import base64
 import html
-import os
-import threading
 import time
 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
 
-from ..._internal.threads import one_blas_thread
 from ...config import NU, DataSettings
 from .. import plotting
 from ..dashboards.framework import (
@@ -22,11 +18,10 @@ from ..dashboards.framework import (
     wipe_axes,
 )
 from ..dashboards.projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
-from ..plotting.display import alt_metadata
-from . import fitcache, markup
-from .animation import Animation
-from .background import Preparer, changed_settings, slider_config
-from .snapshot import LIVE_METRICS, first_episode, picture, picture_alt_text
+from . import markup
+from .background import slider_config
+from .controller import LiveRun
+from .snapshot import AUTOPLAY_VARIABLE, LIVE_METRICS, SNAPSHOT_VARIABLE, StaticPicture, first_episode
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
@@ -41,15 +36,12 @@ TP_AND_GP = {
     "gp": ("Gaussian process", {"model": "gp"}),
 }
 
-#: the environment variable that, set to 0, keeps ``autoplay`` from starting: batch runs of the notebooks
-#: (the test suite, ``sarsp-edu course``), where nobody watches and the agents would only compete for the cores
-AUTOPLAY_VARIABLE = "SARSP_EDU_AUTOPLAY"
-#: the environment variable that, set to N, makes a dashboard shown in a batch run fast-forward N episodes
-#: before its picture is stored (``sarsp-edu course`` sets 10), so that a static copy shows the agents at work
-SNAPSHOT_VARIABLE = "SARSP_EDU_SNAPSHOT_EPISODES"
+def _of_the_run(name: str, doc: str) -> property:
+    """A read-only attribute of the dashboard that is its run's (:class:`LiveRun`)."""
+    return property(lambda self: getattr(self.run, name), doc=doc)
 
 
-class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
+class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
     """Two agents running paired on one world, side by side, live: by default the TP agent and the GP agent.
 
     Sliders for nu, m, p, nss, the seed and the number of episodes: a move
@@ -64,10 +56,13 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
     Algorithm 1's view of the current decision, and the paper's running
     metrics of both agents, growing episode by episode.
 
-    Each side steps in its own worker thread: when a corrective update makes
-    one agent refit its cost model (a second or more), that side says so
-    and the other goes on.  ``run_steps`` and ``fast_forward`` do the same
-    work synchronously and in step, for scripts and tests.
+    The dashboard is a view of a :class:`~sarsp_edu.teaching.live.controller.LiveRun`
+    (``dashboard.run``), which runs the agents with no widgets: each side
+    steps in its own worker thread; when a corrective update makes one agent
+    refit its cost model (a second or more), that side says so and the other
+    goes on.  ``run_steps`` and ``fast_forward`` do the same work
+    synchronously and in step, for scripts and tests (refused while the
+    agents are animated).
 
     Parameters
     ----------
@@ -82,9 +77,9 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         ``TP_AND_GP``.  The sides share the world, the data and the episodes,
         so they may change only the model and the agent's settings
         (:func:`~sarsp_edu.experiments.experiment.experiments_on_one_world`).
-    prepare_ahead : bool, default True
-        Prepare the runs of the sliders' settings in a worker thread as soon
-        as they are set, so that *Run* need not wait for the fits.
+    fit_ahead : bool, default True
+        Fit the runs of the sliders' settings in the background as soon as
+        they are set, so that *Run* need not wait for the fits.
     projector : bool, optional
         Projector size (see :func:`sarsp_edu.teaching.dashboards.projector.projector`); default
         :func:`~sarsp_edu.teaching.dashboards.projector.projector_default`.
@@ -104,7 +99,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
 
     def __init__(self, nu=NU, magnitude=DataSettings.outlier_magnitude, proportion=DataSettings.outlier_proportion,
                  n_switch_states=2, seed=0, episodes=30,
-                 steps_per_second=30.0, config=None, sides=None, prepare_ahead: bool = True,
+                 steps_per_second=30.0, config=None, sides=None, fit_ahead: bool = True,
                  projector: bool | None = None, autoplay: bool = False, parts=None):
         from ...config import ExperimentConfig
         from ...world.preparation import PREPARATION_FIELDS
@@ -125,7 +120,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         if unknown:
             raise ValueError(f"parts names sides {unknown}, but the sides are {sorted(self.sides)}")
         self.parts = {name: DecisionParts.of(value) for name, value in (parts or {}).items()}
-        self.prepare_ahead = bool(prepare_ahead)
+        self.fit_ahead = bool(fit_ahead)
         self.controls = {
             "nu": slider("float", "nu", "ν", nu, 2.1, 30.0, 0.1),
             "magnitude": slider("float", "magnitude", "m", magnitude, 1.0, 100.0, 1.0),
@@ -183,22 +178,13 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             widgets.HBox(tables, layout=widgets.Layout(width="100%")),
             self.metrics_image,
         ])
-        self.experiments = None
-        self._last = dict.fromkeys(self.sides)
-        self._task = None
-        self._running = False
-        self.frames = 0
-        self._frame_times = {name: [] for name in self.sides}
-        self._stepping_since = dict.fromkeys(self.sides)
-        self.longest_wait_seconds = dict.fromkeys(self.sides, 0.0)
-        self._drawn_episodes = -1
         self._drawn_key = None
         self._metrics_drawn_at = -float("inf")
         self._offline = {}  # seed -> the offline world and its clean data (a slider move reuses them)
-        self._generation = 0  # counts setting changes: a preparation begun before one is discarded
-        self._preparer = Preparer(self.sides, offline=self._offline)
-        self._preparation = None
-        self._draw_lock = threading.RLock()  # the sides' threads draw; one picture at a time
+        #: the run itself, no widgets: this dashboard is its view
+        self.run = LiveRun(self.sides, self.config, parts=self.parts, offline=self._offline, view=self,
+                           steps_per_second=steps_per_second)
+        self.speed.observe(lambda change: setattr(self.run, "steps_per_second", float(change["new"])), names="value")
         self.autoplay = bool(autoplay)
         self._autoplayed = False
         self.last_preview_seconds = float("nan")
@@ -207,7 +193,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         for control in self.controls.values():
             control.observe(self._on_setting, names="value")
         self.preview()
-        self._prepare_ahead()
+        self._fit_ahead()
 
     # -- configuration ------------------------------------------------------
     def config(self):
@@ -234,7 +220,7 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
 
         A slider move calls it, so the picture follows the sliders at once
         (the offline world of a seed is computed once and reused); the
-        models are fitted in the background (``prepare_ahead``) or when
+        models are fitted in the background (``fit_ahead``) or when
         **Run** starts the agents.
         """
         from ...world.preparation import offline_world, prepare
@@ -259,101 +245,110 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
             self.summaries[name].value = note
         self.last_preview_seconds = time.perf_counter() - start
 
-    def _prepare_ahead(self) -> None:
-        if self.prepare_ahead:
-            self._preparer.request(self.config())
+    def _fit_ahead(self) -> None:
+        if self.fit_ahead:
+            self.run.request_fits()
 
     def _on_setting(self, change) -> None:
         """A slider moved: stop what runs, show the new world, prepare its runs, say the agents start on it at Run."""
-        interrupted = self._running or self.experiments is not None
+        interrupted = self.running or self.experiments is not None
         try:
-            with self._draw_lock:  # a side's thread drawing its last step draws before this, or not at all
+            with self.run.lock:  # a side's thread drawing its last step draws before this, or not at all
                 self._discard_run()
                 self.preview()
         except ValueError as exc:  # a combination the world cannot hold: said, not raised
             self.status.value = f"<span style='color:#b00020'>{html.escape(str(exc))}</span>"
             return
-        self._prepare_ahead()
+        self._fit_ahead()
         self.status.value = ((f"{change['owner'].description} = {round(change['new'], 10):g}: " if change else "")
                              + "both agents start on this world at the next <b>Run</b>"
                              + (" (the run under way was stopped)." if interrupted else "."))
 
     def _discard_run(self) -> None:
-        """Stop and forget the runs; a preparation still under way is discarded when it ends."""
-        self._generation += 1
-        self._running = False
-        self.experiments = None
-        self._last = dict.fromkeys(self.sides)
-        self._drawn_episodes = -1
+        """Stop and forget the runs; fits still under way are discarded when they end."""
+        self.run.discard()
         self._drawn_key = None
         self.metrics_image.value = b""
         self.metrics_image.layout.display = "none"
 
-    def prepare(self):
-        """Build the paired runs from the sliders (offline data, outliers, fits, shift).
-
-        Uses the runs prepared ahead for these settings when there are some
-        (waiting for them if they are under way).
-        """
-        from ...experiments.experiment import experiments_on_one_world
-
-        config = self.config()
-        preparation = self._preparer.claim(config)
-        experiments = None if preparation is None else {name: preparation.wait_for(name) for name in self.sides}
-        if experiments is None or None in experiments.values():  # not prepared ahead, or abandoned part-way
-            with one_blas_thread():
-                experiments = experiments_on_one_world(config, changed_settings(self.sides), cache=fitcache)
-        self._begin(experiments)
-
-    def _with_parts(self, name, experiment):
-        """The side's run, its agent given the side's decision parts (if it has its own)."""
-        if experiment is not None and name in self.parts:
-            experiment.agent.parts = self.parts[name]
-        return experiment
-
-    def _begin(self, experiments) -> None:
-        """Show these runs (all sides, or those fitted so far) from their start."""
-        for name, experiment in experiments.items():
-            self._with_parts(name, experiment)
-        self.experiments = experiments
-        self._last = dict.fromkeys(self.sides)
-        self._drawn_episodes = -1
+    def build_runs(self) -> None:
+        """Build the paired runs of the sliders' settings now: fitted ahead, waited for, or fitted here."""
+        self.run.build()
         self._drawn_key = None
-        self.frames = 0
-        self._frame_times = {name: [] for name in self.sides}
-        self.longest_wait_seconds = dict.fromkeys(self.sides, 0.0)
 
-    def snapshot(self) -> bytes:
-        """A static picture of the dashboard as one PNG (:func:`~sarsp_edu.teaching.live.snapshot.picture`)."""
-        return picture(self)
+    # -- what the run does: the controller's, here for a cell's convenience -------------
+    experiments = _of_the_run("experiments", "Side name -> its Experiment on show (None before a run).")
+    running = _of_the_run("running", "Whether the agents are animated now (after Run or autoplay, until Stop or the "
+                                     "last episode).")
+    finished = _of_the_run("finished", "Whether both agents have run all their episodes.")
+    frames = _of_the_run("frames", "Steps shown on both sides in the current animation.")
+    longest_wait_seconds = _of_the_run("longest_wait_seconds", "Side name -> the longest time between two of its "
+                                                               "steps shown, s.")
+    displayed_steps_per_second = _of_the_run("displayed_steps_per_second", "Steps shown per second in the current "
+                                             "animation, on the slower side (NaN before two frames).")
 
-    def alt_text(self) -> str:
-        """What the static picture (``snapshot``) shows, for a screen reader: its alt text."""
-        return picture_alt_text(self)
+    def step_pair(self, draw: bool = True) -> None:
+        """One step of each agent that has episodes left (:meth:`LiveRun.step_pair`)."""
+        self.run.step_pair(draw=draw)
 
-    def _snapshot_run(self) -> None:
-        """In a batch run that asks for it (SARSP_EDU_SNAPSHOT_EPISODES), run that many episodes for the picture."""
-        episodes = int(os.environ.get(SNAPSHOT_VARIABLE, "0") or 0)
-        if episodes > 0 and self.experiments is None and not self._running:
-            self.prepare()
-            self.fast_forward(min(episodes, self.config().episodes))
+    def run_steps(self, n: int, draw: bool = True) -> None:
+        """``n`` paired steps, synchronously (:meth:`LiveRun.run_steps`)."""
+        self.run.run_steps(n, draw=draw)
 
-    def _repr_mimebundle_(self, **kwargs):
-        # the widget view for live front ends; for static ones (GitHub, nbviewer, the course's pages) a PNG with
-        # its alt text.  Voila shows the live view only, and its page waits for this cell: no PNG there.
-        bundle = dict(super()._repr_mimebundle_(**kwargs))
-        self._snapshot_run()
-        if not os.environ.get("VOILA_KERNEL_ID"):
-            bundle["image/png"] = base64.b64encode(self.snapshot()).decode("ascii")
-        if self.autoplay and not self._autoplayed and os.environ.get(AUTOPLAY_VARIABLE, "1") != "0":
-            self._autoplayed = True
-            self.play_in_background()
-        return bundle, alt_metadata(self.alt_text())
+    def fast_forward(self, episodes: int = 10) -> None:
+        """Whole episodes of both agents, drawn once at the end (:meth:`LiveRun.fast_forward`)."""
+        self.run.fast_forward(episodes)
 
-    @property
-    def finished(self) -> bool:
-        return (self.experiments is not None and len(self.experiments) == len(self.sides)
-                and all(e.finished for e in self.experiments.values()))
+    def start(self, episodes: int | None = None):
+        """*Run* (or *Fast-forward* ``episodes`` episodes) without blocking the kernel.
+
+        Returns an asyncio future done when the run ends (None if a run is
+        under way already, which the status line then says).
+        """
+        import asyncio
+
+        loop = asyncio.get_event_loop()
+        done = loop.create_future()
+        thread = self.run.launch(episodes, on_end=lambda: loop.call_soon_threadsafe(
+            lambda: done.done() or done.set_result(None)))
+        if thread is None:
+            self.status.value = ("Already running: press <b>Stop</b> first, then "
+                                 + ("<b>Fast-forward</b>." if episodes is not None else "<b>Run</b>."))
+            return None
+        return done
+
+    def play_in_background(self):
+        """Animate in a thread of its own, the agents moving while the notebook runs other cells (*Run* waits
+        for the kernel, which handles a click only between cells); ``autoplay=True`` calls it when the dashboard
+        is first shown.  Returns the thread, or None if a run is already under way."""
+        return self.run.launch()
+
+    def stop(self) -> None:
+        """Pause: each agent ends the step it is in (*Run* continues)."""
+        self.run.stop()
+
+    def reset(self) -> None:
+        """*New run*: forget the runs and start again from the sliders."""
+        with self.run.lock:
+            self._discard_run()
+            self.preview()
+        self._fit_ahead()
+        self.status.value = "Press <b>Run</b> to start both agents."
+
+    def close(self) -> None:
+        """Stop the agents and the fits under way, and close the dashboard's widgets (it cannot be shown again)."""
+        if hasattr(self, "run"):  # ipywidgets closes a widget when it is collected, even one half-built
+            self.run.close()
+        super().close()
+
+    # -- the view's half of the controller -------------------------------------------------
+    def say(self, text: str) -> None:
+        """The status line (HTML)."""
+        self.status.value = text
+
+    def show_waiting(self, name, why: str) -> None:
+        """The side's header line says why it waits (one line, cut short rather than wrapped: nothing moves)."""
+        self.headers[name].value = self._header(name, f"<span style='color:#a04c00'>{html.escape(why)}</span>")
 
     # -- projector size ---------------------------------------------------------
     def _size_metrics_figure(self) -> None:
@@ -366,25 +361,18 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
 
     def _resize_pictures(self) -> None:
         self._size_metrics_figure()
-        if self.experiments is None:
-            self.preview()
-        else:
-            self._draw_world()
-            self._drawn_key = None
-            self._draw_metrics_if_new_episode()
+        with self.run.lock:
+            if self.experiments is None:
+                self.preview()
+            else:
+                self._drawn_key = None
+                self.run._show_all()
 
     # -- drawing ------------------------------------------------------------
-    def _draw_world(self) -> None:
-        if self.experiments is None:  # before a run: the world the sliders imply
-            self.preview()
-            return
-        for name in self.sides:
-            if name in self.experiments:  # a side still being fitted keeps its message
-                self._draw_side(name)
-
-    def _draw_side(self, name) -> None:
+    def show_side(self, name) -> None:
+        """Draw a side's run: its grid and path, its decision, its key numbers."""
         experiment = self.experiments[name]
-        record = self._last[name]
+        record = self.run.last[name]
         episode = len(experiment.episodes) + (0 if record is None or record.done else 1)
         self.headers[name].value = self._header(name)
         self.worlds[name].value = markup.gridworld_svg(
@@ -416,8 +404,8 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
                 ("offline fit", "loaded" if experiment.loaded_from_cache
                  else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
 
-    def _draw_metrics_if_new_episode(self, throttle: bool = False) -> None:
-        """Redraw the metric curves if an episode ended; while animating, at most every 1.5 s."""
+    def show_metrics(self, throttle: bool = False) -> None:
+        """Redraw the metric curves if an episode ended; while animating (``throttle``), at most every 1.5 s."""
         if self.experiments is None:
             return
         count = sum(len(e.episodes) for e in self.experiments.values())
@@ -426,7 +414,6 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
         now = time.perf_counter()
         if throttle and now - self._metrics_drawn_at < 1.5 and not self.finished:
             return
-        self._drawn_episodes = count
         self._drawn_key = (len(self.experiments), count)
         self._metrics_drawn_at = now
         for ax in self.metrics_axes:
@@ -435,6 +422,11 @@ class AgentDashboard(Animation, ProjectorMixin, widgets.VBox):
                                    LIVE_METRICS, labels=self._legend_labels())
         self.metrics_image.value = render_figure(self.metrics_figure, "svg")
         self.metrics_image.layout.display = None
+
+    @property
+    def metrics_shown(self) -> bool:
+        """Whether the metric curves are on show (an episode has ended since the run began)."""
+        return self._drawn_key is not None and self._drawn_key[1] > 0
 
     def _legend_labels(self) -> dict | None:
         return None if self.sides == TP_AND_GP else {name: name for name in self.sides}
