@@ -63,16 +63,11 @@ def decision_floor(agent, observation, repeats):
 
 def act_without_kernel_table(agent, observation, repeats):
     """``act``'s median time with every prior's kernel built from distances (no table gathered)."""
-    import sarsp_edu.agent.sarsp as sarsp_module
-
-    limit = sarsp_module.KERNEL_TABLE_MAX_DISTINCT
-    sarsp_module.KERNEL_TABLE_MAX_DISTINCT = 0
-    agent.__dict__.pop("_kernel_tables", None)
+    agent.prior_predictor.kernel_table = False
     try:
         return median_seconds(lambda: agent.act(observation), repeats)
     finally:
-        sarsp_module.KERNEL_TABLE_MAX_DISTINCT = limit
-        agent.__dict__.pop("_kernel_tables", None)
+        agent.prior_predictor.kernel_table = True
 
 
 def step_and_floor(model, buffer, rows, repeats):

@@ -292,6 +292,21 @@ def test_an_agent_takes_its_settings_as_a_group_or_by_name():
         SARSPAgent(model, model, tiny_data(5.0), nu=4.0)
 
 
+def test_an_agents_settings_have_one_source():
+    """``agent.k_prior`` is ``agent.settings.k_prior``: a change through either is seen through both, checked."""
+    model = GaussianProcess(RBF(2.0, 1.0), noise_variance=0.01, optimizer=None)
+    agent = SARSPAgent(model, model, tiny_data(5.0))
+    agent.k_prior = 7
+    assert agent.settings.k_prior == 7 and "k_prior" not in vars(agent)
+    agent.settings = agent.settings.replace(prior_draw="per_step")
+    assert agent.prior_draw == "per_step"
+    with pytest.raises(ValueError, match="k_prior"):
+        agent.k_prior = -1
+    assert agent.k_prior == 7
+    with pytest.raises(AttributeError, match="no attribute 'k_priors'"):
+        agent.k_priors
+
+
 def test_public_strategic_prior():
     agent = tiny_agent(5.0, k_prior=2)
     priors = agent.strategic_prior(OBS, "cost")
@@ -339,44 +354,42 @@ def test_the_agents_whole_number_bound_changes_no_prediction(far):
         agent.cost_data.add([0, far, 0, 0, 0], 1.0)
         agent.reward_data.add([0, far, 0, 0, 0], -1.0)
     observation = np.array([3.0, 4.0, 9.0, 9.0, 1.0, 2.0, 0.0, 0.0])
-    bound = agent._whole_bound(agent.cost_data, cost_inputs(observation))
+    predictor = agent.prior_predictor
+    bound = predictor.whole_bound(agent.cost_data, cost_inputs(observation))
     assert bound is not None and (bound >= 2**20) == bool(far)
     runs = []
     for hinted in (True, False):
         if not hinted:
-            agent._whole_bound = lambda buffer, queries: None
+            predictor.whole_bound = lambda buffer, queries: None
         agent.rng = np.random.default_rng(5)
         runs.append([agent.predict(observation) for _ in range(3)])
     for with_bound, without in zip(*runs):
         for a, b in zip(with_bound, without):
             assert np.array_equal(a, b)
     agent.cost_data.add([1, 1, 1, 1, 1], 0.5)  # a new input: the kept bound is recomputed
-    del agent._whole_bound
-    kept = agent.__dict__["_buffer_bounds"][id(agent.cost_data)]
+    del predictor.whole_bound
+    kept = predictor.kept_length(agent.cost_data)
     agent.predict(observation)
-    assert agent.__dict__["_buffer_bounds"][id(agent.cost_data)][1] == kept[1] + 1
+    assert predictor.kept_length(agent.cost_data) == kept + 1
 
 
 @pytest.mark.parametrize("prior_draw", ["per_action", "per_step"])
-def test_kernels_gathered_from_the_buffers_table_change_no_prediction(monkeypatch, prior_draw):
+def test_kernels_gathered_from_the_buffers_table_change_no_prediction(prior_draw):
     """Priors' kernel matrices gathered from a buffer's table are the bits of those built from
     distances, also after the buffer gains an input and after the kernel changes (each rebuilds it)."""
-    import sarsp_edu.agent.sarsp as sarsp_module
-
     observation = np.array([3.0, 4.0, 9.0, 9.0, 1.0, 2.0, 0.0, 0.0])
     runs, tabled = [], []
-    for limit in (sarsp_module.KERNEL_TABLE_MAX_DISTINCT, 0):  # with the tables, then without any
-        monkeypatch.setattr(sarsp_module, "KERNEL_TABLE_MAX_DISTINCT", limit)
+    for table in (True, False):  # with the tables, then without any
         agent = large_buffer_agent(prior_draw)
+        agent.prior_predictor.kernel_table = table
         predictions = [agent.predict(observation)]
         agent.cost_data.add([2, 7, 7, 7, 7], 0.25)
         predictions.append(agent.predict(observation))
         agent.cost_model.kernel_ = RBF(1.5, 2.0)
         predictions.append(agent.predict(observation))
         runs.append(predictions)
-        tables = agent.__dict__["_kernel_tables"][id(agent.cost_data)]
-        tabled.append(tables[3] is not None and tables[1] == len(agent.cost_data)
-                      and tables[3].kernel == RBF(1.5, 2.0))
+        kept = agent.prior_predictor.table(agent.cost_model, agent.cost_data, 2.0**20)
+        tabled.append(kept is not None and kept.kernel == RBF(1.5, 2.0))
     assert tabled == [True, False]
     for with_table, without in zip(*runs):
         for a, b in zip(with_table, without):

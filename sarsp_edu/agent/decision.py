@@ -79,7 +79,20 @@ class LearnOutcome:
 
 
 def override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe):
-    """Algorithm 1's ``S_u`` override: known-unsafe actions get cost -inf, variance +inf, reward -inf."""
+    """Algorithm 1's ``S_u`` override: known-unsafe actions get cost -inf, variance +inf, reward -inf.
+
+    Parameters
+    ----------
+    mu_cost, var_cost, mu_reward : ndarray of shape (n_actions,)
+        Predicted cost signal (distance to the nearest unsafe state), its variance, and predicted reward.
+    known_unsafe : ndarray of bool, shape (n_actions,)
+        Actions in ``S_u`` from this cell.
+
+    Returns
+    -------
+    mu_cost, var_cost, mu_reward : ndarray of shape (n_actions,)
+        New arrays, the known-unsafe entries replaced; the inputs are not modified.
+    """
     return (np.where(known_unsafe, -np.inf, mu_cost), np.where(known_unsafe, np.inf, var_cost),
             np.where(known_unsafe, -np.inf, mu_reward))
 
@@ -116,6 +129,17 @@ def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance
 def safe_actions(mu_cost, var_cost, known_unsafe, d: float, variance_threshold: float) -> np.ndarray:
     """Algorithm 1's safe set: not known unsafe, variance at most sigma*^2, predicted distance at least d.
 
+    Parameters
+    ----------
+    mu_cost, var_cost : ndarray of shape (n_actions,)
+        Predicted cost signal (distance to the nearest unsafe state) and its variance.
+    known_unsafe : ndarray of bool, shape (n_actions,)
+        Actions in ``S_u``: never safe.
+    d : float
+        Safety distance: the least predicted distance an action may have.
+    variance_threshold : float
+        sigma*^2, the largest cost variance an action may have (inclusive).
+
     Returns
     -------
     ndarray of bool, shape (n_actions,)
@@ -125,7 +149,23 @@ def safe_actions(mu_cost, var_cost, known_unsafe, d: float, variance_threshold: 
 
 
 def choose_with_backup(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
-    """Algorithm 1's choice as ``(action, backup)``: :func:`choose_action` without its safe set."""
+    """Algorithm 1's choice as ``(action, backup)``: :func:`choose_action` without its safe set.
+
+    Parameters
+    ----------
+    mu_cost, var_cost, mu_reward : ndarray of shape (n_actions,)
+        Predicted cost signal, its variance, and predicted reward.
+    known_unsafe : ndarray of bool, shape (n_actions,)
+        Actions in ``S_u``.
+    d, variance_threshold : float
+        As in :func:`safe_actions`.
+
+    Returns
+    -------
+    action : int
+    backup : bool
+        True when no action was safe and the backup (highest predicted reward) chose.
+    """
     action, _, backup = choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
     return action, backup
 
@@ -140,6 +180,21 @@ def corrects(mu_cost, var_cost, action: int, d: float, was_backup: bool) -> bool
     action tied for the lowest variance counts) and not taken as the backup.
     The reference code's precedence reads ``cost >= d or (variance ==
     min(variances) and not backup)``.
+
+    Parameters
+    ----------
+    mu_cost, var_cost : ndarray of shape (n_actions,)
+        The cost model's re-predicted distance and variance of each action.
+    action : int
+        The action taken.
+    d : float
+        Safety distance.
+    was_backup : bool
+        Whether the action was chosen by the backup rule.
+
+    Returns
+    -------
+    bool
     """
     model_said_safe = mu_cost[action] >= d
     lowest_variance = var_cost[action] <= np.min(var_cost) and not was_backup

@@ -104,6 +104,21 @@ def tp_factor(K, y, noise_variance, nu):
 
     Paper eq. 6 with Shah et al.'s (2014) ``beta``, which uses the training
     covariance ``K_y = K + noise_variance I``.
+
+    Parameters
+    ----------
+    K : ndarray of shape (n, n)
+        ``k(X, X)`` of the training inputs, without the noise.
+    y : ndarray of shape (n,)
+        Training targets.
+    noise_variance : float
+        Added to the diagonal of ``K`` to form ``K_y``.
+    nu : float
+        The TP's degrees of freedom (greater than 2).
+
+    Returns
+    -------
+    float
     """
     y = np.asarray(y, dtype=float)
     L, _ = cholesky_with_jitter(np.asarray(K, dtype=float) + noise_variance * np.eye(len(y)))
@@ -267,7 +282,32 @@ def _copies(*values):
 def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
     """``(action, safe, backup)`` of Algorithm 1's rule, from the parts' safe set and choice.
 
-    With the package's two parts this is :func:`~sarsp_edu.agent.decision.choose_action`.
+    With the package's two parts this is :func:`~sarsp_edu.agent.decision.choose_action`;
+    otherwise each part is called with copies of its inputs and its result checked.
+
+    Parameters
+    ----------
+    parts : DecisionParts
+        Gives the ``safe_set`` and ``choose`` parts.
+    mu_cost, var_cost, mu_reward : ndarray of shape (n_actions,)
+        Predicted cost signal (distance to the nearest unsafe state), its variance, and predicted reward.
+    known_unsafe : ndarray of bool, shape (n_actions,)
+        Actions in ``S_u``.
+    d : float
+        Safety distance.
+    variance_threshold : float
+        sigma*^2, the largest cost variance a safe action may have.
+
+    Returns
+    -------
+    action : int
+    safe : ndarray of bool, shape (n_actions,)
+    backup : bool
+
+    Raises
+    ------
+    ValueError
+        If a replaced part returns something of the wrong shape or an action out of range.
     """
     if parts.safe_set is safe_actions and parts.choose is choose_with_backup:
         return choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
@@ -289,7 +329,25 @@ def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: 
 
 
 def corrective_applies(parts: DecisionParts, mu_cost, var_cost, action: int, d: float, was_backup: bool) -> bool:
-    """Whether the corrective update applies, by the parts' corrective test."""
+    """Whether the corrective update applies, by the parts' corrective test.
+
+    Parameters
+    ----------
+    parts : DecisionParts
+        Gives the ``corrective`` part (called with copies of its inputs).
+    mu_cost, var_cost : ndarray of shape (n_actions,)
+        The cost model's re-predicted distance and variance of each action.
+    action : int
+        The action taken.
+    d : float
+        Safety distance.
+    was_backup : bool
+        Whether the action was chosen by the backup rule.
+
+    Returns
+    -------
+    bool
+    """
     if parts.corrective is corrects:
         return corrects(mu_cost, var_cost, action, d, was_backup)
     return bool(parts.corrective(*_copies(mu_cost, var_cost, action, d, was_backup)))

@@ -40,13 +40,13 @@ from .._internal.rng import as_generator, draw_row_mask, draw_subset
 from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import AgentSettings  # Algorithm 1's settings, defined once
-from ..models.kernels import KernelTable, whole_distance_bound
 from ..world.offline import OfflineData, cost_inputs, reward_inputs
 from .decision import Decision, LearnOutcome, choose_action, override_known_unsafe
-from .parts import DecisionParts, corrective_applies, decide, predict_from_parts
+from .parts import DecisionParts, corrective_applies, decide
+from .priors import PriorPredictor
 
-#: the most distinct inputs a buffer may have for the agent to keep its kernel table (8 G**2 bytes: 32 MB)
-KERNEL_TABLE_MAX_DISTINCT = 2048
+#: Algorithm 1's settings, read through ``agent.settings`` (``agent.k_prior`` is ``agent.settings.k_prior``)
+_SETTINGS = frozenset(field.name for field in dataclasses.fields(AgentSettings))
 
 # the decision rule and its records live in :mod:`sarsp_edu.agent.decision`; imported here, where readers look for them
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome", "choose_action", "override_known_unsafe"]
@@ -154,11 +154,12 @@ class SARSPAgent:
         settings = AgentSettings() if settings is None else settings
         if not isinstance(settings, AgentSettings):
             raise TypeError(f"settings must be an AgentSettings, got {type(settings).__name__}")
-        #: Algorithm 1's settings; each is also an attribute (``agent.k_prior``)
+        #: Algorithm 1's settings, the one place they are kept: ``agent.k_prior`` reads
+        #: ``agent.settings.k_prior``, and ``agent.k_prior = 400`` replaces the settings (checked)
         self.settings = settings.replace(**changes) if changes else settings
-        for name, value in dataclasses.asdict(self.settings).items():
-            setattr(self, name, value)
         self.rng = as_generator(rng)
+        #: the strategic priors' conditioning and what keeps it quick (``prior_predictor.kernel_table``: a switch)
+        self.prior_predictor = PriorPredictor()
         #: the functions each decision is assembled from (:class:`~sarsp_edu.agent.parts.DecisionParts`); the
         #: fits do not use them, so a fitted agent may be given others (``agent.parts = DecisionParts.of(...)``)
         #: before it acts
@@ -175,6 +176,16 @@ class SARSPAgent:
         #: ``model.fit``); the capstone's check lets an agent whose data equal another's take that one's refit,
         #: the live run watches it to say that a side waits for a retrain
         self.refit_model = None
+
+    def __getattr__(self, name):
+        if name in _SETTINGS and "settings" in self.__dict__:
+            return getattr(self.__dict__["settings"], name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __setattr__(self, name, value):
+        if name in _SETTINGS:  # one source: the settings, replaced (and checked) as a whole
+            name, value = "settings", self.settings.replace(**{name: value})
+        super().__setattr__(name, value)
 
     # -- training -------------------------------------------------------------
     def _fit(self, model, buffer, fit_points, fit_model=None):
@@ -257,71 +268,16 @@ class SARSPAgent:
     def _predict(self, model, buffer, queries):
         """Mean, variance and prior sizes of each query, each from its own prior."""
         priors = self._priors(buffer, queries)
-        X, y = buffer.X, buffer.y
         if self.prior_draw == "per_action":
-            sets = priors
-            query_sets = queries[:, None, :]  # one query per prior
+            sets, query_sets = priors, queries[:, None, :]  # one query per prior
         else:
-            sets = priors[:1]
-            query_sets = queries[None, :, :]  # the four queries share one prior
-        if not self.parts.package_models:  # the parts' own kernel, posterior or factor: assembled per prior
-            mean, var, df = predict_from_parts(self.parts, model, [X[r] for r in sets], [y[r] for r in sets],
-                                               query_sets, include_noise=True)
-            return self._moments(mean, var, df, query_sets, priors)
-        bound = self._whole_bound(buffer, queries)
-        table = self._kernel_table(model, buffer, bound)
-        kernels = None
-        if table is not None:  # the matrices gathered from the buffer's kernel table: the same numbers, sooner
-            cross = table.cross(queries, whole_bound=bound)
-            per_action = self.prior_draw == "per_action"  # one query per set, or the four sharing one
-            kernels = [table.gather(r, cross[a: a + 1] if per_action else cross) for a, r in enumerate(sets)]
-        mean, var, df = model.predict_batch([X[r] for r in sets], [y[r] for r in sets], query_sets,
-                                            include_noise=True, whole_bound=bound, kernels=kernels)
-        return self._moments(mean, var, df, query_sets, priors)
-
-    def _moments(self, mean, var, df, query_sets, priors):
-        """Per-query mean, variance (sampled with ``predictive="sample"``) and prior sizes."""
+            sets, query_sets = priors[:1], queries[None, :, :]  # the four queries share one prior
+        mean, var, df = self.prior_predictor.predict(model, buffer, sets, query_sets, parts=self.parts)
         mean, var = mean.reshape(-1), var.reshape(-1)
         df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
         if self.predictive == "sample":
             mean, var = self._sample_moments(mean, var, df)
         return mean, var, np.array([len(r) for r in priors])
-
-    def _whole_bound(self, buffer, queries):
-        """:func:`~sarsp_edu.models.kernels.whole_distance_bound` of a buffer's inputs and the queries.
-
-        The buffer's part is kept until the buffer grows (rows are only ever
-        added to it; a corrective update changes targets, not inputs).
-        """
-        bounds = self.__dict__.setdefault("_buffer_bounds", {})
-        kept = bounds.get(id(buffer))
-        if kept is None or kept[0] is not buffer or kept[1] != len(buffer):
-            X = buffer.X
-            kept = (buffer, len(buffer), bool(np.array_equal(np.rint(X), X)), X.min(axis=0), X.max(axis=0))
-            bounds[id(buffer)] = kept
-        _, _, whole, low, high = kept
-        if not whole:
-            return None
-        return whole_distance_bound(np.stack([low, high]), queries)
-
-    def _kernel_table(self, model, buffer, whole_bound):
-        """The :class:`~sarsp_edu.models.kernels.KernelTable` of a buffer's inputs under a model's kernel, or None.
-
-        Built for whole-number inputs with at most ``KERNEL_TABLE_MAX_DISTINCT``
-        distinct rows (the cost buffer; the reward buffer's rows are all
-        distinct), and kept until the buffer grows or a refit changes the
-        kernel.
-        """
-        if whole_bound is None:
-            return None
-        tables = self.__dict__.setdefault("_kernel_tables", {})
-        kept = tables.get(id(buffer))
-        params = model.kernel_.get_params()
-        if kept is None or kept[0] is not buffer or kept[1] != len(buffer) or kept[2] != params:
-            table = KernelTable.if_small(model.kernel_, buffer.X, KERNEL_TABLE_MAX_DISTINCT, whole_bound=whole_bound)
-            kept = (buffer, len(buffer), params, table)
-            tables[id(buffer)] = kept
-        return kept[3]
 
     def _sample_moments(self, mean, var, df):
         """Sample mean and variance of ``n_samples`` draws from each predictive distribution.

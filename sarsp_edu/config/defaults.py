@@ -58,7 +58,21 @@ PLACEMENTS = ("full", "reference")
 
 
 def placement_span(size: int, placement: str = "full") -> int:
-    """The side of the area where objects may be placed: the grid's, or one less off the last row and column."""
+    """The side of the area where objects may be placed: the grid's, or one less off the last row and column.
+
+    Parameters
+    ----------
+    size : int
+        Side of the grid, in cells.
+    placement : str, default "full"
+        One of :data:`PLACEMENTS`: ``"full"`` places on the whole grid; any other value (``"reference"``)
+        never on the last row and column.
+
+    Returns
+    -------
+    int
+        ``size`` or ``size - 1``.
+    """
     return size if placement == "full" else size - 1
 
 
@@ -75,13 +89,48 @@ def unsafe_capacity(size: int, placement: str = "full") -> int:
     ``n <= (S - 3) / 5``: 19 on the paper's 10 x 10 grid, 15 on the
     reference code's 9 x 9 placement area.  (The spacing rule alone would
     allow a whole chessboard colour, 50, which no shift could then move.)
+
+    Parameters
+    ----------
+    size : int
+        Side of the grid, in cells.
+    placement : str, default "full"
+        One of :data:`PLACEMENTS`: ``"full"`` places on the whole grid; any other value (``"reference"``)
+        never on the last row and column.
+
+    Returns
+    -------
+    int
+        ``(span^2 - 3) // 5`` for the :func:`placement_span` ``span``, never below 0.
     """
     span = placement_span(size, placement)
     return max((span * span - 3) // 5, 0)
 
 
 def check_n_unsafe(n_unsafe, size: int, placement: str, size_name: str = "size") -> int:
-    """``n_unsafe`` from 1 to :func:`unsafe_capacity`, with a message that names the true maximum."""
+    """``n_unsafe`` from 1 to :func:`unsafe_capacity`, with a message that names the true maximum.
+
+    Parameters
+    ----------
+    n_unsafe : int
+        The number of unsafe states asked for (a bool is refused).
+    size : int
+        Side of the grid, in cells.
+    placement : str
+        One of :data:`PLACEMENTS`, as in :func:`placement_span`.
+    size_name : str, default "size"
+        The name the error messages give ``size`` (the caller's argument name).
+
+    Returns
+    -------
+    int
+        ``n_unsafe`` as a plain int.
+
+    Raises
+    ------
+    ValueError
+        If the grid leaves room for no unsafe state, or ``n_unsafe`` is not an integer in range.
+    """
     capacity = unsafe_capacity(size, placement)
     if capacity < 1:
         smallest = 3 if placement == "full" else 4

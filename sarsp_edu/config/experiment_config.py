@@ -8,98 +8,107 @@ from dataclasses import dataclass, fields
 
 from .._internal.validation import check_choice, check_switch_states
 from .defaults import (
+    ADAM_STEPS,
+    COST_DUPLICATES,
+    COST_FIT_POINTS,
+    GRID_SIZE,
+    K_PRIOR,
+    LEARNING_RATE,
     MODELS,
+    N_MATCHING,
+    N_SAMPLES,
+    N_UNSAFE,
     NOISE_CONVENTIONS,
+    NU,
+    OFFLINE_EPISODES,
     OPTIMIZERS,
     PLACEMENTS,
     PREDICTIVE,
     PRIOR_DRAWS,
     PRIORS,
     RETRAIN_RULES,
+    REWARD_DUPLICATES,
+    REWARD_FIT_POINTS,
+    VARIANCE_THRESHOLD,
+    D,
 )
-from .settings import (
-    CHECKS,
-    AgentSettings,
-    DataSettings,
-    ModelSettings,
-    WorldSettings,
-    _field,
-    _Settings,
-)
+from .settings import CHECKS, _field, _Settings, derive_group
 
 
 @dataclass(frozen=True)
 class ExperimentConfig(_Settings):
     """Every setting of one run; the defaults are the paper's (and its reference code's).
 
-    The settings are flat here (one flag each for the ``sarsp-edu`` command,
-    one key each in a stored ``result.json``); the code takes them in groups,
-    :attr:`world_settings`, :attr:`data_settings`, :attr:`model_settings` and
-    :attr:`agent_settings`, which hold each group's defaults and checks: a
-    config is checked by making its groups.  Each field's
-    ``metadata["help"]`` documents it; the ``sarsp-edu`` command builds its
-    flags from the same text.
+    Each setting is declared once, here: its group, its default and its help
+    (``metadata["group"]`` and ``metadata["help"]``; the ``sarsp-edu`` command
+    builds its flags from the same text, a stored ``result.json`` has one key
+    per field).  The code takes the settings in groups derived from these
+    fields, :class:`WorldSettings`, :class:`DataSettings`,
+    :class:`ModelSettings` and :class:`AgentSettings` (``d`` is in two);
+    :attr:`world_settings` and the like give a config's, and each setting's
+    check (:data:`~sarsp_edu.config.settings.CHECKS`) runs as they are made.
     """
 
-    model: str = _field(ModelSettings.model, "the regression model of both the cost and the reward model: 'tp' "
+    model: str = _field("model", "tp", "the regression model of both the cost and the reward model: 'tp' "
                         "or 'gp'", choices=MODELS)
-    nu: float = _field(ModelSettings.nu, "TP degrees of freedom, > 2 (paper: fixed at 3)")
-    outlier_magnitude: float = _field(DataSettings.outlier_magnitude, "outlier magnitude m: outlier rows are "
+    nu: float = _field("model", NU, "TP degrees of freedom, > 2 (paper: fixed at 3)")
+    outlier_magnitude: float = _field("data", 40.0, "outlier magnitude m: outlier rows are "
                                       "multiplied by m (paper: 40, 60, 80)", flag="m")
-    outlier_proportion: float = _field(DataSettings.outlier_proportion, "outlier proportion p in [0, 1] (paper: "
+    outlier_proportion: float = _field("data", 0.2, "outlier proportion p in [0, 1] (paper: "
                                        "0.2, 0.3, 0.4)", flag="p")
-    n_switch_states: int = _field(2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)", flag="nss")
-    episodes: int = _field(250, "online episodes (paper: 250)")
-    offline_episodes: int = _field(DataSettings.offline_episodes, "random-policy episodes of offline data "
+    n_switch_states: int = _field(None, 2, "nss: unsafe states moved by the covariate shift (paper: 2 to 10)",
+                                  flag="nss")
+    episodes: int = _field(None, 250, "online episodes (paper: 250)")
+    offline_episodes: int = _field("data", OFFLINE_EPISODES, "random-policy episodes of offline data "
                                    "(paper: 100)")
-    grid_size: int = _field(WorldSettings.grid_size, "grid side n (paper: 10)")
-    n_unsafe: int = _field(WorldSettings.n_unsafe, "number of unsafe states (paper: 15)")
-    d: float = _field(AgentSettings.d, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
-    variance_threshold: float = _field(AgentSettings.variance_threshold,
+    grid_size: int = _field("world", GRID_SIZE, "grid side n (paper: 10)")
+    n_unsafe: int = _field("world", N_UNSAFE, "number of unsafe states (paper: 15)")
+    d: float = _field(("world", "agent"), D, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
+    variance_threshold: float = _field("agent", VARIANCE_THRESHOLD,
                                        "sigma*^2: the largest cost variance of a safe action (reference code: 0.8)")
-    k_prior: int = _field(AgentSettings.k_prior, "random rows in each strategic prior (paper's text: 100; the "
+    k_prior: int = _field("agent", K_PRIOR, "random rows in each strategic prior (paper's text: 100; the "
                           "reference code, which produced the paper's figures: 400)")
-    n_matching: int = _field(AgentSettings.n_matching, "rows matching each query added to the prior, at most "
+    n_matching: int = _field("agent", N_MATCHING, "rows matching each query added to the prior, at most "
                              "(paper: 10)")
-    prior_draw: str = _field(AgentSettings.prior_draw, "how strategic priors are drawn: 'per_action' (a fresh "
+    prior_draw: str = _field("agent", "per_action", "how strategic priors are drawn: 'per_action' (a fresh "
                              "prior for every action and model, as the reference code) or 'per_step' (one per "
                              "model and step, shared by the four actions, as the printed Algorithm 1)",
                              choices=PRIOR_DRAWS)
-    cost_outliers: bool = _field(DataSettings.cost_outliers, "inject outliers into the cost model's data "
+    cost_outliers: bool = _field("data", True, "inject outliers into the cost model's data "
                                  "(paper: yes)")
-    reward_outliers: bool = _field(DataSettings.reward_outliers, "inject outliers into the reward model's data "
+    reward_outliers: bool = _field("data", True, "inject outliers into the reward model's data "
                                    "(paper: yes)")
-    seed: int = _field(0, "seed of every random choice of the run")
-    max_steps: int | None = _field(WorldSettings.max_steps, "steps before an episode is truncated (default: "
+    seed: int = _field(None, 0, "seed of every random choice of the run")
+    max_steps: int | None = _field("world", None, "steps before an episode is truncated (default: "
                                    "grid_size^2, the paper's T_max)")
-    placement: str = _field(WorldSettings.placement, "where objects are placed: 'full' grid (paper's text) or "
+    placement: str = _field("world", "full", "where objects are placed: 'full' grid (paper's text) or "
                             "'reference' (never the last row/column, as the reference code)", choices=PLACEMENTS)
-    cost_duplicates: int = _field(DataSettings.cost_duplicates, "duplicate cap of the cost model's data "
+    cost_duplicates: int = _field("data", COST_DUPLICATES, "duplicate cap of the cost model's data "
                                   "(reference code: 12)")
-    reward_duplicates: int = _field(DataSettings.reward_duplicates, "duplicate cap of the reward model's data "
+    reward_duplicates: int = _field("data", REWARD_DUPLICATES, "duplicate cap of the reward model's data "
                                     "(reference code: 1)")
-    predictive: str = _field(AgentSettings.predictive, "how predictions are made: 'closed_form' (exact) or "
+    predictive: str = _field("agent", "closed_form", "how predictions are made: 'closed_form' (exact) or "
                              "'sample' (the reference code's 150-draw estimate)", choices=PREDICTIVE)
-    n_samples: int = _field(AgentSettings.n_samples, "draws per prediction with predictive='sample' (reference "
+    n_samples: int = _field("agent", N_SAMPLES, "draws per prediction with predictive='sample' (reference "
                             "code: 150)")
-    noise_convention: str = _field(ModelSettings.noise_convention, "how the TP's predictive variance includes the "
+    noise_convention: str = _field("model", "tfp", "how the TP's predictive variance includes the "
                                    "noise: 'tfp' (unscaled, as the reference code's library; unlike a bare "
                                    "StudentTProcess, whose default is 'shah') or 'shah' (scaled)",
                                    choices=NOISE_CONVENTIONS)
-    optimizer: str = _field(ModelSettings.optimizer, "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'",
+    optimizer: str = _field("model", "adam", "hyperparameter optimiser: 'adam' (paper) or 'lbfgs'",
                             choices=OPTIMIZERS)
-    learning_rate: float = _field(ModelSettings.learning_rate, "Adam's learning rate (paper: 0.1)")
-    optimizer_steps: int = _field(ModelSettings.optimizer_steps, "Adam steps, or L-BFGS-B's iteration cap (paper: "
+    learning_rate: float = _field("model", LEARNING_RATE, "Adam's learning rate (paper: 0.1)")
+    optimizer_steps: int = _field("model", ADAM_STEPS, "Adam steps, or L-BFGS-B's iteration cap (paper: "
                                   "50 Adam steps)")
-    prior: str | None = _field(ModelSettings.prior, "hyperparameter priors: 'lognormal' (LogNormal(0, 1), "
+    prior: str | None = _field("model", "lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), "
                                "reference code) or None (plain marginal likelihood)", choices=PRIORS)
-    cost_fit_points: int | None = _field(AgentSettings.cost_fit_points, "rows of the cost model's data for each "
+    cost_fit_points: int | None = _field("agent", COST_FIT_POINTS, "rows of the cost model's data for each "
                                          "hyperparameter fit (None: all ~4,700, as the reference code; exact and "
                                          "fast, the rows hold ~800 distinct inputs)")
-    reward_fit_points: int | None = _field(AgentSettings.reward_fit_points, "rows drawn at random for the reward "
+    reward_fit_points: int | None = _field("agent", REWARD_FIT_POINTS, "rows drawn at random for the reward "
                                            "model's hyperparameter fit (None: all ~4,900, as the reference code, "
                                            "about 4 minutes a fit)")
-    retrain: str = _field(AgentSettings.retrain, "when a corrective update retrains the cost model: 'if_changed' "
+    retrain: str = _field("agent", "if_changed", "when a corrective update retrains the cost model: 'if_changed' "
                           "(only when it changed the data, as the reference code), 'always' (the printed "
                           "Algorithm 1) or 'never'", choices=RETRAIN_RULES)
 
@@ -141,6 +150,13 @@ class ExperimentConfig(_Settings):
     @classmethod
     def from_preset(cls, name: str = "default", **changes) -> "ExperimentConfig":
         """The config of a named preset (see ``PRESETS``), with some fields changed.
+
+        Parameters
+        ----------
+        name : str, default "default"
+            A key of ``PRESETS``.
+        **changes
+            Fields to change from the preset's values (checked).
 
         Examples
         --------
@@ -187,6 +203,7 @@ class ExperimentConfig(_Settings):
         return ignored
 
     def to_dict(self) -> dict:
+        """Every setting by name, as a stored ``result.json`` holds them (``from_dict`` reads it back)."""
         return dataclasses.asdict(self)
 
     @classmethod
@@ -267,6 +284,22 @@ PRESET_DOCS = {
 }
 
 
+#: the settings groups, each derived from the fields of ExperimentConfig tagged with it (``d`` is in two)
+WorldSettings = derive_group(ExperimentConfig, "world", "WorldSettings", """The world (paper section 5.1):
+    :class:`~sarsp_edu.world.gridworld.SafeGridWorld` takes them (``env_kwargs``).""")
+DataSettings = derive_group(ExperimentConfig, "data", "DataSettings", """The offline data and its outliers (sections
+    5.2-5.3): ``collect_offline_data`` and ``inject_outliers``.""")
+ModelSettings = derive_group(ExperimentConfig, "model", "ModelSettings", """The regression model of both the cost
+    and the reward model, and its hyperparameter fit.
+
+    ``noise_convention`` is ``"tfp"`` here, as in the reference code's
+    library, whose runs the experiments reproduce; a bare
+    :class:`~sarsp_edu.models.processes.StudentTProcess` defaults to ``"shah"``,
+    Shah et al.'s (2014) own form, which the tutorials teach.""")
+AgentSettings = derive_group(ExperimentConfig, "agent", "AgentSettings", """Algorithm 1's settings: what
+    :class:`~sarsp_edu.agent.sarsp.SARSPAgent` takes.""")
+
+
 def preset_of(config: "ExperimentConfig") -> str:
     """The name of the preset whose ``PRESET_FIELDS`` all equal the config's, or ``"custom"``."""
     for name, values in PRESETS.items():
@@ -277,6 +310,12 @@ def preset_of(config: "ExperimentConfig") -> str:
 
 def config_or_default(config, name: str = "config") -> "ExperimentConfig":
     """``config`` checked to be an :class:`ExperimentConfig` (None: the default one).
+
+    Parameters
+    ----------
+    config : ExperimentConfig or None
+    name : str, default "config"
+        The argument's name in the error message.
 
     Raises
     ------

@@ -1,8 +1,10 @@
-"""The settings grouped as the code uses them, each setting's check written once.
+"""What the settings are made of: each setting's check (:data:`CHECKS`), written once, and the groups' machinery.
 
-:class:`WorldSettings`, :class:`DataSettings`, :class:`ModelSettings` and
-:class:`AgentSettings` hold the defaults (from :mod:`~sarsp_edu.config.defaults`)
-and run the check of each of their fields from :data:`CHECKS`.
+Every setting is declared once, as a field of
+:class:`~sarsp_edu.config.ExperimentConfig` tagged with its group
+(:func:`_field`); :func:`derive_group` makes each group (``WorldSettings``,
+``DataSettings``, ``ModelSettings``, ``AgentSettings``) from the fields tagged
+with it, and each group runs the checks of its own fields as it is made.
 """
 
 from __future__ import annotations
@@ -11,34 +13,19 @@ import dataclasses
 import decimal
 import fractions
 import numbers
-from dataclasses import dataclass, field, fields
+from dataclasses import field, fields
 
 from .._internal.validation import check_choice, check_fraction, check_int, check_nu, check_positive
 from .defaults import (
-    ADAM_STEPS,
-    COST_DUPLICATES,
-    COST_FIT_POINTS,
-    GRID_SIZE,
-    K_PRIOR,
-    LEARNING_RATE,
     LIMITS,
     MODELS,
-    N_MATCHING,
-    N_SAMPLES,
-    N_UNSAFE,
     NOISE_CONVENTIONS,
-    NU,
-    OFFLINE_EPISODES,
     OPTIMIZERS,
     PLACEMENTS,
     PREDICTIVE,
     PRIOR_DRAWS,
     PRIORS,
     RETRAIN_RULES,
-    REWARD_DUPLICATES,
-    REWARD_FIT_POINTS,
-    VARIANCE_THRESHOLD,
-    D,
     check_n_unsafe,
 )
 
@@ -56,8 +43,17 @@ def _plain(value):
     return value
 
 
-def _field(default, help: str, **metadata):
-    return field(default=default, metadata={"help": help, **metadata})
+#: the settings groups, as the code takes them
+GROUPS = ("world", "data", "model", "agent")
+
+
+def _field(group, default, help: str, **metadata):
+    """A setting: its group (a name of :data:`GROUPS`, a tuple of them, or None), its default, its help text."""
+    groups = () if group is None else (group,) if isinstance(group, str) else tuple(group)
+    unknown = sorted(set(groups) - set(GROUPS))
+    if unknown:
+        raise ValueError(f"a setting's group must be one of {GROUPS}, got {unknown}")
+    return field(default=default, metadata={"help": help, "groups": groups, **metadata})
 
 
 # -- each setting's check, written once -----------------------------------------
@@ -139,16 +135,9 @@ class _Settings:
         return dataclasses.replace(self, **changes)
 
 
-# -- the settings, grouped as the code uses them ----------------------------------
-@dataclass(frozen=True)
-class WorldSettings(_Settings):
-    """The world (paper section 5.1): :class:`~sarsp_edu.world.gridworld.SafeGridWorld` takes them (``env_kwargs``)."""
-
-    grid_size: int = GRID_SIZE
-    n_unsafe: int = N_UNSAFE
-    d: float = D
-    max_steps: int | None = None
-    placement: str = "full"
+# -- the groups, derived from the declared settings ---------------------------------------
+class _WorldChecks(_Settings):
+    """What the world's settings check together, and give ``SafeGridWorld``."""
 
     def __post_init__(self):
         super().__post_init__()
@@ -160,49 +149,21 @@ class WorldSettings(_Settings):
                     placement=self.placement)
 
 
-@dataclass(frozen=True)
-class DataSettings(_Settings):
-    """The offline data and its outliers (sections 5.2-5.3): ``collect_offline_data`` and ``inject_outliers``."""
+def derive_group(settings, group: str, name: str, doc: str):
+    """The frozen dataclass of one group: the fields of ``settings`` tagged with ``group``, same defaults and help.
 
-    offline_episodes: int = OFFLINE_EPISODES
-    cost_duplicates: int = COST_DUPLICATES
-    reward_duplicates: int = REWARD_DUPLICATES
-    outlier_magnitude: float = 40.0
-    outlier_proportion: float = 0.2
-    cost_outliers: bool = True
-    reward_outliers: bool = True
-
-
-@dataclass(frozen=True)
-class ModelSettings(_Settings):
-    """The regression model of both the cost and the reward model, and its hyperparameter fit.
-
-    ``noise_convention`` is ``"tfp"`` here, as in the reference code's
-    library, whose runs the experiments reproduce; a bare
-    :class:`~sarsp_edu.models.processes.StudentTProcess` defaults to ``"shah"``,
-    Shah et al.'s (2014) own form, which the tutorials teach.
+    Parameters
+    ----------
+    settings : type
+        The dataclass that declares every setting (``ExperimentConfig``).
+    group : str
+        One of :data:`GROUPS`.
+    name, doc : str
+        The group's class name and docstring.
     """
-
-    model: str = "tp"
-    nu: float = NU
-    noise_convention: str = "tfp"
-    optimizer: str = "adam"
-    learning_rate: float = LEARNING_RATE
-    optimizer_steps: int = ADAM_STEPS
-    prior: str | None = "lognormal"
-
-
-@dataclass(frozen=True)
-class AgentSettings(_Settings):
-    """Algorithm 1's settings: what :class:`~sarsp_edu.agent.sarsp.SARSPAgent` takes."""
-
-    d: float = D
-    variance_threshold: float = VARIANCE_THRESHOLD
-    k_prior: int = K_PRIOR
-    n_matching: int = N_MATCHING
-    prior_draw: str = "per_action"
-    predictive: str = "closed_form"
-    n_samples: int = N_SAMPLES
-    cost_fit_points: int | None = COST_FIT_POINTS
-    reward_fit_points: int | None = REWARD_FIT_POINTS
-    retrain: str = "if_changed"
+    base = _WorldChecks if group == "world" else _Settings
+    declared = [(f.name, f.type, field(default=f.default, metadata=f.metadata))
+                for f in fields(settings) if group in f.metadata.get("groups", ())]
+    made = dataclasses.make_dataclass(name, declared, bases=(base,), frozen=True)
+    made.__doc__, made.__module__ = doc, settings.__module__
+    return made

@@ -1,16 +1,13 @@
 """One experiment of the paper, run as the paper runs it.
 
-``ExperimentConfig -> run_experiment -> ExperimentResult`` (per-episode
-records and a summary); ``compare`` runs the TP and the GP *paired* on the same
-world, shift, offline data, outliers and episode starts and goals, and applies
-the paper's preference criterion (Definition 4).  The settings live in
-:mod:`sarsp_edu.config`, the metrics in :mod:`sarsp_edu.experiments.metrics`, the results
-and their files in :mod:`sarsp_edu.experiments.results`; their names are importable from
-here too.
+``ExperimentConfig -> run_experiment -> ExperimentResult`` (per-episode records and a summary); ``compare`` runs
+the TP and the GP *paired* on the same world, shift, offline data, outliers and episode starts and goals, and
+applies the paper's preference criterion (Definition 4).  The settings live in :mod:`sarsp_edu.config`, the metrics
+in :mod:`sarsp_edu.experiments.metrics`, the results and their files in :mod:`sarsp_edu.experiments.results`; their
+names are importable from here too.
 
-Every random choice comes from streams spawned from ``config.seed`` by
-purpose (world, offline data, outliers, shift, episodes, agent); none depends
-on the model, so a TP run and a GP run with the same seed are paired by
+Every random choice comes from streams spawned from ``config.seed`` by purpose (world, offline data, outliers,
+shift, episodes, agent); none depends on the model, so a TP run and a GP run with the same seed are paired by
 construction, and the same seed gives the same numbers in any process.
 """
 
@@ -84,11 +81,10 @@ class StepRecord:
 class Experiment:
     """One run, advanced step by step or episode by episode.
 
-    ``run_experiment`` drives it to the end; the live dashboard drives it a
-    step at a time.  Construction collects the offline data, injects the
-    outliers, fits both models and shifts the world.  ``parts`` (a
-    :class:`~sarsp_edu.agent.parts.DecisionParts`) gives the agent other functions
-    to assemble its decisions from (:class:`~sarsp_edu.agent.sarsp.SARSPAgent`).
+    ``run_experiment`` drives it to the end; the live dashboard drives it a step at a time.  Construction collects
+    the offline data, injects the outliers, fits both models and shifts the world.  ``parts`` (a
+    :class:`~sarsp_edu.agent.parts.DecisionParts`) gives the agent other functions to assemble its decisions from
+    (:class:`~sarsp_edu.agent.sarsp.SARSPAgent`).
     """
 
     def __init__(self, config: ExperimentConfig, *, prepared: Prepared | None = None, fit=None, parts=None):
@@ -104,14 +100,9 @@ class Experiment:
         start = time.perf_counter()
         with one_blas_thread():  # fit: a function that gives the agent its fitted models (the fit cache's)
             self.agent.fit() if fit is None else fit(self.agent)
-        self.timings = {
-            "data_seconds": prepared.seconds,
-            "offline_fit_seconds": time.perf_counter() - start,
-            "episode_seconds": 0.0,
-            "retrain_seconds": 0.0,
-        }
-        #: True when the fit cache (:mod:`sarsp_edu.teaching.live.fitcache`) loaded this experiment, fitted
-        #: earlier with the same settings
+        self.timings = {"data_seconds": prepared.seconds, "offline_fit_seconds": time.perf_counter() - start,
+                        "episode_seconds": 0.0, "retrain_seconds": 0.0}
+        #: True when loaded from the fit cache (:mod:`sarsp_edu.teaching.live.fitcache`): fitted before, same settings
         self.loaded_from_cache = False
         self.act_seconds: list[float] = []  # one decision (both models, 4 actions)
         self.step_seconds: list[float] = []  # decision, environment step and learn (with any retrain)
@@ -228,6 +219,7 @@ class Experiment:
         return table[list(RECORD_COLUMNS)]
 
     def result(self) -> "ExperimentResult":
+        """The run so far: its records, and its timings with the median act and step seconds and the step count."""
         records = self.records()
         timings = dict(self.timings)
         if self.act_seconds:
@@ -253,9 +245,8 @@ class _NoProgress:
 def _progress(total: int | None, desc: str, enabled: bool, unit: str = "episode", position: int = 0):
     """A tqdm bar, or a stand-in that does nothing.
 
-    Even a disabled tqdm bar creates a multiprocessing lock, which a sweep's
-    worker stopped by Ctrl-C would leave behind (with a warning); quiet runs
-    create none.
+    Even a disabled tqdm bar creates a multiprocessing lock, which a sweep's worker stopped by Ctrl-C would leave
+    behind (with a warning); quiet runs create none.
     """
     if not enabled:
         return _NoProgress()
@@ -295,39 +286,29 @@ def _finish(experiment: "Experiment", progress: bool, position: int = 0) -> Expe
 
 def experiments_on_one_world(config: ExperimentConfig, sides: dict, *, cache=None,
                              progress: bool = False, parts: dict | None = None) -> dict:
-    """Experiments of ``config`` with some settings changed, all on one prepared world.
+    """Experiments of ``config`` with some settings changed, all on one prepared world: name -> :class:`Experiment`.
 
-    Every experiment shares the world, its shift, the offline data with its
-    outlier rows, the sequence of episode starts and goals and the agent's
-    seed (:func:`prepare` builds them once), so that the runs differ only in
-    what ``sides`` changes: the model, or a setting of the agent.
+    Every experiment shares the world, its shift, the offline data with its outlier rows, the sequence of episode
+    starts and goals and the agent's seed (:func:`prepare` builds them once), so that the runs differ only in what
+    ``sides`` changes: the model, or a setting of the agent.
 
     Parameters
     ----------
     config : ExperimentConfig
     sides : dict
-        Name -> the ``ExperimentConfig`` fields to change for that
-        experiment, e.g. ``{"tp": {"model": "tp"}, "gp": {"model": "gp"}}``.
-        A field that the preparation reads (``PREPARATION_FIELDS``) cannot
-        differ between sides: change it in ``config``.
+        Name -> the ``ExperimentConfig`` fields to change for that experiment, e.g. ``{"tp": {"model": "tp"},
+        "gp": {"model": "gp"}}``.  A field that the preparation reads (``PREPARATION_FIELDS``) cannot differ
+        between sides: change it in ``config``.
     cache : optional
-        Where fits are kept between runs: anything with ``load(config,
-        prepared)`` (an :class:`Experiment`, or None when it has none) and
-        ``store(experiment)``, as the live dashboards' fit cache
-        (:mod:`sarsp_edu.teaching.live.fitcache`) has.  None: every side is
-        fitted here.
+        Where fits are kept between runs: anything with ``load(config, prepared)`` (an :class:`Experiment`, or None
+        when it has none) and ``store(experiment)``, as the live dashboards' fit cache
+        (:mod:`sarsp_edu.teaching.live.fitcache`) has.  None: every side is fitted here.
     progress : bool, default False
         Show each side's offline fits as a progress bar.
     parts : dict, optional
-        Name -> the :class:`~sarsp_edu.agent.parts.DecisionParts` (or a mapping of
-        some parts) of that side's agent, e.g. ``{"yours": student_parts}``;
-        a side not named uses the package's own.  A fit does not depend on
-        the parts: a side loaded from the cache gets them as well.
-
-    Returns
-    -------
-    dict
-        Name -> :class:`Experiment`.
+        Name -> the :class:`~sarsp_edu.agent.parts.DecisionParts` (or a mapping of some parts) of that side's agent,
+        e.g. ``{"yours": student_parts}``; a side not named uses the package's own.  A fit does not depend on the
+        parts: a side loaded from the cache gets them as well.
     """
     return dict(each_experiment_on_one_world(config, sides, cache=cache, progress=progress, parts=parts))
 
@@ -336,11 +317,21 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache
                                  progress: bool = False, parts: dict | None = None):
     """:func:`experiments_on_one_world` one experiment at a time: yields ``(name, Experiment)`` as each is fitted.
 
-    The live dashboard starts a side as soon as its models are fitted, while
-    the other side's are still being fitted.  With a ``cache`` (the live
-    dashboards hand in :mod:`sarsp_edu.teaching.live.fitcache`), a side fitted
-    before with the same settings, code and machine is loaded from it (the
-    same bits as a new fit), and each side fitted here is stored in it.
+    The live dashboard starts a side as soon as its models are fitted, while the other's are still fitting.
+
+    Parameters
+    ----------
+    config : ExperimentConfig
+    sides : dict
+        Name -> the ``ExperimentConfig`` fields to change for that experiment (not ``PREPARATION_FIELDS``).
+    cache : optional
+        Has ``load`` and ``store`` (the live dashboards hand in :mod:`sarsp_edu.teaching.live.fitcache`): a side
+        fitted before with the same settings, code and machine is loaded (the same bits as a new fit), and each side
+        fitted here is stored.  None: every side is fitted here.
+    progress : bool, default False
+        Show each side's offline fits as a progress bar.
+    parts : dict, optional
+        Name -> that side's DecisionParts (or a mapping of some parts); a side loaded from the cache gets them too.
     """
     from ..agent.parts import DecisionParts
     from ..world.preparation import PREPARATION_FIELDS
@@ -377,9 +368,14 @@ def each_experiment_on_one_world(config: ExperimentConfig, sides: dict, *, cache
 def paired_experiments(config: ExperimentConfig, progress: bool = False) -> dict:
     """The TP and the GP experiment of ``config``, paired: ``{"tp": Experiment, "gp": Experiment}``.
 
-    Both share the world, its shift, the offline data with its outlier rows,
-    the sequence of episode starts and goals and the agent's seed; only the
-    regression model differs (:func:`experiments_on_one_world`).
+    Both share the world, its shift, the offline data with its outlier rows, the sequence of episode starts and
+    goals and the agent's seed; only the regression model differs (:func:`experiments_on_one_world`).
+
+    Parameters
+    ----------
+    config : ExperimentConfig
+    progress : bool, default False
+        Show each side's offline fits as a progress bar.
     """
     return experiments_on_one_world(config, {model: {"model": model} for model in ("tp", "gp")}, progress=progress)
 
@@ -411,10 +407,9 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
             n_jobs: int | None = None) -> Comparison:
     """Run the TP and the GP paired on one config (its ``model`` field is ignored).
 
-    Both runs share the world, its shift, the offline data with its outlier
-    rows, the sequence of episode starts and goals and the agent's seed; only
-    the regression model differs.  (The reference implementation ran them
-    one after the other, unpaired.)
+    Both runs share the world, its shift, the offline data with its outlier rows, the sequence of episode starts
+    and goals and the agent's seed; only the regression model differs.  (The reference implementation ran them one
+    after the other, unpaired.)
 
     Parameters
     ----------
@@ -424,10 +419,9 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     a : float, default 100
         Definition 4's TSR threshold.
     n_jobs : {None, 1, 2}, default None
-        Processes: 2 runs the GP in a second process while this one runs the
-        TP (one BLAS thread each); 1 runs them one after the other here; None
-        chooses 2 where this process may use two cores or more, else 1.  The
-        records are the same either way, number for number.
+        Processes: 2 runs the GP in a second process while this one runs the TP (one BLAS thread each); 1 runs them
+        one after the other here; None chooses 2 where this process may use two cores or more, else 1.  The records
+        are the same either way, number for number.
 
     Returns
     -------
@@ -442,8 +436,7 @@ def compare(config: ExperimentConfig | None = None, progress: bool = False, a: f
     if n_jobs not in (1, 2) or isinstance(n_jobs, bool):
         raise ValueError(f"n_jobs must be 1 or 2 (one process per model), or None to choose, got n_jobs={n_jobs!r}")
     if n_jobs == 2:
-        # Each process prepares the world itself: the preparation depends on the seed, not on the model, so
-        # both sides start from the same world, data and episode seeds as in the sequential run.
+        # Each process prepares the world from the seed alone: the same world, data and episode seeds as in sequence
         gp = in_second_process(run_experiment, config.replace(model="gp"), progress=progress, progress_position=1)
         try:
             tp = run_experiment(config.replace(model="tp"), progress=progress)

@@ -83,6 +83,7 @@ class Panel:
         return (self.alt(**values) if callable(self.alt) else self.alt).strip()
 
     def depends_on(self, changed) -> bool:
+        """Whether a move of the controls named in ``changed`` (None: any) redraws this panel."""
         return changed is None or self.inputs is None or bool(set(changed) & set(self.inputs))
 
 
@@ -231,6 +232,7 @@ class Dashboard(ProjectorMixin, widgets.VBox):
         self.refresh(changed=(self._names[id(change["owner"])],))
 
     def values(self) -> dict:
+        """The controls' current values, by name (what ``compute`` and the panels are called with)."""
         return {name: control.value for name, control in self.controls.items()}
 
     def refresh(self, changed=None) -> bool:
@@ -308,6 +310,20 @@ def fixed_layout_axes(figure: Figure, label_offsets=None, ncols: int = 1) -> lis
     whether the title must move up and where the axis labels go: a fifth of
     a redraw.  These figures have nothing above their Axes, and the label
     distances (points, x then y) are given, so nothing needs measuring.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure to add the Axes to.
+    label_offsets : (float, float), optional
+        Distance in points from each Axes to its x label (below) and its y label (left).  None: matplotlib
+        places the labels as usual.
+    ncols : int, default 1
+        Number of Axes, side by side.
+
+    Returns
+    -------
+    list of matplotlib.axes.Axes
     """
     with matplotlib.rc_context({"axes.titley": 1.0}):
         axes = list(figure.subplots(1, ncols, squeeze=False)[0])
@@ -369,6 +385,14 @@ def render_figure(figure: Figure, fmt: str, dpi: float = 72) -> bytes:
     In an SVG, ``dpi`` applies only to the rasterized artists (images, dense
     scatter plots), which are drawn at twice the natural resolution so that
     they stay sharp when the picture is enlarged.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+    fmt : str
+        ``"svg"``, or any other format ``Figure.savefig`` writes (``"png"``).
+    dpi : float, default 72
+        Resolution in dots per inch (72: one pixel per point); in an SVG, half the rasterized artists' resolution.
     """
     buffer = io.BytesIO()
     if fmt == "svg":
@@ -381,7 +405,27 @@ def render_figure(figure: Figure, fmt: str, dpi: float = 72) -> bytes:
 
 
 def slider(kind, name, description, value, lo, hi, step, expensive=True, **kwargs):
-    """A slider for the argument ``name``; a value outside the slider's range is an error, not clamped."""
+    """A slider for the argument ``name``; a value outside the slider's range is an error, not clamped.
+
+    Parameters
+    ----------
+    kind : {"int", "float"}
+        An ``IntSlider`` or a ``FloatSlider``.
+    name : str
+        The argument the slider sets, named in the error for a bad ``value``.
+    description : str
+        The slider's label; its length sets the slider's width (:func:`slider_width`).
+    value : int or float
+        Starting value, from ``lo`` to ``hi`` (a ValueError otherwise; an integer for ``kind="int"``).
+    lo, hi : int or float
+        The slider's range, both ends included.
+    step : int or float
+        The slider's increment.
+    expensive : bool, default True
+        True: the value changes only when the slider is released (no ``continuous_update``).
+    **kwargs
+        Passed on to the ipywidgets slider.
+    """
     if kind == "int":
         check_int(name, value, lo, hi)
     else:

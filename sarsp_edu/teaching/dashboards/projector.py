@@ -173,6 +173,18 @@ def slider_width(description: str, projector: bool = False) -> str:
 
     In projector size the label and the readout are drawn at 18 px instead
     of 13, so they get that much more room.
+
+    Parameters
+    ----------
+    description : str
+        The slider's label; each character gets ``LABEL_PX_PER_CHAR`` px.
+    projector : bool, default False
+        Size for projector text (18 px) instead of 13 px.
+
+    Returns
+    -------
+    str
+        A CSS width such as ``"420px"``.
     """
     grow = PROJECTOR_TEXT_PX / 13 if projector else 1.0
     return f"{round(LABEL_PX_PAD + grow * (LABEL_PX_PER_CHAR * len(description) + READOUT_PX)) + TRACK_PX}px"

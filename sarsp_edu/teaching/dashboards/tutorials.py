@@ -66,6 +66,13 @@ def tail_decay_dashboard(nu: float = NU, lam: float = 5.0) -> Dashboard:
 
     The limit shown is derived by sympy (``tails.student_t_tail_limit``)
     and evaluated at the slider values.
+
+    Parameters
+    ----------
+    nu : float, default NU (3)
+        The Student-t's degrees of freedom at the start, from 0.5 to 30 (the slider's range; outside is an error).
+    lam : float, default 5
+        lambda of the ratio ``f(lambda x)/f(x)`` at the start, from 1.5 to 10.
     """
     import sympy as sp
 
@@ -120,6 +127,19 @@ def posterior_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: flo
     (paper eq. 5 against eq. 6), marks the outliers, and prints
     the TP's variance factor (nu + beta - 2)/(nu + n - 2) (paper eq. 6 in
     its correct form) and both models' hyperparameters.
+
+    Parameters
+    ----------
+    nu : float, default NU (3)
+        The TP's degrees of freedom at the start, from 2.1 to 50 (the slider's range; outside is an error).
+    magnitude : float, default 10
+        Outlier magnitude m at the start (the outliers' targets are multiplied by it), from 1 to 100.
+    proportion : float, default 0.1
+        Outlier proportion p at the start: ``round(p * n)`` points are outliers, from 0 to 0.5.
+    seed : int, default 0
+        Seed of the data at the start, from 0 to 20.
+    fit : bool, default True
+        Whether the checkbox to fit the hyperparameters (50 Adam steps) starts ticked.
     """
     controls = {
         "nu": slider("float", "nu", "ν", nu, 2.1, 50.0, 0.1),
@@ -184,6 +204,17 @@ def robust_dashboard(nu: float = NU, magnitude: float = 10.0, proportion: float 
     the three posterior means against the function without noise (each
     with its rmse on the grid); right: how much each point pulls the
     Student-t-likelihood GP's mean, against a Gaussian likelihood's pull.
+
+    Parameters
+    ----------
+    nu : float, default NU (3)
+        Degrees of freedom of the TP and of the likelihood at the start, from 2.1 to 50 (outside: an error).
+    magnitude : float, default 10
+        Outlier magnitude m at the start (the outliers' targets are multiplied by it), from 1 to 100.
+    proportion : float, default 0.1
+        Outlier proportion p at the start: ``round(p * n)`` points are outliers, from 0 to 0.5.
+    seed : int, default 0
+        Seed of the data at the start, from 0 to 20.
     """
     controls = {
         "nu": slider("float", "nu", "ν", nu, 2.1, 50.0, 0.1),
@@ -229,6 +260,17 @@ def gridworld_dashboard(seed: int = 0, n_switch_states: int = 6, magnitude: floa
 
     Sliders for nss, the seed, m and p.  The world and its 100 offline
     episodes are cached per seed, so the nss, m and p sliders are quick.
+
+    Parameters
+    ----------
+    seed : int, default 0
+        Seed of the world and its offline data at the start, from 0 to 50 (the slider's range; outside is an error).
+    n_switch_states : int, default 6
+        nss, the unsafe states the shift moves, at the start: from 0 to ``N_UNSAFE``.
+    magnitude : float, default 40
+        Outlier magnitude m at the start: outlier rows' inputs and targets are multiplied by it, from 1 to 100.
+    proportion : float, default 0.2
+        Outlier proportion p at the start: the share of offline rows made outliers, from 0 to 0.5.
     """
     controls = {
         "seed": slider("int", "seed", "seed", seed, 0, 50, 1),

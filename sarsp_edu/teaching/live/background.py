@@ -25,6 +25,24 @@ def slider_config(base, *, nu, magnitude, proportion, n_switch_states, seed, epi
     A slider's float carries its steps' rounding (40 + 1.0 moves to
     41.00000000000001): it is rounded away, so that the settings, and the fit
     cache's key, are those the values name.
+
+    Parameters
+    ----------
+    base : ExperimentConfig
+        Gives every setting the sliders do not.
+    nu : float
+        The TP's degrees of freedom.
+    magnitude, proportion : float
+        The outliers' ``m`` and ``p`` (``outlier_magnitude``, ``outlier_proportion``).
+    n_switch_states : int
+        nss, the unsafe states the shift moves.
+    seed : int
+    episodes : int
+        Episodes of each run.
+
+    Returns
+    -------
+    ExperimentConfig
     """
     def rounded(value):
         return round(value, 10) if isinstance(value, float) else value
@@ -47,7 +65,28 @@ def prefit(n_switch_states=(2, 10), *, nu=NU, magnitude=DataSettings.outlier_mag
     already is left as it is.  The cache is per machine, per package version
     and per Python environment: run this where the lecture will run.
 
-    Returns ``[(n_switch_states, side, "fitted in S s" or "stored before"), ...]``.
+    Parameters
+    ----------
+    n_switch_states : int or iterable of int, default (2, 10)
+        The nss slider's values to fit.
+    nu, magnitude, proportion, seed, episodes
+        The other sliders' values (as :func:`slider_config` takes them); defaults: the dashboard's.
+    config : ExperimentConfig, optional
+        The settings the sliders do not give (None: ``ExperimentConfig()``, the dashboard's default).
+    sides : dict, optional
+        Name -> ``(label, changed settings)`` of the dashboard's sides (None: ``TP_AND_GP``).
+    report : callable, default print
+        Called with a line of text as each side is fitted or found.
+
+    Returns
+    -------
+    list of tuple
+        ``[(n_switch_states, side, "fitted in S s" or "stored before"), ...]``.
+
+    Raises
+    ------
+    RuntimeError
+        If the fit cache is off (nowhere to keep a fit).
     """
     from ...config import ExperimentConfig
     from . import fitcache
@@ -92,7 +131,15 @@ class PendingFits:
 
     def wait_for(self, name, timeout: float | None = None):
         """The side's Experiment, once fitted (raises what its fit raised; None if it was abandoned,
-        or if ``timeout`` seconds passed first: ``ready`` then tells the two apart)."""
+        or if ``timeout`` seconds passed first: ``ready`` then tells the two apart).
+
+        Parameters
+        ----------
+        name : str
+            The side, as named in the queue's ``sides``.
+        timeout : float, optional
+            Seconds to wait at most; None: until the side is fitted, has failed or is abandoned.
+        """
         with self._condition:
             self._condition.wait_for(lambda: self.ready(name), timeout)
             if self.error is not None:
@@ -144,6 +191,7 @@ class FitQueue:
 
     @staticmethod
     def key(config):
+        """The key the queue keeps ``config``'s fits under: its ``repr`` (equal settings, equal key)."""
         return repr(config)
 
     def close(self) -> None:

@@ -1,11 +1,9 @@
 """The live run without its widgets: the sides' runs, who steps them, one lock, a cancel event, ``close()``.
 
-:class:`LiveRun` holds what the live dashboard runs, and runs it: each side
-steps in a daemon thread of its own, one lock orders the steps' results and
-every change of the run (a slider move, *Stop*, *New run*), and an event
+:class:`LiveRun` holds what the live dashboard runs, and runs it: each side steps in a daemon thread of its own,
+one lock orders the steps' results and every change of the run (a slider move, *Stop*, *New run*), and an event
 cancels the sides' threads at once.  It draws nothing: it tells a *view*
-(:class:`~sarsp_edu.teaching.live.view.AgentDashboard`, or a test's recorder)
-what to show, through five methods::
+(:class:`~sarsp_edu.teaching.live.view.AgentDashboard`, or a test's recorder) what to show, through five methods::
 
     view.show_side(name)                # a side's run changed: its grid, its numbers, its decision
     view.show_metrics(throttle)         # an episode may have ended: the metric curves
@@ -13,8 +11,7 @@ what to show, through five methods::
     view.say(html)                      # the status line
     view.preview()                      # no run: the world the settings imply
 
-Every call into the view is made under :attr:`LiveRun.lock`, so a view need
-not lock anything itself.
+Every call into the view is made under :attr:`LiveRun.lock`, so a view need not lock anything itself.
 """
 
 from __future__ import annotations
@@ -42,7 +39,13 @@ class QuietView:
         """Nothing: an episode may have ended."""
 
     def show_waiting(self, name, why: str) -> None:
-        """Nothing: a side waits."""
+        """Nothing: the side ``name`` waits, ``why`` says for what (in words).
+
+        Parameters
+        ----------
+        name : str
+        why : str
+        """
 
     def say(self, text: str) -> None:
         """Nothing: the status line."""
@@ -57,20 +60,15 @@ class LiveRun:
     Parameters
     ----------
     sides : dict
-        Name -> (title, the settings that side changes), as
-        :class:`~sarsp_edu.teaching.live.view.AgentDashboard` takes them.
+        Name -> (title, changed settings), as :class:`~sarsp_edu.teaching.live.view.AgentDashboard` takes them.
     config : callable
-        Returns the settings (``ExperimentConfig``) the next run starts from
-        (the sliders' values).
+        Returns the settings (``ExperimentConfig``) the next run starts from (the sliders' values).
     parts : dict, optional
-        Side name -> :class:`~sarsp_edu.agent.parts.DecisionParts` its agent
-        decides with.
+        Side name -> :class:`~sarsp_edu.agent.parts.DecisionParts` its agent decides with.
     offline : dict, optional
-        Seed -> the offline world and its clean data, shared with the view's
-        preview (computed once per seed).
+        Seed -> the offline world and its clean data, shared with the view's preview (computed once per seed).
     view : optional
-        What shows the run (see the module's docstring); default
-        :class:`QuietView`.
+        What shows the run (see the module's docstring); default :class:`QuietView`.
     steps_per_second : float, default 30
         Animation speed per side; the view may change it at any time.
     """
@@ -200,7 +198,15 @@ class LiveRun:
                 self.view.show_metrics(throttle=True)
 
     def run_steps(self, n: int, draw: bool = True) -> None:
-        """``n`` paired steps, synchronously (refused while the agents are animated)."""
+        """``n`` paired steps, synchronously (refused while the agents are animated).
+
+        Parameters
+        ----------
+        n : int
+            Paired steps at most (fewer once every side has finished).
+        draw : bool, default True
+            Show each step, as :meth:`step_pair` does.
+        """
         self._refuse_while_animating("run_steps")
         for _ in range(n):
             if self.finished:
@@ -235,8 +241,7 @@ class LiveRun:
         Parameters
         ----------
         episodes : int, optional
-            Fast-forward this many episodes, episode by episode; None:
-            animate step by step until stopped or finished.
+            Fast-forward this many episodes, episode by episode; None: animate step by step until stopped or finished.
         on_end : callable, optional
             Called without arguments when the thread ends, however it ends.
         """
@@ -405,8 +410,7 @@ class LiveRun:
         if steps > self.frames:
             self.frames = steps
             if steps % 10 == 0 and self.running:  # not over "Stopped" when Stop came mid-step
-                self.view.say(f"Running: {steps} steps shown, {self.displayed_steps_per_second:.1f} steps per "
-                              "second.")
+                self.view.say(f"Running: {steps} steps shown, {self.displayed_steps_per_second:.1f} steps per second.")
         self.view.show_metrics(throttle=True)
 
     def _show_waits(self, generation, sides) -> None:

@@ -220,9 +220,23 @@ def _check_factor(name: str, model, data, L, jitter: float) -> None:
 def load(config, prepared, directory=None):
     """The :class:`~sarsp_edu.experiments.experiment.Experiment` of ``config`` rebuilt from a stored fit, or None.
 
-    ``prepared`` is the world and data of ``config`` (:func:`~sarsp_edu.world.preparation.prepare`);
-    ``directory``, a folder in the cache's place (the live dashboard's fits in other processes
-    hand their fits over through one where the cache is off).
+    An entry that cannot be read, was edited, or is not the fit of these settings on this machine and package
+    is removed, and None returned: the caller fits again.
+
+    Parameters
+    ----------
+    config : ExperimentConfig
+        The settings whose fit is looked up.
+    prepared : Prepared
+        The world and data of ``config`` (:func:`~sarsp_edu.world.preparation.prepare`).
+    directory : str or Path, optional
+        A folder in the cache's place (the live dashboard's fits in other processes hand their fits over through
+        one where the cache is off).  None: the cache's folder (:func:`cache_directory`); None when it is off.
+
+    Returns
+    -------
+    Experiment or None
+        With ``loaded_from_cache`` True.
     """
     from ...experiments.experiment import Experiment
 
@@ -258,7 +272,27 @@ def load(config, prepared, directory=None):
 
 def store(experiment, directory=None) -> Path | None:
     """Keep a just-fitted ``experiment`` (before its first step) for its settings; the entry's path
-    (None if it could not be written).  ``directory``: a folder in the cache's place, as for :func:`load`."""
+    (None if it could not be written).
+
+    The folder keeps at most ``CACHE_BYTES``: the least recently used entries beyond that are removed.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        Fitted, and not stepped yet.
+    directory : str or Path, optional
+        A folder in the cache's place, as for :func:`load`.  None: the cache's folder.
+
+    Returns
+    -------
+    Path or None
+        None if the cache is off or the entry could not be written (warned once).
+
+    Raises
+    ------
+    ValueError
+        If ``experiment`` has taken a step.
+    """
     if _steps_taken(experiment):
         raise ValueError(f"only a just-fitted experiment is stored, this one has taken {_steps_taken(experiment)} "
                          "steps")

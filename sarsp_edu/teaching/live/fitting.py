@@ -70,20 +70,30 @@ class FitWorker:
         return self.process.poll() is None
 
     def submit(self, config, folder) -> None:
-        """Fit ``config``'s models and store them in ``folder`` (a fit cache's folder)."""
+        """Fit ``config``'s models and store them in ``folder`` (a fit cache's folder); returns at once.
+
+        Parameters
+        ----------
+        config : ExperimentConfig
+            The side's settings (pickled to the process, which prepares their world and data itself).
+        folder : str or Path
+            Where the process stores the fit (:func:`~sarsp_edu.teaching.live.fitcache.store`'s ``directory``).
+        """
         self.steps, self.started_at = (0, 0), None
         job = pickle.dumps((config, str(folder)))
         self.process.stdin.write(len(job).to_bytes(8, "big") + job)
         self.process.stdin.flush()
 
     def answer(self, timeout: float):
-        """``("done", path)`` or ``("error", message)`` once the fit has ended, else None after ``timeout`` s."""
+        """``("done", "<fit seconds> <path>")`` or ``("error", message)`` once the fit has ended, else None after
+        ``timeout`` s."""
         try:
             return self._answers.get(timeout=timeout)
         except queue.Empty:
             return None
 
     def terminate(self) -> None:
+        """Kill the process (if it still runs), wait for it and close its pipes."""
         if self.alive:
             self.process.kill()
         self.process.wait()
@@ -106,7 +116,17 @@ def take_worker() -> FitWorker:
 
 def give_back(worker: FitWorker, finished: bool) -> None:
     """Keep a worker whose fit ``finished`` for the next fits; terminate one whose fit was abandoned (and start a
-    fresh one in its place, so that the next fit does not wait for imports)."""
+    fresh one in its place, so that the next fit does not wait for imports).
+
+    At most ``IDLE_WORKERS`` are kept; a worker beyond them, or one whose process has ended, is terminated.
+
+    Parameters
+    ----------
+    worker : FitWorker
+        Its fit ended or was abandoned; the caller no longer uses it.
+    finished : bool
+        True: its fit ended (an answer came); False: abandoned, so the worker may still be fitting.
+    """
     if not finished:
         worker.terminate()
         worker = FitWorker()

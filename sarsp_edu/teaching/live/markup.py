@@ -26,6 +26,21 @@ def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, t
     every agent step.  ``font_size`` is the title's, in px (18 on a projector).  The SVG
     carries a description for a screen reader (``role="img"`` and ``aria-label``), and its
     marks are shapes, none a character that a font may lack.
+
+    Parameters
+    ----------
+    layout : GridLayout
+        The world to draw (``env.layout()``); its start, goal and agent are drawn where not None.
+    trajectory : sequence of (x, y), optional
+        Cells of the path to draw as a line (drawn from two cells on).
+    unsafe_pairs : iterable of ((x, y), action)
+        The learned ``S_u``: a red tick from each cell towards the action's neighbour.
+    cell : int, default 28
+        A cell's side, in px.
+    title : str, default ""
+        Written above the grid; empty: no title and no room for one.
+    font_size : int, default 13
+        The title's size, in px.
     """
     n = layout.size
     size = n * cell
@@ -99,7 +114,24 @@ def _describe(layout, title: str, trajectory, unsafe_pairs) -> str:
 
 
 def decision_table_html(decision, d: float, variance_threshold: float, font_size: int = 12) -> str:
-    """Algorithm 1's view of one decision: per-action predictions, S_u, safe set, the choice (text in px)."""
+    """Algorithm 1's view of one decision: per-action predictions, S_u, safe set, the choice (text in px).
+
+    Parameters
+    ----------
+    decision : Decision or None
+        The decision to show; None: "no decision yet".
+    d : float
+        Safety distance, shown in the safety rule under the table.
+    variance_threshold : float
+        sigma*^2, shown in the same rule.
+    font_size : int, default 12
+        Text size of the table and the rule, in px.
+
+    Returns
+    -------
+    str
+        An HTML fragment.
+    """
     if decision is None:
         return "<i>no decision yet</i>"
     rows = []

@@ -84,17 +84,13 @@ class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
         Projector size (see :func:`sarsp_edu.teaching.dashboards.projector.projector`); default
         :func:`~sarsp_edu.teaching.dashboards.projector.projector_default`.
     autoplay : bool, default False
-        Start the agents when the dashboard is first shown, in a thread of
-        their own (``play_in_background``): they then move while the notebook
-        runs its later cells, where a click on *Run* waits for the kernel to
-        finish them.  ``SARSP_EDU_AUTOPLAY=0`` in the environment keeps it off
-        (batch runs of the notebooks, where nobody watches).
+        Start the agents when the dashboard is first shown, in a thread of their own (``play_in_background``): they then
+        move while the notebook runs its later cells, where a click on *Run* waits for the kernel to finish them.
+        ``SARSP_EDU_AUTOPLAY=0`` in the environment keeps it off (batch runs of the notebooks, where nobody watches).
     parts : dict, optional
-        Side name -> the functions its agent decides with
-        (:class:`~sarsp_edu.agent.parts.DecisionParts`, or a mapping of some of
-        them): Tutorial 7's "your agent" beside the package's, on the same
-        world.  The fits do not use them, so each side is fitted (or loaded)
-        as any other and given its parts before its first step.
+        Side name -> the functions its agent decides with (:class:`~sarsp_edu.agent.parts.DecisionParts`, or a mapping
+        of some of them): Tutorial 7's "your agent" beside the package's, on the same world.  The fits do not use them,
+        so each side is fitted (or loaded) as any other and given its parts before its first step.
     """
 
     def __init__(self, nu=NU, magnitude=DataSettings.outlier_magnitude, proportion=DataSettings.outlier_proportion,
@@ -292,7 +288,15 @@ class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
         self.run.step_pair(draw=draw)
 
     def run_steps(self, n: int, draw: bool = True) -> None:
-        """``n`` paired steps, synchronously (:meth:`LiveRun.run_steps`)."""
+        """``n`` paired steps, synchronously (:meth:`LiveRun.run_steps`).
+
+        Parameters
+        ----------
+        n : int
+            Paired steps at most.
+        draw : bool, default True
+            Show each step.
+        """
         self.run.run_steps(n, draw=draw)
 
     def fast_forward(self, episodes: int = 10) -> None:
@@ -347,7 +351,14 @@ class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
         self.status.value = text
 
     def show_waiting(self, name, why: str) -> None:
-        """The side's header line says why it waits (one line, cut short rather than wrapped: nothing moves)."""
+        """The side's header line says why it waits (one line, cut short rather than wrapped: nothing moves).
+
+        Parameters
+        ----------
+        name : str
+        why : str
+            Plain text (escaped here).
+        """
         self.headers[name].value = self._header(name, f"<span style='color:#a04c00'>{html.escape(why)}</span>")
 
     # -- projector size ---------------------------------------------------------
