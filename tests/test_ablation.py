@@ -20,7 +20,7 @@ def test_ablation_runs_each_setting_and_resumes(tmp_path):
     for column in ("task_success_rate", "mean_steps", "total_cost", "cost_rate", "backup_share"):
         assert column in table and f"{column} 95% CI" in table
     runs = results.runs()
-    assert (runs["stuck_failures"] <= runs["failures"]).all()
+    assert (runs["trapped_failures"] <= runs["failures"]).all()
     payload = json.loads((tmp_path / "ablation.json").read_text())
     assert payload["commands"] == ["sarsp-edu ablation ..."] and payload["seeds"] == [0, 1]
     loaded = AblationResults.load(tmp_path)

@@ -641,7 +641,7 @@ def test_the_ablation_dashboard_shows_the_setting_its_toggles_name(ablation):
     assert "per step, k=100, 500-row fits" in dashboard.info.value
     runs = ablation.runs()
     gp = runs[(runs.setting == PRIOR_AND_FITS[("per step", "500 rows")]) & (runs.model == "GP")]
-    assert f"GP {gp.stuck_failures.sum()} of {gp.failures.sum()}" in dashboard.info.value
+    assert f"GP {gp.trapped_failures.sum()} of {gp.failures.sum()}" in dashboard.info.value
     before = [image.value for image in dashboard.images]
     dashboard.controls["prior"].value = "per action"
     assert dashboard.message.value == ""

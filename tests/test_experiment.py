@@ -83,13 +83,13 @@ def test_an_undefined_cost_rate_is_not_a_perfect_one():
     # issue 12, item 5: violations but no clean success: eq. 12 divides by zero
     from sarsp_edu.experiments.metrics import cost_rate_undefined, displayed_summary
 
-    stuck = {**S(-200, 0.0, 40), "total_cost": 13.0}
+    trapped = {**S(-200, 0.0, 40), "total_cost": 13.0}
     safe = {**S(-100, 0.0, 40), "total_cost": 0.0}
     fine = {**S(-100, 0.02, 90), "total_cost": 5.0}
-    assert cost_rate_undefined(stuck) and not cost_rate_undefined(safe) and not cost_rate_undefined(fine)
-    assert prefers(fine, stuck) is None and prefers(stuck, fine) is None  # Definition 4 cannot decide
+    assert cost_rate_undefined(trapped) and not cost_rate_undefined(safe) and not cost_rate_undefined(fine)
+    assert prefers(fine, trapped) is None and prefers(trapped, fine) is None  # Definition 4 cannot decide
     assert prefers(safe, fine) is True and prefers(fine, safe) is False  # 0 violations: a true 0 wins
-    assert np.isnan(displayed_summary(stuck)["cost_rate"]) and stuck["cost_rate"] == 0.0  # stored value kept
+    assert np.isnan(displayed_summary(trapped)["cost_rate"]) and trapped["cost_rate"] == 0.0  # stored value kept
 
 
 def test_comparison_table_shows_an_undefined_cost_rate_as_such(tiny_comparison):
@@ -389,13 +389,13 @@ def test_configs_stored_by_version_0_1_keep_their_settings():
     assert ExperimentConfig.from_dict(legacy).retrain == "never"
 
 
-def test_stuck_share_by_hand_and_for_results_stored_before_it_existed():
-    from sarsp_edu.experiments.metrics import stuck_share
+def test_trapped_share_by_hand_and_for_results_stored_before_it_existed():
+    from sarsp_edu.experiments.metrics import trapped_share
 
     records = pd.DataFrame({"task_completed": [True, False, False, False], "final_cells": [7, 1, 2, 9]})
-    assert stuck_share(records) == pytest.approx(2 / 3)  # of three failures, two ended on <= 2 cells
-    assert np.isnan(stuck_share(records.assign(task_completed=True)))  # no failure
-    assert np.isnan(stuck_share(records.drop(columns="final_cells")))  # stored by 0.1
+    assert trapped_share(records) == pytest.approx(2 / 3)  # of three failures, two ended on <= 2 cells
+    assert np.isnan(trapped_share(records.assign(task_completed=True)))  # no failure
+    assert np.isnan(trapped_share(records.drop(columns="final_cells")))  # stored by 0.1
     from sarsp_edu.experiments.metrics import trapped_episodes
 
     assert trapped_episodes(records).tolist() == [False, True, True, False]  # a success on 7 cells is no trap

@@ -188,7 +188,7 @@ class AblationResults:
                         "total_cost": summary["total_cost"], "cost_rate": summary["cost_rate"],
                         "backup_share": 100.0 * backup_share(records),
                         "failures": int(failed.sum()),
-                        "stuck_failures": int(trapped_episodes(records).sum()),
+                        "trapped_failures": int(trapped_episodes(records).sum()),
                         "retrains": int(records["retrains"].iloc[-1]),
                     })
         return pd.DataFrame(rows)
@@ -208,7 +208,7 @@ class AblationResults:
                 low, high = _t_interval(group[metric])
                 row[metric] = group[metric].mean()
                 row[f"{metric} 95% CI"] = f"[{low:.3g}, {high:.3g}]"
-            row["trapped failures"] = f"{group['stuck_failures'].sum()} of {group['failures'].sum()}"
+            row["trapped failures"] = f"{group['trapped_failures'].sum()} of {group['failures'].sum()}"
             row["retrains"] = group["retrains"].mean()
             out.append(row)
         return pd.DataFrame(out).set_index(["setting", "model"])

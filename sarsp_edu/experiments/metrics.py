@@ -27,7 +27,7 @@ __all__ = [
     "displayed_summary",
     "check_a",
     "backup_share",
-    "stuck_share",
+    "trapped_share",
     "TRAPPED_CELLS",
     "trapped_episodes",
     "cost_rate_undefined",
@@ -200,7 +200,7 @@ def trapped_episodes(records: pd.DataFrame) -> pd.Series:
     return failed & (records["final_cells"] <= TRAPPED_CELLS)
 
 
-def stuck_share(records: pd.DataFrame) -> float:
+def trapped_share(records: pd.DataFrame) -> float:
     """Share of failed episodes (goal not reached) that ended trapped (:func:`trapped_episodes`).
 
     NaN when no episode failed, or for results stored before version 0.2.0,

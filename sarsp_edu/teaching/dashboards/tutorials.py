@@ -338,7 +338,7 @@ def ablation_dashboard(results, prior: str = "per step", fits: str = "500 rows")
                                       description="hyperparameters fitted on", style={"description_width": "initial"}),
     }
     shown = runs[runs["setting"].isin(PRIOR_AND_FITS.values())]
-    limits = {"task_success_rate": (0, 100), "stuck_share": (0, 100),
+    limits = {"task_success_rate": (0, 100), "trapped_share": (0, 100),
               "total_cost": (0, 1.1 * max(float(shown["total_cost"].max()) if len(shown) else 1.0, 1.0))}
 
     def compute(prior, fits):
@@ -350,9 +350,9 @@ def ablation_dashboard(results, prior: str = "per step", fits: str = "500 rows")
         count = part.groupby("model").size().to_dict()
         info = (f"<b>{html.escape(name)}</b>: {count.get('TP', 0)} TP and {count.get('GP', 0)} GP runs "
                 f"(configurations x seeds, {int(part.episodes.max())} episodes each); "
-                f"trapped failures TP {int(part[part.model == 'TP'].stuck_failures.sum())} of "
+                f"trapped failures TP {int(part[part.model == 'TP'].trapped_failures.sum())} of "
                 f"{int(part[part.model == 'TP'].failures.sum())}, "
-                f"GP {int(part[part.model == 'GP'].stuck_failures.sum())} "
+                f"GP {int(part[part.model == 'GP'].trapped_failures.sum())} "
                 f"of {int(part[part.model == 'GP'].failures.sum())}.")
         return part, info
 
@@ -370,7 +370,7 @@ def ablation_dashboard(results, prior: str = "per step", fits: str = "500 rows")
             ax, part, "total_cost", title="violations", ylim=limits["total_cost"]), 3.6,
             alt=describe("The total cost (violations)")),
         Panel(lambda ax, part, **_: plotting.plot_ablation_runs(
-            ax, part, "stuck_share", title="trapped", ylim=limits["stuck_share"]), 3.6,
+            ax, part, "trapped_share", title="trapped", ylim=limits["trapped_share"]), 3.6,
             alt=describe("The share of failures that ended trapped (%)")),
     ]
     return Dashboard(controls, compute, panels, height=3.4)

@@ -224,7 +224,7 @@ def plot_macro(ax, frame, *, metric: str, title: str | None = None):
 ABLATION_LABELS = {
     "task_success_rate": "task success rate TSR (%)",
     "total_cost": "total cost (violations)",
-    "stuck_share": "failures that ended trapped (%)",
+    "trapped_share": "failures that ended trapped (%)",
     "backup_share": "decisions by the backup rule (%)",
 }
 
@@ -237,9 +237,9 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
     ax : matplotlib Axes
     runs : pandas.DataFrame
         ``AblationResults.runs()`` rows of one setting (``model``, the metric;
-        for ``"stuck_share"``, ``failures`` and ``stuck_failures``).
+        for ``"trapped_share"``, ``failures`` and ``trapped_failures``).
     metric : str
-        A column of ``runs``, or ``"stuck_share"``: trapped failures over
+        A column of ``runs``, or ``"trapped_share"``: trapped failures over
         failures, pooled over the runs.
     ylim : (float, float), optional
         Fixed limits, so that moving between settings compares like with like.
@@ -252,11 +252,11 @@ def plot_ablation_runs(ax, runs, metric: str, *, title: str | None = None, ylim=
         part = runs[runs["model"] == model]
         if not len(part):
             continue
-        if metric == "stuck_share":
+        if metric == "trapped_share":
             failures = part["failures"].to_numpy(dtype=float)
-            values = np.divide(100.0 * part["stuck_failures"].to_numpy(dtype=float), failures,
+            values = np.divide(100.0 * part["trapped_failures"].to_numpy(dtype=float), failures,
                                out=np.full(len(part), np.nan), where=failures > 0)
-            mean = 100.0 * part["stuck_failures"].sum() / max(part["failures"].sum(), 1)
+            mean = 100.0 * part["trapped_failures"].sum() / max(part["failures"].sum(), 1)
         else:
             values = part[metric].to_numpy(dtype=float)
             mean = float(np.nanmean(values))
