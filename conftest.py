@@ -16,17 +16,46 @@ os.environ["SARSP_EDU_AUTOPLAY"] = "0"
 os.environ["SARSP_EDU_CACHE"] = "off"
 
 
+import pytest  # noqa: E402
+
+try:  # the notebook plugin: installed with the test extra; the units run without it
+    from nbval.plugin import IPyNbFile
+except ImportError:  # pragma: no cover
+    IPyNbFile = None
+
+ROOT = Path(__file__).parent
+
+#: test modules of the slow tier: whole runs and sweeps, worker processes, servers and browsers
+SLOW_MODULES = {
+    "test_ablation", "test_accessibility", "test_binder", "test_browser", "test_browser_live", "test_capstone",
+    "test_cli", "test_cli_fuzz", "test_course", "test_dashboards", "test_experiment", "test_exercises",
+    "test_fitcache", "test_hostile_inputs", "test_layers", "test_live_fitting", "test_live_run",
+    "test_notebook_threads", "test_outputs", "test_pages", "test_prose", "test_stored_results", "test_sweep",
+}
+
+
+def pytest_configure(config):
+    """nbval on, on the tutorials, with the package's settings: unless nbval is missing or switched off."""
+    option = config.option
+    if IPyNbFile is None or not hasattr(option, "nbval") or option.nbval_lax:
+        return
+    option.nbval = True
+    option.nbval_current_env = True
+    if option.nbval_sanitize_with is None:
+        option.nbval_sanitize_with = str(ROOT / "tutorials" / "nbval_sanitize.cfg")
+
+
 # nbval runs the source notebooks with one BLAS thread and the students' copies with BLAS's
 # default; both are compared with the same stored digits (tests/blas_threads.py says why).
-import pytest  # noqa: E402
-from nbval.plugin import IPyNbFile  # noqa: E402
-
 from tests import binder_build  # noqa: E402
 from tests.blas_threads import limit_kernel, runs_with_one_blas_thread  # noqa: E402
 
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_setup(item):
+    if IPyNbFile is None:
+        yield
+        return
     if isinstance(item.parent, IPyNbFile) and getattr(item.config, "_binder_test_last", False):
         binder_build.start()  # once: in a thread, while nbval runs the tutorials
     yield  # the notebook's kernel is started by the first cell's setup
@@ -41,6 +70,22 @@ def pytest_runtest_setup(item):
 # The Binder test's environment is built in a thread while nbval runs the tutorials, and the test
 # that uses it runs last (tests/binder_build.py says why).
 BINDER_TEST = "test_binder_environment_imports_every_tutorial_and_runs_the_first"
+
+
+def pytest_itemcollected(item):
+    """The tiers (before -m selects): notebooks, browsers and Binder are slow, so are the modules of SLOW_MODULES."""
+    path = Path(str(item.fspath))
+    kinds = []
+    if path.suffix == ".ipynb":
+        kinds = ["notebook", "slow"]
+    elif path.stem in ("test_browser", "test_browser_live"):
+        kinds = ["browser", "slow"]
+    elif path.stem == "test_binder":
+        kinds = ["binder", "slow"]
+    elif path.stem in SLOW_MODULES:
+        kinds = ["slow"]
+    for kind in kinds:
+        item.add_marker(kind)
 
 
 @pytest.hookimpl(trylast=True)  # after -k and -m have deselected

@@ -1,4 +1,4 @@
-"""The authors' own runs: loaded into the package's columns, equal to the paper's tables, set beside ours (issue 26)."""
+"""The authors' own runs: loaded into the package's columns, equal to the paper's tables, set beside ours."""
 
 from __future__ import annotations
 

@@ -288,7 +288,7 @@ def test_gp_vs_tp_tutorial_runs_in_jupyterlab(tmp_path, browser, shots):
 
 
 # --------------------------------------------------------------------------
-# Without a kernel: a static HTML export, opened with the network off (issue 25, section 3)
+# Without a kernel: a static HTML export, opened with the network off
 # --------------------------------------------------------------------------
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 DASHBOARD_NOTEBOOKS = [p for p in sorted((ROOT / "tutorials").glob("*.ipynb"))
@@ -345,7 +345,7 @@ def test_a_static_export_shows_every_dashboards_picture_offline(notebook, tmp_pa
         context.close()
 
 
-# Sliders a lecturer can grab: wide tracks, nothing off screen (issue 30, item 4)
+# Sliders a lecturer can grab: wide tracks, nothing off screen
 TRACKS = """() => [...document.querySelectorAll('.widget-slider')].map(s => [
   s.querySelector('.widget-label').innerText, s.querySelector('.noUi-target').getBoundingClientRect().width])"""
 RIGHTMOST = """() => Math.max(...[...document.querySelectorAll(
@@ -354,7 +354,7 @@ RIGHTMOST = """() => Math.max(...[...document.querySelectorAll(
 
 
 # --------------------------------------------------------------------------
-# Dashboards made for a projector (issue 30): text sizes, fit, and what a slider move costs
+# Dashboards made for a projector: text sizes, fit, and what a slider move costs
 # --------------------------------------------------------------------------
 #: every dashboard in projector size (Voila's default), in a notebook of its own
 PROJECTED = {
@@ -572,7 +572,7 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
 
 
 # --------------------------------------------------------------------------
-# The live dashboard on a page of its own, served by Voila offline (issue 44, section 2)
+# The live dashboard on a page of its own, served by Voila offline
 # --------------------------------------------------------------------------
 #: requests to any host but this machine: aborted in these tests, as on a projector with no network
 OUTSIDE = re.compile(r"^https?://(?!(127\.0\.0\.1|localhost)[:/])")
@@ -685,7 +685,7 @@ def test_voila_shows_no_exercise_cells(tmp_path, browser, shots):
 
 
 # --------------------------------------------------------------------------
-# Readable in JupyterLab without a switch, with a button to go compact (issue 44, section 3)
+# Readable in JupyterLab without a switch, with a button to go compact
 # --------------------------------------------------------------------------
 def test_a_dashboard_in_jupyterlab_is_readable_without_a_switch_and_its_button_makes_it_compact(tmp_path, browser,
                                                                                                   shots):

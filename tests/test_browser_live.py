@@ -1,4 +1,4 @@
-"""Tutorial 4's live dashboard in JupyterLab, as a lecturer drives it (issue 44, section 1).
+"""Tutorial 4's live dashboard in JupyterLab, as a lecturer drives it.
 
 Cold (nothing fitted), back to settings fitted a moment ago after a slider
 was moved away, and new settings (nss = 10, the lecture plan's step): the

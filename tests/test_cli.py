@@ -147,7 +147,7 @@ def test_ablation_list_and_bad_setting(capsys):
 
 
 # --------------------------------------------------------------------------
-# output paths are checked before any work (issue 12, item 2)
+# output paths are checked before any work
 # --------------------------------------------------------------------------
 def _usage_error(argv, capsys) -> str:
     with pytest.raises(SystemExit) as exit_info:
@@ -209,7 +209,7 @@ def test_run_replaces_its_own_result_and_another_only_with_overwrite(tmp_path, c
 
 
 # --------------------------------------------------------------------------
-# Ctrl-C (issue 12, item 1)
+# Ctrl-C ends a run with one line and exit status 130
 # --------------------------------------------------------------------------
 @pytest.mark.parametrize("command", ["run", "compare"])
 def test_ctrl_c_in_a_run_is_one_line(tmp_path, capsys, monkeypatch, command):
@@ -290,7 +290,7 @@ def test_every_commands_help_reads_as_written(command, capsys):
 @pytest.mark.parametrize("argv", [["--help"], ["--version"], ["info"], ["run", "--help"], ["sweep", "--help"],
                                   ["ablation", "--help"]])
 def test_help_and_info_load_no_numerical_library(argv):
-    # --help must answer at once: no scipy, pandas or matplotlib behind it (issue 12, item 10)
+    # --help must answer at once: no scipy, pandas or matplotlib behind it
     code = (f"import sys\nfrom sarsp_edu.cli import main\ntry:\n    main({argv!r})\nexcept SystemExit:\n    pass\n"
             "heavy = sorted(m for m in ('scipy', 'pandas', 'matplotlib', 'sympy') if m in sys.modules)\n"
             "print('HEAVY', heavy)\n")

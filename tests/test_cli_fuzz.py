@@ -1,4 +1,4 @@
-"""Every subcommand fed bad values and damaged folders (issue 12): a clear one-line error, never a traceback."""
+"""Every subcommand fed bad values and damaged folders: a clear one-line error, never a traceback."""
 
 from __future__ import annotations
 

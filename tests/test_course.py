@@ -272,3 +272,17 @@ def test_a_course_grades_submissions_with_nbgrader_end_to_end(tmp_path):
     feedback = (course / "feedback" / "slip" / "tutorials" / f"{source.stem}.html").read_text(encoding="utf-8")
     assert "Exercise 1.1: not yet. On x = [0], nu = 3, it gives other values than the package" in feedback
     assert "Exercise 1.2: right" in feedback
+
+
+def test_the_course_command_names_the_extra_it_needs_on_a_plain_install(monkeypatch, capsys):
+    import importlib.util
+
+    from sarsp_edu.cli import main
+
+    plain = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "nbclient" else plain(name, *a))
+    with pytest.raises(SystemExit) as exit_:
+        main(["course", "student", "--root", str(ROOT)])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "needs nbclient" in err and "pip install 'sarsp_edu[course]'" in err

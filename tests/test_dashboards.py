@@ -530,7 +530,7 @@ def test_bad_panels_are_refused_with_the_parameter_named():
     ],
 )
 def test_dashboards_refuse_values_their_sliders_cannot_show(make, kwargs, message):
-    # issue 12, item 12: a slider silently clamped posterior_dashboard(proportion=0.8) to 0.5
+    # a slider silently clamped posterior_dashboard(proportion=0.8) to 0.5
     import sarsp_edu.teaching.dashboards.tutorials as widgets_module
 
     with pytest.raises(ValueError, match=message):
@@ -664,7 +664,7 @@ def test_the_ablation_dashboard_says_which_runs_are_missing(ablation):
         ablation_dashboard(ablation, prior="per episode")
 
 
-# -- the live dashboard's sliders act at once (issue 30, item 1) -------------------------------------------
+# -- the live dashboard's sliders act at once --------------------------------------------------------
 from sarsp_edu import ExperimentConfig  # noqa: E402
 from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard  # noqa: E402
 
@@ -714,7 +714,7 @@ def test_fast_forward_shows_its_progress_and_a_second_press_while_running_is_ans
     assert all(len(e.episodes) == 2 for e in live.experiments.values())
 
 
-# -- no silent freezes, a quick start, projector size (issue 30, items 2 and 3) ------------------------------
+# -- no silent freezes, a quick start, projector size -------------------------------------------------
 def test_the_runs_fitted_ahead_run_as_the_plain_paired_runs():
     from sarsp_edu.experiments.experiment import paired_experiments
 

@@ -80,7 +80,7 @@ def test_prefers_threshold_is_checked(a):
 
 
 def test_an_undefined_cost_rate_is_not_a_perfect_one():
-    # issue 12, item 5: violations but no clean success: eq. 12 divides by zero
+    # violations but no clean success: eq. 12 divides by zero
     from sarsp_edu.experiments.metrics import cost_rate_undefined, displayed_summary
 
     trapped = {**S(-200, 0.0, 40), "total_cost": 13.0}
@@ -402,7 +402,7 @@ def test_trapped_share_by_hand_and_for_results_stored_before_it_existed():
     assert not trapped_episodes(records.drop(columns="final_cells")).any()
 
 
-# -- both cores for one comparison (issue 28, section 1) ----------------------------------------------------
+# -- both cores for one comparison -----------------------------------------------------------------
 def test_a_comparison_in_two_processes_records_what_the_sequential_one_records_byte_for_byte(tmp_path):
     config = TINY.replace(episodes=3, n_switch_states=2)
     one, two = compare(config, n_jobs=1), compare(config, n_jobs=2)

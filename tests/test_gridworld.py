@@ -293,7 +293,7 @@ def test_unsafe_states_are_read_only():
 @pytest.mark.parametrize("placement", ["full", "reference"])
 @pytest.mark.parametrize("size", [3, 4, 5, 7, 10])
 def test_capacity_is_always_placed_and_shifted(size, placement):
-    # issue 12, item 4: the stated capacity must never fail to place, whatever the draw
+    # the stated capacity must never fail to place, whatever the draw
     if SafeGridWorld.capacity(size, placement) < 1:
         with pytest.raises(ValueError, match=r"size must be at least 4 with placement='reference'"):
             SafeGridWorld(size=size, placement=placement)
@@ -319,7 +319,7 @@ def test_the_papers_capacity_and_the_spacing_limit():
 
 
 def test_reset_seed_on_a_fresh_environment_reproduces_the_whole_world():
-    # issue 12, item 9: Gymnasium's convention; the layout was drawn unseeded in the constructor
+    # Gymnasium's convention; the layout was drawn unseeded in the constructor
     first, second = gym.make("sarsp_edu/SafeGridWorld-v0"), gym.make("sarsp_edu/SafeGridWorld-v0")
     obs_1, _ = first.reset(seed=3)
     obs_2, _ = second.reset(seed=3)
@@ -327,7 +327,7 @@ def test_reset_seed_on_a_fresh_environment_reproduces_the_whole_world():
     assert np.array_equal(obs_1, obs_2)
     # the same world as seeding the constructor, and later resets keep the layout
     seeded = SafeGridWorld(seed=3)
-    assert np.array_equal(seeded.reset(seed=3)[0], obs_1)  # the same seed, the same episode (issue 29)
+    assert np.array_equal(seeded.reset(seed=3)[0], obs_1)  # the same seed, the same episode
     assert np.array_equal(seeded.unsafe_states, first.unwrapped.unsafe_states)
     layout = first.unwrapped.unsafe_states
     first.reset(seed=4)
@@ -335,7 +335,7 @@ def test_reset_seed_on_a_fresh_environment_reproduces_the_whole_world():
     assert first.unwrapped.np_random_seed == 4 and seeded.np_random_seed == 3
 
 
-# -- Gymnasium's conventions (issue 29, section 2) -------------------------------------------------------
+# -- Gymnasium's conventions --------------------------------------------------------------------
 def test_a_seeded_reset_gives_the_same_start_and_goal_every_time_the_first_time_too():
     import gymnasium
 

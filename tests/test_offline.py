@@ -200,7 +200,7 @@ def test_the_index_of_injected_data_agrees_with_its_rows(clean):
 
 
 def test_an_overflowing_outlier_magnitude_is_refused():
-    # issue 12, item 8: magnitude=1e308 overflowed to inf
+    # magnitude=1e308 overflowed to inf
     from sarsp_edu import SafeGridWorld, collect_offline_data, inject_outliers
 
     data = collect_offline_data(SafeGridWorld(size=5, n_unsafe=3, seed=0), 3, rng=0)

@@ -526,7 +526,7 @@ def test_draw_rows_is_a_uniform_subset():
 
 
 # --------------------------------------------------------------------------
-# extreme data (issue 12, item 8)
+# extreme data: huge, tiny, constant, repeated
 # --------------------------------------------------------------------------
 def _wave(n=60):
     rng = np.random.default_rng(0)
@@ -579,7 +579,7 @@ def test_data_that_overflows_is_refused_by_name(scale, name):
 
 
 # --------------------------------------------------------------------------
-# scikit-learn's estimator API (issue 14, item 6)
+# scikit-learn's estimator API
 # --------------------------------------------------------------------------
 def test_sklearn_clone_round_trips_the_parameters():
     from sklearn.base import clone

@@ -1,5 +1,5 @@
 """Stored results that disagree with themselves are refused, no work is lost, extreme values are
-refused before any work, and every message gives the true reason (issue 24)."""
+refused before any work, and every message gives the true reason."""
 
 from __future__ import annotations
 
@@ -256,7 +256,7 @@ def test_undefined_cost_rates_are_left_out_of_the_levels_and_the_wilcoxon_test(s
 
 
 
-# -- the stored results are what the code computes (issue 28, section 5) ----------------------------------
+# -- the stored results are what the code computes -----------------------------------------------
 #: per-episode diagnostics of the models' predictions: sums of predicted values whose last digits depend on
 #: the BLAS kernels of the processor (a stored cell computed on another machine differs from 1e-14 to 5e-9);
 #: every other column, the agents' steps and everything counted from them, is the same to the last digit

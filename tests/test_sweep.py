@@ -324,7 +324,7 @@ def test_stored_files_honour_the_umask(tmp_path, umask):
 
 
 # --------------------------------------------------------------------------
-# corrupted or partial stored results (issue 12, item 3)
+# corrupted or partial stored results
 # --------------------------------------------------------------------------
 ONE = dict(magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2))
 

@@ -266,10 +266,20 @@ def _check_pages_out(parser, out, overwrite: bool) -> None:
     check_writable(parser, "--out", str(out), out)
 
 
+#: what ``sarsp-edu course`` needs beyond the package's own dependencies (the extra ``course``)
+COURSE_MODULES = ("nbformat", "nbclient", "nbconvert", "jinja2")
+
+
 def _course(args, parser) -> int:
+    import importlib.util
     from pathlib import Path
 
     from ..teaching.course import execute_sources, write_handout, write_pages, write_student_notebooks
+
+    missing = [name for name in COURSE_MODULES if importlib.util.find_spec(name) is None]
+    if missing:
+        parser.error(f"sarsp-edu course needs {', '.join(missing)}, which a plain install leaves out: "
+                     "pip install 'sarsp_edu[course]'")
 
     if args.action in ("sources", "student", "pages"):
         try:
