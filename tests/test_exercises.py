@@ -777,3 +777,37 @@ def test_the_answer_keys_of_the_agent_exercises_are_the_core_itself():
         assert CODING["3.2"].reference(np.array(position), env.layout().unsafe_states) == distance
         env.step(action)
         assert tuple(CODING["3.3"].reference(np.array(position), action, env.size)) == env.layout().agent
+
+
+# -- the answer keys themselves: cases that fit the signature, mistakes that are mistakes -------------------------
+def _signature_arguments(signature: str) -> list:
+    return [name.strip() for name in signature[signature.index("(") + 1: signature.index(")")].split(",")]
+
+
+@pytest.mark.parametrize("name", sorted(CODING))
+def test_every_case_gives_the_signatures_arguments_in_its_order(name):
+    """Grading passes a case's values by position (a student may rename the arguments): each case must list the
+    signature's arguments in its order, and the key must take them in that order."""
+    import inspect
+
+    exercise = CODING[name]
+    arguments = _signature_arguments(exercise.signature)
+    assert list(inspect.signature(exercise.reference).parameters)[:len(arguments)] == arguments
+    for seed in (0, 1, 2):
+        for case in exercise.cases(np.random.default_rng(seed)):
+            assert list(case) == arguments, (name, list(case))
+
+
+@pytest.mark.parametrize("name", sorted(CODING))
+def test_every_listed_mistake_applies_to_the_exercises_inputs_and_differs_from_the_key(name):
+    """A mistake that raises on the inputs, or gives the key's answer on every one, could never be diagnosed."""
+    from sarsp_edu.teaching.exercises.grading import same
+    from sarsp_edu.teaching.exercises.running import call_copies
+
+    exercise = CODING[name]
+    cases = [case for seed in (0, 1, 2) for case in exercise.cases(np.random.default_rng(seed))]
+    keys = [call_copies(exercise.reference, case)[0] for case in cases]
+    for mistake in exercise.mistakes:
+        answers = [call_copies(mistake.wrong, case)[0] for case in cases]  # raises if it does not apply
+        assert not all(same(answer, key) for answer, key in zip(answers, keys)), \
+            f"{name}: the mistake {mistake.diagnosis[:60]!r}... gives the key's answers"

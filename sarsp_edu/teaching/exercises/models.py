@@ -323,15 +323,13 @@ MODEL_EXERCISES = {
             Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_normal(
                 np.zeros(len(y)), K + noise_variance * np.eye(len(y))).logpdf(y)),
                 "That is the GP's (Gaussian) log marginal likelihood."),
-            Mistake(lambda K, y, noise_variance, nu: float(stats.multivariate_t(
-                np.zeros(len(y)), (nu - 2) / nu * K, df=nu).logpdf(y)),
-                "The noise sigma^2 I belongs in the covariance: K_y = K + sigma^2 I."),
             Mistake(lambda K, y, noise_variance, nu: -_tp_lml(K, y, noise_variance, nu),
                     "The sign: that is minus the log marginal likelihood, the loss a fit minimises; the exercise "
                     "asks for log p(y)."),
         ),
         hint="Check it where you can by hand: with one target (n = 1), log p(y) is a univariate Student-t's "
              "log density.",
+        # leaving the noise out is said here: K alone is singular on most inputs, so that answer raises
         on_linalg_error="K alone can be numerically singular; the covariance is K_y = K + sigma^2 I.",
         explanation="It matches the package's StudentTProcess.log_marginal_likelihood, the quantity Adam climbs.",
     ),
