@@ -106,7 +106,9 @@ def test_it_discounts_the_outliers_that_pull_the_gp_and_the_tp():
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    (dict(nu=0.0), "nu"), (dict(scale=-1.0), "scale"), (dict(optimizer="adam"), "optimizer"),
+    (dict(nu=0.0), "nu"), (dict(scale=-1.0), "scale"), (dict(optimizer="sgd"), "optimizer"),
+    (dict(prior="flat"), "prior"),
+    (dict(max_iter=0), "max_iter"), (dict(learning_rate=0.0), "learning_rate"),
     (dict(max_newton=0), "max_newton"), (dict(kernel="rbf"), "kernel"),
 ])
 def test_bad_arguments_are_named_at_fit(kwargs, match):

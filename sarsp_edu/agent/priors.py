@@ -56,8 +56,10 @@ class PriorPredictor:
 
         Parameters
         ----------
-        model : GaussianProcess or StudentTProcess
-            Fitted: its kernel and noise are conditioned on, not refitted.
+        model : GaussianProcess, StudentTProcess or StudentTLikelihoodGP
+            Fitted: its kernel and noise are conditioned on, not refitted (the
+            Student-t likelihood's by its own Laplace approximation, from the
+            package's computation whatever the parts).
         buffer : ObservationBuffer
             The model's training set; ``prior_rows`` index it.
         prior_rows : list of ndarray of int
@@ -76,6 +78,9 @@ class PriorPredictor:
             The predictive's degrees of freedom (inf for the GP).
         """
         X, y = buffer.X, buffer.y
+        if not hasattr(model, "noise_variance_"):  # a Student-t likelihood: a Laplace approximation per prior
+            return model.predict_batch([X[r] for r in prior_rows], [y[r] for r in prior_rows], query_sets,
+                                       include_noise=True)
         if parts is not None and not parts.package_models:
             return predict_from_parts(parts, model, [X[r] for r in prior_rows], [y[r] for r in prior_rows],
                                       query_sets, include_noise=True)

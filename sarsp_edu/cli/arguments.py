@@ -250,8 +250,9 @@ def stored_settings_differ(result_json, config, same_model: bool = True) -> str:
         return f"{result_json} cannot be read"
     ours = (config if same_model else config.replace(model=stored.get("model", config.model))).to_dict()
     known = {f.name for f in dataclasses.fields(ExperimentConfig)}
-    fields_ = sorted(k for k in known if stored.get(k, ours[k]) != ours[k] or k not in stored)
-    return ", ".join(f"{k}: stored {stored.get(k, 'nothing')!r}, now {ours[k]!r}" for k in fields_)
+    missing = object()  # a setting one side leaves out (another model's alone: to_dict drops it)
+    fields_ = sorted(k for k in known if stored.get(k, missing) != ours.get(k, missing))
+    return ", ".join(f"{k}: stored {stored.get(k, 'nothing')!r}, now {ours.get(k, 'nothing')!r}" for k in fields_)
 
 
 def check_file(parser: argparse.ArgumentParser, flag: str, name, overwrite: bool | None = None) -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 from dataclasses import dataclass, fields
 
@@ -14,6 +13,7 @@ from .defaults import (
     GRID_SIZE,
     K_PRIOR,
     LEARNING_RATE,
+    LIKELIHOOD_NU,
     MODELS,
     N_MATCHING,
     N_SAMPLES,
@@ -49,9 +49,14 @@ class ExperimentConfig(_Settings):
     check (:data:`~sarsp_edu.config.settings.CHECKS`) runs as they are made.
     """
 
-    model: str = _field("model", "tp", "the regression model of both the cost and the reward model: 'tp' "
-                        "or 'gp'", choices=MODELS)
+    model: str = _field("model", "tp", "the regression model of both the cost and the reward model: 'tp', "
+                        "'gp' or 't-likelihood' (a GP with Student-t noise, by the Laplace approximation)",
+                        choices=MODELS)
     nu: float = _field("model", NU, "TP degrees of freedom, > 2 (paper: fixed at 3)")
+    likelihood_nu: float = _field("model", LIKELIHOOD_NU, "degrees of freedom of model='t-likelihood''s Student-t "
+                                  "noise, > 2: unlike nu (the TP's, a heavy-tailed process), a heavy-tailed "
+                                  "likelihood, whose mean discounts a point beyond sqrt(nu) noise scales",
+                                  only_for="t-likelihood")
     outlier_magnitude: float = _field("data", 40.0, "outlier magnitude m: outlier rows are "
                                       "multiplied by m (paper: 40, 60, 80)", flag="m")
     outlier_proportion: float = _field("data", 0.2, "outlier proportion p in [0, 1] (paper: "
@@ -189,7 +194,7 @@ class ExperimentConfig(_Settings):
         Examples
         --------
         >>> sorted(ExperimentConfig(model="gp").ignored_settings())
-        ['n_samples', 'noise_convention', 'nu']
+        ['likelihood_nu', 'n_samples', 'noise_convention', 'nu']
         """
         ignored = {}
         if self.predictive != "sample":
@@ -197,14 +202,17 @@ class ExperimentConfig(_Settings):
                                     "predictive='sample'")
         if self.optimizer != "adam":
             ignored["learning_rate"] = f"it is Adam's, and optimizer={self.optimizer!r}"
-        if self.model == "gp":
-            ignored["nu"] = "it is the TP's degrees of freedom, and model='gp'"
-            ignored["noise_convention"] = "it says how the TP scales its noise, and model='gp'"
+        if self.model != "tp":
+            ignored["nu"] = f"it is the TP's degrees of freedom, and model={self.model!r}"
+            ignored["noise_convention"] = f"it says how the TP scales its noise, and model={self.model!r}"
+        if self.model != "t-likelihood":
+            ignored["likelihood_nu"] = f"it is the Student-t noise's of model='t-likelihood', and model={self.model!r}"
         return ignored
 
     def to_dict(self) -> dict:
-        """Every setting by name, as a stored ``result.json`` holds them (``from_dict`` reads it back)."""
-        return dataclasses.asdict(self)
+        """Every setting by name, as a stored ``result.json`` holds them (``from_dict`` reads it back); a setting
+        of another model alone (``likelihood_nu`` of a TP run) is left out."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if _stored(f, self.model)}
 
     @classmethod
     def from_dict(cls, values: dict) -> "ExperimentConfig":
@@ -231,7 +239,8 @@ class ExperimentConfig(_Settings):
         unknown = sorted(set(values) - known)
         if unknown:
             raise ValueError(f"unknown ExperimentConfig fields {unknown}; valid fields are {sorted(known)}")
-        lacking = sorted(known - set(values))
+        model = values.get("model", ExperimentConfig.model)
+        lacking = sorted(f.name for f in fields(cls) if f.name not in values and _stored(f, model))
         if lacking and not legacy:  # a stored config holds every field: a gap means it was cut or edited
             raise ValueError(f"the config lacks the fields {lacking}, which every stored config holds")
         return cls(**values)
@@ -298,6 +307,11 @@ ModelSettings = derive_group(ExperimentConfig, "model", "ModelSettings", """The 
     Shah et al.'s (2014) own form, which the tutorials teach.""")
 AgentSettings = derive_group(ExperimentConfig, "agent", "AgentSettings", """Algorithm 1's settings: what
     :class:`~sarsp_edu.agent.sarsp.SARSPAgent` takes.""")
+
+
+def _stored(field, model: str) -> bool:
+    """Whether a stored config of ``model`` holds ``field`` (one that another model alone reads, it does not)."""
+    return field.metadata.get("only_for", model) == model
 
 
 def preset_of(config: "ExperimentConfig") -> str:

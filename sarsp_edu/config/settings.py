@@ -48,7 +48,12 @@ GROUPS = ("world", "data", "model", "agent")
 
 
 def _field(group, default, help: str, **metadata):
-    """A setting: its group (a name of :data:`GROUPS`, a tuple of them, or None), its default, its help text."""
+    """A setting: its group (a name of :data:`GROUPS`, a tuple of them, or None), its default, its help text.
+
+    ``only_for="t-likelihood"`` marks a setting that one model alone reads: a
+    stored config of another model leaves it out (so that results stored
+    before it existed are still the same bytes) and is read back without it.
+    """
     groups = () if group is None else (group,) if isinstance(group, str) else tuple(group)
     unknown = sorted(set(groups) - set(GROUPS))
     if unknown:
@@ -62,6 +67,16 @@ def _check_nu(nu):
         raise ValueError(f"nu must be a number above 2 and at most {LIMITS['nu'][0]:g} ({LIMITS['nu'][1]}), "
                          f"got nu={nu!r}")
     check_nu(nu)
+
+
+def _check_likelihood_nu(value):
+    """The Student-t noise's degrees of freedom: > 2 (the noise's variance, which a safe action's predictive
+    variance includes, is infinite below) and at most its limit."""
+    number = value if isinstance(value, numbers.Real) and not isinstance(value, bool) else float("nan")
+    if not (2 < number <= LIMITS["likelihood_nu"][0]):
+        raise ValueError(f"likelihood_nu must be a number above 2 (the noise's variance is infinite at or below "
+                         f"2) and at most {LIMITS['likelihood_nu'][0]:g} ({LIMITS['likelihood_nu'][1]}), got "
+                         f"likelihood_nu={value!r}")
 
 
 def _check_bool(name):
@@ -80,6 +95,7 @@ def _limited_int(name, low, allow_none=False):
 CHECKS = {
     "model": lambda value: check_choice("model", value, MODELS),
     "nu": _check_nu,
+    "likelihood_nu": _check_likelihood_nu,
     "noise_convention": lambda value: check_choice("noise_convention", value, NOISE_CONVENTIONS),
     "optimizer": lambda value: check_choice("optimizer", value, OPTIMIZERS),
     "learning_rate": lambda value: check_positive("learning_rate", value, *LIMITS["learning_rate"]),

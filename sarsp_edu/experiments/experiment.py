@@ -24,8 +24,7 @@ import pandas as pd
 from .._internal.threads import one_blas_thread
 from ..agent.sarsp import Decision, LearnOutcome, SARSPAgent
 from ..config import DEFINITION_4_A, ExperimentConfig, config_or_default
-from ..models.kernels import RBF
-from ..models.processes import GaussianProcess, StudentTProcess
+from ..models.processes.settings import make_model
 from ..world.preparation import Prepared, prepare
 from .metrics import RECORD_COLUMNS, check_a, running_metrics
 from .results import Comparison, ExperimentResult
@@ -40,22 +39,6 @@ __all__ = [
     "run_experiment",
     "compare",
 ]
-
-
-def make_model(config: ExperimentConfig):
-    """A fresh, unfitted model as the config's ``model_settings`` describe it (hyperparameters start at 1)."""
-    settings = config.model_settings
-    common = dict(
-        noise_variance=1.0,
-        optimizer=settings.optimizer,
-        learning_rate=settings.learning_rate,
-        max_iter=settings.optimizer_steps,
-        prior=settings.prior,
-        max_fit_points=None,  # the agent draws the fit subsets
-    )
-    if settings.model == "tp":
-        return StudentTProcess(RBF(1.0, 1.0), nu=settings.nu, noise_convention=settings.noise_convention, **common)
-    return GaussianProcess(RBF(1.0, 1.0), **common)
 
 
 #: positions at the end of an episode inspected for a trap (``final_cells``)

@@ -209,6 +209,31 @@ class GroupedRows:
         return beta, log_det
 
 
+def distinct_rows(X: np.ndarray) -> tuple:
+    """The distinct rows of ``X`` in order of first appearance: ``(first, group)``.
+
+    ``X[first]`` are the distinct rows and ``group[i]`` the index into them of
+    row ``i``; rows are equal when every entry is (``-0.0`` equals ``0.0``).
+
+    Parameters
+    ----------
+    X : ndarray of shape (n, d)
+
+    Examples
+    --------
+    >>> first, group = distinct_rows(np.array([[1.0, 2.0], [0.0, 0.0], [1.0, 2.0], [-0.0, 0.0]]))
+    >>> first.tolist(), group.tolist()
+    ([0, 1], [0, 1, 0, 1])
+    """
+    keyed = np.ascontiguousarray(X + 0.0)  # + 0.0 folds -0.0 into 0.0
+    keys = keyed.view(np.dtype((np.void, keyed.dtype.itemsize * keyed.shape[1]))).ravel()
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    order = np.argsort(first)  # groups in order of first appearance
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.shape[0])
+    return first[order], rank[inverse.reshape(-1)]
+
+
 def group_rows(X: np.ndarray, y: np.ndarray) -> GroupedRows:
     """Fold rows with equal inputs into (distinct input, count, mean target) and a residual sum.
 
@@ -233,16 +258,10 @@ def group_rows(X: np.ndarray, y: np.ndarray) -> GroupedRows:
         The targets.
     """
     n = X.shape[0]
-    keyed = np.ascontiguousarray(X + 0.0)  # + 0.0 folds -0.0 into 0.0
-    keys = keyed.view(np.dtype((np.void, keyed.dtype.itemsize * keyed.shape[1]))).ravel()
-    _, first, inverse, counts = np.unique(keys, return_index=True, return_inverse=True, return_counts=True)
+    first, group_of_row = distinct_rows(X)
     if first.shape[0] == n:
         return GroupedRows(X, np.ones(n), y, 0.0, n)
-    order = np.argsort(first)  # groups in order of first appearance
-    rank = np.empty_like(order)
-    rank[order] = np.arange(order.shape[0])
-    group_of_row = rank[inverse.reshape(-1)]
-    counts = counts[order].astype(float)
-    mean = np.bincount(group_of_row, weights=y, minlength=order.shape[0]) / counts
+    counts = np.bincount(group_of_row, minlength=first.shape[0]).astype(float)
+    mean = np.bincount(group_of_row, weights=y, minlength=first.shape[0]) / counts
     rss = float(np.sum((y - mean[group_of_row]) ** 2))
-    return GroupedRows(X[first[order]], counts, mean, rss, n)
+    return GroupedRows(X[first], counts, mean, rss, n)

@@ -30,38 +30,28 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import linalg as sla, optimize, special, stats
+from scipy import optimize, stats
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import validate_data
 
 from ..._internal.validation import check_choice, check_int, check_positive, check_X
+from ...config import ADAM_STEPS, LEARNING_RATE, PRIORS
 from ..kernels import RBF
-from ..linalg import cholesky_with_jitter
+from ..linalg import distinct_rows
+from ..optimizers import adam
+from .laplace import (
+    laplace_gradient,
+    laplace_mode,
+    laplace_predict,
+    laplace_predict_batch,
+    noise_variance,
+    student_t_log_likelihood,
+)
 
 __all__ = ["StudentTLikelihoodGP", "student_t_log_likelihood"]
 
-
-def student_t_log_likelihood(residual, nu: float, scale: float):
-    """``log p(y | f)`` of the Student-t noise, its first derivative in ``f`` and ``W`` (minus the second).
-
-    Returns three arrays shaped as ``residual = y - f``.
-
-    Parameters
-    ----------
-    residual : ndarray
-        ``y - f``.
-    nu : float
-        The noise's degrees of freedom (> 0).
-    scale : float
-        The noise's scale ``s`` (> 0).
-    """
-    r2 = residual * residual
-    nus2 = nu * scale * scale
-    value = (special.gammaln(0.5 * (nu + 1)) - special.gammaln(0.5 * nu) - 0.5 * math.log(math.pi * nus2)
-             - 0.5 * (nu + 1) * np.log1p(r2 / nus2))
-    gradient = (nu + 1) * residual / (nus2 + r2)
-    W = (nu + 1) * (nus2 - r2) / (nus2 + r2) ** 2
-    return value, gradient, W
+#: the log hyperparameters' box in a fit: amplitude, length scale and noise scale each within [1e-3, 1e3]
+_LOG_BOUNDS = np.log([[1e-3, 1e3]] * 3)
 
 
 class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
@@ -78,13 +68,29 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
     scale : float, default 0.5
         The noise's scale ``s`` (> 0); its variance is ``s^2 nu / (nu - 2)``
         for ``nu > 2``.
-    optimizer : {"lbfgs", None}, default "lbfgs"
+    optimizer : {"lbfgs", "adam", None}, default "lbfgs"
         Fit the amplitude, the length scale and ``scale`` by maximising the
-        Laplace approximation of the marginal likelihood (L-BFGS-B on their
-        logs, gradients by finite differences: meant for the hundreds of
-        points of a tutorial), or keep the given ones.
+        Laplace approximation of the marginal likelihood (plus the log priors
+        with ``prior="lognormal"``) over their logs, with its exact gradient
+        (:func:`~sarsp_edu.models.processes.laplace.laplace_gradient`):
+        L-BFGS-B to convergence, or ``max_iter`` Adam steps of
+        ``learning_rate`` from the given values (as the SARSP agent fits its
+        GP and TP); None keeps the given ones.
+    learning_rate : float, default 0.1
+        Adam's step size.
+    max_iter : int, optional
+        Adam's steps (default 50) or L-BFGS-B's iteration cap (default scipy's).
+    prior : {"lognormal", None}, default None
+        LogNormal(0, 1) priors on the amplitude, the length scale and ``scale``
+        (MAP), as the agent's GP and TP have.
     max_newton : int, default 100
         Newton steps allowed to find the posterior mode.
+
+    Notes
+    -----
+    Rows with equal inputs share one latent value and add their log
+    likelihoods (:mod:`~sarsp_edu.models.processes.laplace`): exact, and the
+    latent prior stays positive definite where rows repeat.
 
     Attributes
     ----------
@@ -100,69 +106,39 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         ``y - f_hat_``.
     n_newton_ : int
         Newton steps the last mode search took.
+    n_iter_ : int
+        Steps of the hyperparameter search; with ``optimizer=None``, the
+        Newton steps of the mode search, the fit's only iterations.
     """
 
     def __init__(self, kernel: RBF | None = None, *, nu: float = 3.0, scale: float = 0.5,
-                 optimizer: str | None = "lbfgs", max_newton: int = 100):
+                 optimizer: str | None = "lbfgs", learning_rate: float = LEARNING_RATE, max_iter: int | None = None,
+                 prior: str | None = None, max_newton: int = 100):
         self.kernel = kernel
         self.nu = nu
         self.scale = scale
         self.optimizer = optimizer
+        self.learning_rate = learning_rate
+        self.max_iter = max_iter
+        self.prior = prior
         self.max_newton = max_newton
 
     # -- the posterior mode and the approximation at it -------------------------------
-    def _laplace(self, kernel: RBF, scale: float, X, y):
-        """(f_hat, a, W, L, B's factor, log q(y)) for these hyperparameters (raises if no maximum is found)."""
-        n = len(y)
-        K = kernel(X)
-        L, _ = cholesky_with_jitter(K)
-        K = L @ L.T  # the matrix whose factor is L (the jitter included), so the two agree
-        f = np.zeros(n)
-        a = np.zeros(n)
-        psi = self._psi(a, f, y, scale)
-        log_lik, g, W = student_t_log_likelihood(y - f, self.nu, scale)
-        for step in range(1, self.max_newton + 1):
-            w = np.sqrt(np.maximum(W, 0.0))  # Newton with max(W, 0): an ascent direction every step
-            B = np.eye(n) + w[:, None] * K * w[None, :]
-            C = sla.cholesky(B, lower=True)
-            b = np.maximum(W, 0.0) * f + g
-            a_new = b - w * sla.cho_solve((C, True), w * (K @ b))
-            direction = a_new - a
-            t = 1.0
-            while True:  # halve the step until the log posterior rises (or the step is negligible)
-                a_try = a + t * direction
-                f_try = K @ a_try
-                psi_try = self._psi(a_try, f_try, y, scale)
-                if psi_try >= psi or t < 1e-10:
-                    break
-                t *= 0.5
-            rise = psi_try - psi
-            a, f, psi = a_try, f_try, psi_try
-            # at the mode the log posterior's gradient g - K^-1 f = g - a vanishes; a full Newton step that
-            # raises it by rounding only, or a step the line search cannot make rise, is there too
-            log_lik, g, W = student_t_log_likelihood(y - f, self.nu, scale)  # the next step's too
-            if (np.max(np.abs(g - a)) <= 1e-9 * (1.0 + np.max(np.abs(g)))
-                    or (t == 1.0 and rise <= 1e-13 * max(1.0, abs(psi))) or t < 1e-10):
-                break
-        else:
-            raise RuntimeError(f"{type(self).__name__}: the posterior mode was not found in max_newton="
-                               f"{self.max_newton} Newton steps; raise max_newton or scale")
-        B = np.eye(n) + L.T @ (W[:, None] * L)  # K^-1 + W = L^-T B L^-1
-        try:
-            C = sla.cholesky(B, lower=True)
-        except np.linalg.LinAlgError:
-            raise RuntimeError(f"{type(self).__name__}: the Laplace approximation has no maximum here (K^-1 + W "
-                               "is not positive definite at the mode); try a larger scale") from None
-        log_q = float(-0.5 * a @ f + log_lik.sum() - np.log(np.diag(C)).sum())
-        return f, a, W, L, C, log_q, step
+    def _laplace(self, kernel: RBF, scale: float, U, y, group, a0=None):
+        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at these
+        hyperparameters, on the distinct inputs ``U`` (raises if it has no maximum)."""
+        return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton)
 
-    def _psi(self, a, f, y, scale):
-        """The log posterior of f up to a constant: ``log p(y | f) - f^T K^-1 f / 2`` with ``f = K a``."""
-        return float(student_t_log_likelihood(y - f, self.nu, scale)[0].sum() - 0.5 * a @ f)
+    def _log_prior(self, theta):
+        """LogNormal(0, 1) log density of the three hyperparameters and its gradient in their logs (0 without
+        priors), as the GP's and TP's."""
+        if self.prior is None:
+            return 0.0, np.zeros(3)
+        return float(np.sum(-theta - 0.5 * theta * theta - 0.5 * math.log(2.0 * math.pi))), -1.0 - theta
 
     # -- scikit-learn's API ----------------------------------------------------------------
     def fit(self, X, y):
-        """Find the posterior mode (and, with ``optimizer="lbfgs"``, the hyperparameters first).
+        """Find the posterior mode (and, with an ``optimizer``, the hyperparameters first).
 
         Parameters
         ----------
@@ -177,31 +153,57 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             raise ValueError(f"kernel must be an RBF instance or None, got kernel={self.kernel!r}")
         check_positive("nu", self.nu)
         check_positive("scale", self.scale)
-        check_choice("optimizer", self.optimizer, ("lbfgs", None))
+        check_choice("optimizer", self.optimizer, ("lbfgs", "adam", None))
+        check_positive("learning_rate", self.learning_rate)
+        check_int("max_iter", self.max_iter, 1, allow_none=True)
+        check_choice("prior", self.prior, PRIORS)
         check_int("max_newton", self.max_newton, 1)
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64)
         X = check_X(X)
+        first, group = distinct_rows(X)  # repeated inputs share one latent value
+        U = X[first]
         kernel = RBF() if self.kernel is None else self.kernel
         scale = float(self.scale)
-        if self.optimizer == "lbfgs":
-            def negative(theta):
-                a, length, s = np.exp(theta)
-                try:
-                    return -self._laplace(RBF(a, length), s, X, y)[5]
-                except (RuntimeError, np.linalg.LinAlgError):
-                    return 1e25  # no maximum there: the search turns back
-
-            start = np.log([kernel.amplitude, kernel.length_scale, scale])
-            bounds = [(math.log(1e-3), math.log(1e3))] * 3
-            result = optimize.minimize(negative, start, method="L-BFGS-B", bounds=bounds)
-            amplitude, length, scale = np.exp(result.x)
+        last = None
+        if self.optimizer is not None:
+            theta, last = self._search(np.log([kernel.amplitude, kernel.length_scale, scale]), U, y, group)
+            amplitude, length, scale = np.exp(theta)
             kernel = RBF(amplitude, length)
-        self.kernel_, self.scale_ = kernel, scale
-        (self.f_hat_, self._a, self.W_, self._L, self._C, self.log_marginal_likelihood_value_,
-         self.n_newton_) = self._laplace(kernel, scale, X, y)
+        self.kernel_, self.scale_ = kernel, float(scale)
+        mode = self._laplace(kernel, self.scale_, U, y, group, a0=last)
+        self.f_hat_ = mode.f[group]
+        self.W_ = student_t_log_likelihood(y - self.f_hat_, self.nu, self.scale_)[2]  # per row
+        self.log_marginal_likelihood_value_, self.n_newton_ = mode.log_q, mode.steps
+        if self.optimizer is None:
+            self.n_iter_ = mode.steps
+        self._mode, self.X_distinct_ = mode, U
         self.X_train_ = X
         self.residual_ = y - self.f_hat_
         return self
+
+    def _search(self, theta0, U, y, group):
+        """The log hyperparameters that maximise the approximate log marginal likelihood (plus the log priors),
+        and the last mode found (where the final one's search starts)."""
+        start = {"a": None}  # the last mode, where the next evaluation's Newton search starts
+
+        def negative(theta):
+            try:
+                value, gradient, mode = laplace_gradient(RBF(*np.exp(theta[:2])), U, y, group, self.nu,
+                                                         math.exp(theta[2]), a0=start["a"], max_newton=self.max_newton)
+            except (RuntimeError, np.linalg.LinAlgError):
+                return 1e25, np.zeros(3)  # no maximum there: the search turns back
+            start["a"] = mode.a
+            prior, prior_gradient = self._log_prior(theta)
+            return -(value + prior), -(gradient + prior_gradient)
+
+        if self.optimizer == "lbfgs":
+            result = optimize.minimize(negative, theta0, jac=True, method="L-BFGS-B", bounds=_LOG_BOUNDS,
+                                       options={} if self.max_iter is None else {"maxiter": self.max_iter})
+            theta, self.n_iter_ = result.x, int(result.nit)
+        else:
+            steps = ADAM_STEPS if self.max_iter is None else self.max_iter
+            theta, _, self.n_iter_ = adam(negative, theta0, _LOG_BOUNDS, self.learning_rate, steps)
+        return theta, start["a"]
 
     def _check_fitted(self):
         if not hasattr(self, "f_hat_"):
@@ -231,22 +233,37 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         """
         self._check_fitted()
         X = check_X(validate_data(self, X, reset=False, dtype=np.float64))
-        K_star = self.kernel_(X, self.X_train_)  # (m, n)
-        mean = K_star @ self._a  # k*^T K^-1 f_hat, as K^-1 f_hat = a (R&W eq. 3.21)
+        mean, var = laplace_predict(self._mode, self.kernel_(X, self.X_distinct_), self.kernel_.diag(X))
         if not (return_std or return_var):
             return mean
-        v = sla.solve_triangular(self._L, K_star.T, lower=True)  # L^-1 k*
-        u = sla.solve_triangular(self._C, v, lower=True)  # C^-1 L^-1 k*, so u^T u = v^T B^-1 v
-        # V[f*] = k** - k*^T K^-1 k* + k*^T K^-1 (K^-1 + W)^-1 K^-1 k* = k** - v^T v + v^T B^-1 v
-        var = np.maximum(self.kernel_.diag(X) - np.einsum("ij,ij->j", v, v) + np.einsum("ij,ij->j", u, u), 0.0)
         if include_noise:
-            if self.nu <= 2:
-                raise ValueError(f"the noise has no finite variance with nu={self.nu} <= 2; use include_noise=False")
-            var = var + self.scale_ ** 2 * self.nu / (self.nu - 2.0)
+            var = var + noise_variance(self.nu, self.scale_)
         out = [mean]
         out += [np.sqrt(var)] if return_std else []
         out += [var] if return_var else []
         return tuple(out)
+
+    def predict_batch(self, X, y, X_query, include_noise: bool = False):
+        """Predict from several training sets at once, each conditioned by its own Laplace approximation
+        with the fitted hyperparameters: what the SARSP agent asks for each strategic prior.
+
+        Parameters
+        ----------
+        X : sequence of B arrays of shape (n_b, d)
+        y : sequence of B arrays of shape (n_b,)
+        X_query : ndarray of shape (B, q, d)
+        include_noise : bool, default False
+            Add the noise's variance ``s^2 nu / (nu - 2)``.
+
+        Returns
+        -------
+        mean, var : ndarray of shape (B, q)
+        df : ndarray of shape (B,)
+            ``inf`` (see :func:`~sarsp_edu.models.processes.laplace.laplace_predict_batch`).
+        """
+        self._check_fitted()
+        return laplace_predict_batch(self.kernel_, self.nu, self.scale_, X, y, X_query, include_noise,
+                                     self.max_newton)
 
     def predictive_density(self, X, y_values):
         """The approximate predictive density of a new observation, ``int t(y* | f*) N(f* | mean, var) df*``.

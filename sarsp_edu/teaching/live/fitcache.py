@@ -106,9 +106,13 @@ def _steps_taken(experiment) -> int:
     return len(experiment.act_seconds)
 
 
+#: the models whose fits the cache keeps (a Student-t likelihood's fitted state is another: fitted afresh)
+CACHED_MODELS = ("tp", "gp")
+
+
 def _path(config, directory=None) -> Path | None:
     directory = cache_directory() if directory is None else Path(directory)
-    if directory is None:
+    if directory is None or config.model not in CACHED_MODELS:
         return None
     key = hashlib.sha256(f"{fingerprint()}\n{config!r}".encode()).hexdigest()[:32]
     return directory / f"{config.model}-{key}{_SUFFIX}"

@@ -1,0 +1,339 @@
+"""The Laplace approximation of a GP with Student-t noise: the posterior mode, the marginal likelihood, predictions.
+
+Rows with equal inputs share one latent value, so the latent function lives
+on the *distinct* inputs and each row adds its own log likelihood:
+``log p(y | f) = sum_r log t(y_r | f_g(r))``, whose gradient and curvature
+per distinct input are sums over its rows.  This is exact (the GP prior of
+two equal inputs is one value), and it keeps the prior's kernel matrix
+positive definite where the rows repeat.
+
+The mode is found by Newton steps with a line search, and where the log
+posterior is not concave by EM steps (the Student-t as a scale mixture of
+Gaussians: each step is a GP's mean with the rows weighted by
+``(nu + 1) / (nu s^2 + r^2)``, and never lowers the log posterior), the
+approximate posterior's covariance is ``(K^-1 + W)^-1 = L B^-1 L^T`` with
+``K = L L^T`` and ``B = I + L^T W L`` (Rasmussen and Williams 2006, ch. 3,
+changed where ``W`` is negative: see
+:class:`~sarsp_edu.models.processes.robust.StudentTLikelihoodGP`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import linalg as sla, special
+from scipy.linalg import lapack
+
+from ..linalg import cholesky_with_jitter, distinct_rows
+
+__all__ = ["LaplaceMode", "laplace_gradient", "laplace_mode", "laplace_predict", "laplace_predict_batch",
+           "noise_variance", "student_t_log_likelihood"]
+
+
+def student_t_log_likelihood(residual, nu: float, scale: float):
+    """``log p(y | f)`` of the Student-t noise, its first derivative in ``f`` and ``W`` (minus the second).
+
+    Returns three arrays shaped as ``residual = y - f``.
+
+    Parameters
+    ----------
+    residual : ndarray
+        ``y - f``.
+    nu : float
+        The noise's degrees of freedom (> 0).
+    scale : float
+        The noise's scale ``s`` (> 0).
+    """
+    r2 = residual * residual
+    nus2 = nu * scale * scale
+    value = (special.gammaln(0.5 * (nu + 1)) - special.gammaln(0.5 * nu) - 0.5 * math.log(math.pi * nus2)
+             - 0.5 * (nu + 1) * np.log1p(r2 / nus2))
+    gradient = (nu + 1) * residual / (nus2 + r2)
+    W = (nu + 1) * (nus2 - r2) / (nus2 + r2) ** 2
+    return value, gradient, W
+
+
+def noise_variance(nu: float, scale: float) -> float:
+    """The Student-t noise's variance, ``s^2 nu / (nu - 2)`` (refused for ``nu <= 2``, where it is infinite).
+
+    Parameters
+    ----------
+    nu, scale : float
+        The noise's degrees of freedom and scale.
+    """
+    if nu <= 2:
+        raise ValueError(f"the noise has no finite variance with nu={nu} <= 2; use include_noise=False")
+    return scale * scale * nu / (nu - 2.0)
+
+
+def _factor(A):
+    """The lower Cholesky factor of ``I + A`` (A overwritten), or None where it is not positive definite."""
+    A.flat[:: A.shape[0] + 1] += 1.0
+    C, info = lapack.dpotrf(A, lower=1, clean=1, overwrite_a=1)
+    return C if info == 0 else None
+
+
+def _solve(C, b):
+    """``(C C^T)^-1 b`` for a lower Cholesky factor ``C``."""
+    return lapack.dpotrs(C, b, lower=1)[0]
+
+
+def _newton_factor(K, L, W):
+    """The factor of Newton's ``B`` at ``W`` (None where the log posterior is not concave), with the map that
+    takes ``b`` to ``W L b`` (``transpose``: ``L^T b``) in the form it was factored in.
+
+    All ``W >= 0``: ``B = I + W^1/2 K W^1/2``, O(m^2) to build (Rasmussen and Williams, Algorithm 3.1);
+    otherwise ``B = I + L^T W L``, whose inertia says whether ``K^-1 + W`` is positive definite (a
+    non-positive diagonal entry, ``1 + sum_k W_k L_ki^2``, says it is not before B is built).
+    """
+    if W.min() >= 0.0:  # (I + W K)^-1 b = b - W^1/2 B^-1 W^1/2 K b
+        w = np.sqrt(W)
+
+        def through_w(b, transpose=False):
+            return w * (K @ b) if transpose else w * b
+
+        return _factor(w[:, None] * K * w[None, :]), through_w
+    if np.any(1.0 + (L * L).T @ W <= 0.0):  # a diagonal entry of B is not positive: not concave, said in O(m^2)
+        return None, None
+    WL = W[:, None] * L  # (I + W K)^-1 b = b - W L B^-1 L^T b
+
+    def through_L(b, transpose=False):
+        return L.T @ b if transpose else WL @ b
+
+    return _factor(L.T @ WL), through_L
+
+
+@dataclass
+class LaplaceMode:
+    """The Laplace approximation at the posterior mode, on the distinct inputs.
+
+    Attributes
+    ----------
+    f : ndarray of shape (m,)
+        The mode of the latent function at the distinct inputs.
+    a : ndarray of shape (m,)
+        ``K^-1 f``: the predictive mean at ``x*`` is ``k(x*, U) a``.
+    W : ndarray of shape (m,)
+        Minus the log likelihood's second derivative at the mode, summed over each input's rows.
+    L, C : ndarray of shape (m, m)
+        Lower Cholesky factors of ``K`` (with any jitter it needed) and of ``B = I + L^T W L``.
+    log_q : float
+        The approximate log marginal likelihood ``-a^T f / 2 + log p(y | f) - log|B| / 2``.
+    steps : int
+        Newton steps taken.
+    """
+
+    f: np.ndarray
+    a: np.ndarray
+    W: np.ndarray
+    L: np.ndarray
+    C: np.ndarray
+    log_q: float
+    steps: int
+
+
+def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int = 100) -> LaplaceMode:
+    """The posterior mode and the Laplace approximation at it.
+
+    Parameters
+    ----------
+    K : ndarray of shape (m, m)
+        The prior's kernel matrix of the distinct inputs.
+    y : ndarray of shape (n,)
+        The targets.
+    group : ndarray of int, shape (n,)
+        The distinct input of each target (``0 <= group < m``).
+    nu, scale : float
+        The Student-t noise's degrees of freedom and scale.
+    a0 : ndarray of shape (m,), optional
+        A starting point ``K^-1 f`` (a nearby mode: fewer steps); default the prior mean, 0.
+    max_newton : int, default 100
+        Newton steps allowed.
+
+    Raises
+    ------
+    RuntimeError
+        If the mode is not found in ``max_newton`` steps, or the approximation has no maximum there.
+    """
+    m = K.shape[0]
+    L, jitter = cholesky_with_jitter(K)
+    if jitter:  # the matrix whose factor is L, so that the two agree
+        K = K.copy()
+        K.flat[:: m + 1] += jitter
+    # subnormal numbers (below 2.2e-308: a long length scale's factor has them) make every product with L
+    # several times slower; as zeros they change nothing a float64 result can hold
+    L[np.abs(L) < np.finfo(float).tiny] = 0.0
+
+    def at(f):  # the rows' log likelihoods, and the gradient and W summed per distinct input
+        value, gradient, W = student_t_log_likelihood(y - f[group], nu, scale)
+        return value.sum(), np.bincount(group, gradient, m), np.bincount(group, W, m)
+
+    a = np.zeros(m) if a0 is None else np.array(a0, dtype=float)
+    f = K @ a
+    log_lik, g, W = at(f)
+    psi = log_lik - 0.5 * a @ f
+    for step in range(1, max_newton + 1):
+        b = W * f + g
+        C, WL = _newton_factor(K, L, W)
+        if C is not None:  # Newton's own step: the log posterior is concave here (K^-1 + W > 0), and
+            # a = K^-1 (K^-1 + W)^-1 b = (I + W K)^-1 b
+            direction = b - WL(_solve(C, WL(b, transpose=True))) - a
+        else:  # not concave here: an EM step, a GP's mean with the rows weighted (it never lowers psi)
+            weight = (nu + 1) / (nu * scale * scale + (y - f[group]) ** 2)  # each row's precision / s^-2
+            w = np.sqrt(np.bincount(group, weight, m))
+            target = np.bincount(group, weight * y, m)
+            C = _factor(w[:, None] * K * w[None, :])
+            direction = target - w * _solve(C, w * (K @ target)) - a
+        t = 1.0
+        while True:  # halve the step until the log posterior rises (or the step is negligible)
+            a_try = a + t * direction
+            f_try = K @ a_try
+            log_lik_try, g_try, W_try = at(f_try)
+            psi_try = log_lik_try - 0.5 * a_try @ f_try
+            if psi_try >= psi or t < 1e-10:
+                break
+            t *= 0.5
+        rise = psi_try - psi
+        if rise < 0:  # no step along it raises the log posterior: the mode, to rounding
+            break
+        a, f, psi, log_lik, g, W = a_try, f_try, psi_try, log_lik_try, g_try, W_try
+        # at the mode the log posterior's gradient g - K^-1 f = g - a vanishes; a step that raises it by
+        # rounding only is there too
+        if np.max(np.abs(g - a)) <= 1e-9 * (1.0 + np.max(np.abs(g))) or rise <= 1e-13 * max(1.0, abs(psi)):
+            break
+    else:
+        raise RuntimeError(f"the posterior mode was not found in max_newton={max_newton} Newton steps; "
+                           "raise max_newton or scale")
+    C = _factor(L.T @ (W[:, None] * L))  # B = I + L^T W L: K^-1 + W = L^-T B L^-1
+    if C is None:
+        raise RuntimeError("the Laplace approximation has no maximum here (K^-1 + W is not positive definite "
+                           "at the mode); try a larger scale")
+    log_q = float(-0.5 * a @ f + log_lik - np.log(np.diag(C)).sum())
+    return LaplaceMode(f, a, W, L, C, log_q, step)
+
+
+def _scale_derivatives(residual, nu: float, scale: float):
+    """Per row: d log p / d log s, d g / d log s, d W / d log s, and d W / d f (minus the third derivative)."""
+    r2 = residual * residual
+    c = nu * scale * scale
+    total = c + r2
+    d_log_p = -1.0 + (nu + 1) * r2 / total
+    d_g = -2.0 * c * (nu + 1) * residual / total**2
+    d_W = 2.0 * c * (nu + 1) * (3.0 * r2 - c) / total**3
+    W_f = 2.0 * (nu + 1) * residual * (3.0 * c - r2) / total**3
+    return d_log_p, d_g, d_W, W_f
+
+
+def laplace_gradient(kernel, U, y, group, nu: float, scale: float, a0=None, max_newton: int = 100):
+    """The approximate log marginal likelihood and its gradient in the log hyperparameters.
+
+    The gradient of ``log q`` in ``(log amplitude, log length scale, log
+    scale)``: each has an explicit part (``f_hat`` held) and an implicit one
+    through ``f_hat``'s move (Rasmussen and Williams 2006, section 5.5.1 and
+    Algorithm 5.1, with ``(I + K W)^-1 = L B^-1 L^-1`` so that ``W`` may be
+    negative, and the likelihood's scale as one more parameter).
+
+    Parameters
+    ----------
+    kernel : RBF
+    U : ndarray of shape (m, d)
+        The distinct inputs.
+    y, group : ndarray of shape (n,)
+        The targets and the distinct input of each.
+    nu, scale : float
+        The Student-t noise's degrees of freedom and scale.
+    a0 : ndarray of shape (m,), optional
+        Where the mode search starts (:func:`laplace_mode`).
+    max_newton : int, default 100
+
+    Returns
+    -------
+    log_q : float
+    gradient : ndarray of shape (3,)
+    mode : LaplaceMode
+    """
+    K, dK = kernel(U, eval_gradient=True)
+    mode = laplace_mode(K, y, group, nu, scale, a0=a0, max_newton=max_newton)
+    m = K.shape[0]
+    L, C, a, W = mode.L, mode.C, mode.a, mode.W
+    d_log_p, d_g, d_W, W_f = (np.bincount(group, part, m) if i else part.sum()
+                              for i, part in enumerate(_scale_derivatives(y - mode.f[group], nu, scale)))
+    V = sla.solve_triangular(C, L.T, lower=True, check_finite=False)  # C^-1 L^T
+    Sigma = V.T @ V  # (K^-1 + W)^-1 = L B^-1 L^T: the approximate posterior's covariance
+    variance = np.diag(Sigma).copy()
+    s2 = -0.5 * variance * W_f  # d log q / d f_hat: the log|B| term's (at the mode the rest's gradient is 0)
+    back = s2 - W * (L @ sla.cho_solve((C, True), L.T @ s2, check_finite=False))  # (I + W K)^-1 s2
+    R = -(W[:, None] * Sigma * W[None, :])  # W (I + K W)^-1 = W - W Sigma W: d log|B| = tr(R dK)
+    R[np.diag_indices(m)] += W
+    gradient = np.empty(3)
+    for j in range(2):
+        D = dK[:, :, j]
+        Da = D @ a
+        gradient[j] = 0.5 * a @ Da - 0.5 * np.einsum("ij,ij->", R, D) + back @ Da
+    gradient[2] = d_log_p - 0.5 * variance @ d_W + back @ (L @ (L.T @ d_g))
+    return mode.log_q, gradient, mode
+
+
+def laplace_predict(mode: LaplaceMode, K_star, k_star_star):
+    """The approximate posterior's mean and variance of the latent function at queries.
+
+    Parameters
+    ----------
+    mode : LaplaceMode
+    K_star : ndarray of shape (q, m)
+        The kernel between the queries and the distinct inputs.
+    k_star_star : ndarray of shape (q,)
+        The kernel's diagonal at the queries.
+
+    Returns
+    -------
+    mean, var : ndarray of shape (q,)
+        ``k*^T a`` and ``k** - k*^T K^-1 k* + k*^T K^-1 (K^-1 + W)^-1 K^-1 k*`` (R&W eqs. 3.21, 3.24).
+    """
+    mean = K_star @ mode.a
+    v = sla.solve_triangular(mode.L, K_star.T, lower=True)  # L^-1 k*
+    u = sla.solve_triangular(mode.C, v, lower=True)  # C^-1 L^-1 k*, so u^T u = v^T B^-1 v
+    var = k_star_star - np.einsum("ij,ij->j", v, v) + np.einsum("ij,ij->j", u, u)
+    return mean, np.maximum(var, 0.0)
+
+
+def laplace_predict_batch(kernel, nu: float, scale: float, X, y, X_query, include_noise: bool = False,
+                          max_newton: int = 100):
+    """Predict from several training sets at once, each by its own Laplace approximation.
+
+    What the agent asks of the model for each strategic prior: condition on
+    the prior's rows (repeated inputs folded: one latent value each), then
+    predict the queries.
+
+    Parameters
+    ----------
+    kernel : RBF
+        The latent function's kernel (fitted).
+    nu, scale : float
+        The Student-t noise's degrees of freedom and scale (fitted).
+    X : sequence of B arrays of shape (n_b, d)
+        Training inputs of each set.
+    y : sequence of B arrays of shape (n_b,)
+    X_query : ndarray of shape (B, q, d)
+    include_noise : bool, default False
+        Add the noise's variance (:func:`noise_variance`): a new observation's.
+    max_newton : int, default 100
+
+    Returns
+    -------
+    mean, var : ndarray of shape (B, q)
+    df : ndarray of shape (B,)
+        ``inf``: the approximation's predictive is summarised by its mean and variance.
+    """
+    X_query = np.asarray(X_query, dtype=float)
+    B, q = X_query.shape[:2]
+    mean, var = np.empty((B, q)), np.empty((B, q))
+    noise = noise_variance(nu, scale) if include_noise else 0.0
+    for b in range(B):
+        first, group = distinct_rows(X[b])
+        U = X[b][first]
+        mode = laplace_mode(kernel(U), np.asarray(y[b], dtype=float), group, nu, scale, max_newton=max_newton)
+        mean[b], var[b] = laplace_predict(mode, kernel(X_query[b], U), kernel.diag(X_query[b]))
+    return mean, var + noise, np.full(B, np.inf)
