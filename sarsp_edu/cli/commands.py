@@ -363,3 +363,19 @@ def _prefit(args, parser) -> int:
     except RuntimeError as exc:  # the cache is off
         parser.error(str(exc))
     return 0
+
+
+def _model_sweep(args, parser) -> int:
+    from .._internal.io import StoredResultError
+    from ..experiments.sweep.models import run_model_sweep
+    from ..experiments.sweep.stored import stored_sweep
+
+    if args.jobs is not None and args.jobs < 1:
+        parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
+    try:
+        requested = stored_sweep(args.paired)[1]
+    except (FileNotFoundError, StoredResultError) as exc:
+        parser.error(f"--paired: {exc}")
+    done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs)
+    print(f"{args.model}: {len(done)} of {len(requested)} cells stored in {args.out}")
+    return 0

@@ -8,7 +8,7 @@ import sys
 
 from .._version import __version__
 from .arguments import add_config_arguments
-from .commands import _ablation, _cache, _compare, _course, _info, _prefit, _run, _sweep
+from .commands import _ablation, _cache, _compare, _course, _info, _model_sweep, _prefit, _run, _sweep
 from .reading import _check_cell, _tables
 
 
@@ -203,6 +203,17 @@ def build_parser() -> argparse.ArgumentParser:
     prefit.add_argument("--seed", type=int, default=0, help="the seed slider (default 0)")
     prefit.add_argument("--episodes", type=int, default=30, help="the episodes slider (default 30, Tutorial 4's)")
     prefit.set_defaults(func=_prefit, parser=prefit)
+
+    model_sweep = sub.add_parser(
+        "model-sweep", help="run another model on every cell of a stored TP-vs-GP sweep (same worlds, resumable)",
+        description="Runs MODEL on the settings of every cell of the paired sweep in --paired, on the very same "
+                    "worlds, data and episodes, and stores each run in --out as it finishes; the TP and GP runs "
+                    "are reused as stored. A rerun skips the cells stored.")
+    model_sweep.add_argument("--paired", required=True, metavar="DIR", help="a stored sweep ('sarsp-edu sweep')")
+    model_sweep.add_argument("--model", default="t-likelihood", choices=["t-likelihood"], help="the model to run")
+    model_sweep.add_argument("--out", required=True, metavar="DIR", help="where the model's runs go")
+    model_sweep.add_argument("--jobs", type=int, default=None, help="worker processes (default: one per core)")
+    model_sweep.set_defaults(func=_model_sweep, parser=model_sweep)
     return parser
 
 

@@ -1,0 +1,150 @@
+"""Another model on every cell of a stored paired sweep: one more run on the very same worlds.
+
+A cell's world, offline data, outlier rows, shift and episode starts depend
+on its settings and seed, never on the model (``PREPARATION_FIELDS``), so a
+run of a third model on a cell's settings is paired with the cell's TP and
+GP runs, which are reused as stored.  :func:`run_model_sweep` runs it for
+every cell of a paired sweep (in worker processes, each cell stored
+atomically as it finishes; a rerun skips the cells stored), and
+:func:`load_model_sweep` reads the three runs of each cell back, checking
+that they share their episodes.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+from ..._internal.io import StoredResultError, atomic_write_text, lock_folder, read_json, staging_directory
+from ..._internal.validation import check_choice
+from ..._version import __version__
+from ...config import MODELS
+from ..results import ExperimentResult, check_paired
+from .cells import _as_key, _cell_name, _name_key, cell_config
+from .stored import SweepResults, stored_sweep
+
+__all__ = ["MODEL_SWEEP_FILE", "load_model_sweep", "run_model_sweep"]
+
+#: the file that names the paired sweep and the model a model sweep's folder holds
+MODEL_SWEEP_FILE = "model_sweep.json"
+_LOCK = ".model-sweep.lock"
+
+
+def _run_cell(base, key, model: str, folder: str) -> tuple:
+    """Run ``model`` on one cell's settings and store it atomically in ``folder``'s cells."""
+    from ..experiment import run_experiment
+
+    result = run_experiment(cell_config(base, *key).replace(model=model))
+    cells = Path(folder) / "cells"
+    final = cells / _cell_name(*key)
+    final.mkdir(parents=True, exist_ok=True)
+    staging = staging_directory(final, model)
+    try:
+        result.save(staging)
+        os.rename(staging, final / model)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return key
+
+
+def _stored(folder: Path, model: str) -> set:
+    """The cells of ``folder`` whose run of ``model`` is stored whole."""
+    keys = {_name_key(cell.name) for cell in (folder / "cells").glob("m*") if (cell / model / "result.json").exists()}
+    return keys - {None}
+
+
+def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs: int | None = None,
+                    cells=None) -> set:
+    """Run ``model`` on the cells of the paired sweep in ``paired_dir``, storing each run in ``results_dir``.
+
+    Parameters
+    ----------
+    paired_dir : path-like
+        A stored TP-vs-GP sweep (:func:`~sarsp_edu.experiments.sweep.run_sweep`'s folder): its settings and
+        cells are the ones run, its runs are reused as they are.
+    results_dir : path-like
+        Where the runs of ``model`` go, one per cell (``cells/<cell>/<model>/``); a rerun skips those stored.
+    model : str, default "t-likelihood"
+        A model of ``MODELS`` other than "tp" and "gp".
+    n_jobs : int, optional
+        Worker processes (one cell each at a time); default one per core.
+    cells : iterable of (m, p, nss, seed), optional
+        Only these cells (each must be a cell of the paired sweep); default every one.
+
+    Returns
+    -------
+    set of (m, p, nss, seed)
+        The cells whose run of ``model`` is stored in ``results_dir`` now.
+    """
+    check_choice("model", model, tuple(m for m in MODELS if m not in ("tp", "gp")))
+    paired_dir, results_dir = Path(paired_dir), Path(results_dir)
+    base, requested = stored_sweep(paired_dir)
+    keys = sorted(requested if cells is None else {_as_key(key) for key in cells})
+    unknown = sorted(set(keys) - requested)
+    if unknown:
+        raise ValueError(f"cells {unknown} are not cells of the paired sweep in {paired_dir}")
+    results_dir.mkdir(parents=True, exist_ok=True)
+    lock = lock_folder(results_dir, _LOCK, "model sweep")
+    try:
+        meta = results_dir / MODEL_SWEEP_FILE
+        payload = {"paired": os.path.relpath(paired_dir, results_dir), "model": model,
+                   "base_config": base.replace(model=model).to_dict(), "sarsp_edu_version": __version__}
+        if meta.exists():
+            stored = read_json(meta, keys=("paired", "model", "base_config"))
+            if (stored["model"], stored["base_config"]) != (model, payload["base_config"]):
+                raise ValueError(f"{results_dir} holds runs of another model or settings ({stored['model']!r}); "
+                                 "use another folder")
+        else:
+            atomic_write_text(meta, json.dumps(payload, indent=2) + "\n")
+        todo = [key for key in keys if key not in _stored(results_dir, model)]
+        if todo:
+            from joblib import Parallel, delayed
+
+            from ..._internal.parallel import available_cores
+
+            workers = max(1, min(n_jobs or available_cores(), len(todo), available_cores()))
+            for _ in Parallel(n_jobs=workers, return_as="generator_unordered")(
+                    delayed(_run_cell)(base, key, model, str(results_dir)) for key in todo):
+                pass
+        return _stored(results_dir, model)
+    finally:
+        if lock is not None:
+            lock.close()
+
+
+def load_model_sweep(results_dir) -> tuple:
+    """The paired sweep and the other model's runs of a model sweep's folder, each cell's three runs paired.
+
+    Parameters
+    ----------
+    results_dir : path-like
+        A folder :func:`run_model_sweep` wrote.
+
+    Returns
+    -------
+    (SweepResults, dict)
+        The paired sweep (read from the folder ``model_sweep.json`` names) and ``{(m, p, nss, seed):
+        ExperimentResult}`` of the other model, for the cells it has run.
+
+    Raises
+    ------
+    StoredResultError
+        A run whose settings are not its cell's, or whose episodes did not start and end where the cell's TP
+        run's did (it is not paired with it).
+    """
+    results_dir = Path(results_dir)
+    meta = read_json(results_dir / MODEL_SWEEP_FILE, keys=("paired", "model", "base_config"))
+    paired = SweepResults.load(results_dir / meta["paired"])
+    model, base = meta["model"], paired.base
+    runs = {}
+    for key in sorted(_stored(results_dir, model)):
+        folder = results_dir / "cells" / _cell_name(*key)
+        result = ExperimentResult.load(folder / model)
+        if result.config != cell_config(base, *key).replace(model=model):
+            raise StoredResultError(f"{folder / model} ran other settings than its cell's")
+        check_paired(paired.comparisons[key].tp, result, folder)
+        runs[key] = result
+    return paired, runs
