@@ -458,3 +458,56 @@ def test_the_paper_percent_column_can_be_the_papers_printed_one():
     recomputed = beside_paper(ours, paper.TABLE2)["paper %"]
     assert (printed["mean_cost"], printed["cost_rate"]) == (-39.93, -16.32)  # the paper's text and table
     assert round(recomputed["mean_cost"], 1) == -39.7 and round(recomputed["cost_rate"], 1) == -16.7
+
+
+# -- another model on a stored paired sweep ------------------------------------------------------------------
+def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_reads_back_paired(tmp_path):
+    from sarsp_edu.experiments.experiment import run_experiment
+    from sarsp_edu.experiments.sweep.models import load_model_sweep, run_model_sweep
+
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2), seeds=(0,),
+              results_dir=tmp_path / "paired")
+    with pytest.raises(ValueError, match="model must be one of"):
+        run_model_sweep(tmp_path / "paired", tmp_path / "tl", model="gp")
+    with pytest.raises(ValueError, match="not cells of the paired sweep"):
+        run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(60.0, 0.2, 1, 0)])
+    first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=1)
+    assert first == {(40.0, 0.2, 1, 0)}
+    stored = (tmp_path / "tl" / "cells" / "m40_p0.2_nss1_seed0" / "t-likelihood" / "records.csv").read_bytes()
+    assert run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1) == {(40.0, 0.2, 1, 0), (40.0, 0.2, 2, 0)}
+    assert (tmp_path / "tl" / "cells" / "m40_p0.2_nss1_seed0" / "t-likelihood" / "records.csv").read_bytes() == stored
+    paired, runs = load_model_sweep(tmp_path / "tl")
+    assert set(runs) == set(paired.comparisons)
+    key = (40.0, 0.2, 2, 0)
+    again = run_experiment(cell_config(TINY, *key).replace(model="t-likelihood"))  # the stored run, recomputed
+    pd.testing.assert_frame_equal(again.records, runs[key].records)
+    assert runs[key].records["start"].tolist() == paired.comparisons[key].gp.records["start"].tolist()
+
+
+def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_third_model(tmp_path, capsys):
+    from sarsp_edu.cli import main
+    from sarsp_edu.experiments.metrics import prefers
+    from sarsp_edu.experiments.sweep.model_tables import model_sweep_tables
+    from sarsp_edu.experiments.sweep.models import load_model_sweep, run_model_sweep
+
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2), seeds=(0, 1),
+              results_dir=tmp_path / "paired")
+    run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1,
+                    cells=[(40.0, 0.2, 1, 0), (40.0, 0.2, 1, 1), (40.0, 0.2, 2, 0)])
+    paired, runs = load_model_sweep(tmp_path / "tl")
+    tables = model_sweep_tables(paired, runs)
+    config_1 = np.mean([runs[(40.0, 0.2, 1, seed)].summary["total_cost"] for seed in (0, 1)])
+    config_2 = runs[(40.0, 0.2, 2, 0)].summary["total_cost"]  # the seeds the third model has run, only
+    assert tables["mean"].loc["total_cost", "t-likelihood GP"] == pytest.approx((config_1 + config_2) / 2)
+    tp_1 = np.mean([paired.comparisons[(40.0, 0.2, 1, seed)].tp.summary["total_cost"] for seed in (0, 1)])
+    tp_2 = paired.comparisons[(40.0, 0.2, 2, 0)].tp.summary["total_cost"]
+    assert tables["mean"].loc["total_cost", "TP"] == pytest.approx((tp_1 + tp_2) / 2)
+    assert tables["mean"]["configurations"].iloc[0] == 2
+    assert tables["definition4"].sum(axis=1).tolist() == [2, 2, 2]
+    one = runs[(40.0, 0.2, 2, 0)].summary
+    two = paired.comparisons[(40.0, 0.2, 2, 0)].gp.summary
+    expected = "first preferred" if prefers(one, two) else "second preferred" if prefers(two, one) else "neither"
+    assert tables["definition4"].loc["t-likelihood GP vs GP", expected] >= 1
+    assert main(["tables", str(tmp_path / "tl")]) == 0
+    out = capsys.readouterr().out
+    assert "partial: 3 of the paired sweep's 4 cells" in out and "Table 2 with a third model" in out

@@ -22,6 +22,8 @@ def _tables(args, parser) -> int:
 
     if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
         return _ablation_table(args, parser)
+    if (Path(args.results_dir) / "model_sweep.json").is_file():  # another model on a paired sweep's cells
+        return _model_tables(args, parser)
     try:
         stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
     except (FileNotFoundError, ValueError) as exc:
@@ -173,4 +175,28 @@ def _ablation_table(args, parser) -> int:
     if args.markdown:
         atomic_write_text(args.markdown, frame_to_markdown(table.reset_index()) + "\n")
         print(f"\nMarkdown table written to {args.markdown}")
+    return 0
+
+
+def _model_tables(args, parser) -> int:
+    """A model sweep's folder: Table 2 of three models over the cells run so far, the tests, Definition 4."""
+    from .._internal.io import StoredResultError
+    from ..experiments.sweep.model_tables import model_sweep_tables
+    from ..experiments.sweep.models import load_model_sweep
+
+    try:
+        paired, runs = load_model_sweep(args.results_dir)
+    except (StoredResultError, FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    if not runs:
+        print(f"{args.results_dir}: no cell run yet of the {len(paired)} of its paired sweep")
+        return 0
+    tables = model_sweep_tables(paired, runs, a=args.a)
+    if len(runs) < len(paired):
+        print(f"partial: {len(runs)} of the paired sweep's {len(paired)} cells run so far")
+    print(_LEGEND)
+    print(f"\nTable 2 with a third model: each metric's mean over the configurations run\n"
+          f"{_format_table(tables['mean'])}")
+    print(f"\nThe third model against TP and GP over configurations\n{_format_table(tables['tests'])}")
+    print(f"\nDefinition 4 in each configuration\n{_format_table(tables['definition4'])}")
     return 0
