@@ -189,7 +189,8 @@ def _model_tables(args, parser) -> int:
     except (StoredResultError, FileNotFoundError, ValueError) as exc:
         parser.error(str(exc))
     if not runs:
-        print(f"{args.results_dir}: no cell run yet of the {len(paired)} of its paired sweep")
+        print(f"{args.results_dir}: none of the {len(paired)} cells of its paired sweep (TP and GP) run yet with "
+              "the third model")
         return 0
     tables = model_sweep_tables(paired, runs, a=args.a)
     if len(runs) < len(paired):
