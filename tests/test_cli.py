@@ -308,3 +308,24 @@ def test_an_undefined_cost_rate_reads_n_a(capsys):
     assert "Definition 4 (a=100) cannot decide: a cost rate is undefined" in out
     row = [ln for ln in out.splitlines() if ln.startswith("cost_rate")][0]
     assert row.split()[1:] == ["n/a", "n/a", "n/a", "n/a"]
+
+
+# -- several models paired ---------------------------------------------------------------------------------
+def test_compare_pairs_the_models_it_is_given_and_its_default_is_the_tp_and_gp_byte_for_byte(tmp_path, capsys):
+    from sarsp_edu.experiments.results import ExperimentResult, check_paired
+
+    assert main(["compare", *TINY, "--jobs", "1", "--out", str(tmp_path / "two")]) == 0
+    assert main(["compare", *TINY, "--jobs", "1", "--models", "tp", "gp", "--out", str(tmp_path / "same")]) == 0
+    for model in ("tp", "gp"):
+        assert ((tmp_path / "two" / model / "records.csv").read_bytes()
+                == (tmp_path / "same" / model / "records.csv").read_bytes())
+    capsys.readouterr()
+    assert main(["compare", *TINY, "--models", "tp", "t-likelihood", "gp", "--out", str(tmp_path / "three")]) == 0
+    out = capsys.readouterr().out
+    assert "tp vs t-likelihood vs gp, paired" in out and "tp vs t-likelihood" in out and "t-likelihood vs gp" in out
+    runs = {model: ExperimentResult.load(tmp_path / "three" / model) for model in ("tp", "gp", "t-likelihood")}
+    check_paired(runs["tp"], runs["t-likelihood"], tmp_path / "three")  # the same episodes
+    assert runs["tp"].records.equals(ExperimentResult.load(tmp_path / "two" / "tp").records)
+    with pytest.raises(SystemExit):
+        main(["compare", *TINY, "--models", "tp", "tp"])
+    assert "two or more distinct models" in capsys.readouterr().err

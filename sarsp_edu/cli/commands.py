@@ -96,6 +96,8 @@ def _compare(args, parser) -> int:
     from ..experiments.experiment import compare
 
     config = config_from_args(parser, args)
+    if args.models is not None and args.models != ["tp", "gp"]:
+        return _compare_models(args, parser, config)
     check_out(parser, args.out, "compare", config, args.overwrite)
     with _out_lock(parser, args.out, "compare"):
         try:
@@ -113,6 +115,28 @@ def _compare(args, parser) -> int:
     else:
         print(f"Definition 4 (a={args.a:g}): TP preferred to GP: {verdict['tp_preferred']}; "
               f"GP preferred to TP: {verdict['gp_preferred']}")
+    if args.out:
+        print(f"saved to {saved}")
+    return 0
+
+
+def _compare_models(args, parser, config) -> int:
+    """``compare --models ...``: several models paired, their summaries and Definition 4 for each pair."""
+    from ..experiments.comparison import compare_models
+
+    if len(set(args.models)) != len(args.models) or len(args.models) < 2:
+        parser.error(f"--models takes two or more distinct models, got {' '.join(args.models)}")
+    check_out(parser, args.out, "compare", config, args.overwrite)
+    with _out_lock(parser, args.out, "compare"):
+        try:
+            comparison = compare_models(config, args.models, progress=not args.quiet, a=args.a)
+        except ValueError as exc:
+            parser.error(str(exc))
+        if args.out:
+            saved = comparison.save(args.out)
+    print(f"{' vs '.join(args.models)}, paired: {_describe(config)}")
+    print(_format_table(comparison.table()))
+    print(f"Definition 4 (a={args.a:g}) for each pair:\n{comparison.verdicts().to_string()}")
     if args.out:
         print(f"saved to {saved}")
     return 0

@@ -18,6 +18,7 @@ def build_parser() -> argparse.ArgumentParser:
         ABLATION_CELLS,
         ABLATION_SEEDS,
         DEFINITION_4_A,
+        MODELS,
         NU,
         PAPER_MAGNITUDES,
         PAPER_PROPORTIONS,
@@ -61,7 +62,12 @@ def build_parser() -> argparse.ArgumentParser:
     add_config_arguments(cmp_, skip=("model",))
     cmp_.add_argument("--a", type=float, default=DEFINITION_4_A,
                       help=f"Definition 4's TSR threshold a in [1, 100] [default: {DEFINITION_4_A:g}]")
-    cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp")
+    cmp_.add_argument("--models", nargs="+", choices=list(MODELS), metavar="MODEL",
+                      help=f"pair these models instead, two or more of {', '.join(MODELS)} (e.g. --models tp gp "
+                           "t-likelihood): their summaries side by side and Definition 4 for each pair "
+                           "[default: tp gp]")
+    cmp_.add_argument("--out", metavar="DIR", help="save the two runs in DIR/tp and DIR/gp (with --models, "
+                                                   "each in DIR/<model>)")
     cmp_.add_argument("--overwrite", action="store_true",
                       help="replace a comparison of other settings already in --out DIR (refused without it)")
     cmp_.add_argument("--jobs", type=int, choices=(1, 2), default=None,
