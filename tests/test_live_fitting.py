@@ -242,3 +242,19 @@ def test_a_slider_moved_while_a_run_claims_its_fits_leaves_no_stale_run(monkeypa
     assert live.experiments is None  # the old run is not kept: the next Run builds nss = 2
     live.build_runs()
     assert all(len(e.env.moved_indices) == 2 for e in live.experiments.values())
+
+
+def test_a_side_of_a_model_the_cache_does_not_keep_is_fitted_here_beside_the_workers(cache):
+    """The fit cache keeps TP and GP fits only: a GP-with-Student-t-noise side is fitted in the queue's thread
+    while a worker fits the other side, and both run as a plain paired run does."""
+    from sarsp_edu.experiments.experiment import experiments_on_one_world
+
+    config = ExperimentConfig(**SMALL)
+    sides = {"gp": ("Gaussian process", {"model": "gp"}), "t": ("Student-t noise", {"model": "t-likelihood"})}
+    runs = prepared_runs(FitQueue(sides), config)
+    expected = experiments_on_one_world(config, {"gp": {"model": "gp"}, "t": {"model": "t-likelihood"}})
+    for name in sides:
+        runs[name].run_episode()
+        expected[name].run_episode()
+        assert runs[name].records().equals(expected[name].records()), name
+    assert runs["t"].config.model == "t-likelihood" and not runs["t"].loaded_from_cache

@@ -273,14 +273,18 @@ class FitQueue:
                 if experiment is not None:
                     self._hand_over(fits, name, experiment)
                     del sides[name]
-            workers = self._workers(sides, folder)
+            # a model whose fits the cache does not keep cannot be handed over by a worker: fitted here
+            here = {name: side for name, side in sides.items() if side.model not in fitcache.CACHED_MODELS}
+            sides = {name: side for name, side in sides.items() if name not in here}
+            workers = self._workers(sides, folder) if sides else {}
             if workers is None:  # no process could be started: fitted here, one side after the other
-                for name, side in sides.items():
-                    if self._pending:
-                        return
-                    self._hand_over(fits, name, self._fit_here(fits, name, side, prepared))
-                return
-            self._follow(workers, sides, prepared, folder, fits)
+                here, workers = {**sides, **here}, {}
+            if workers:
+                self._follow(workers, sides, prepared, folder, fits)
+            for name, side in here.items():
+                if self._pending:
+                    return
+                self._hand_over(fits, name, self._fit_here(fits, name, side, prepared))
 
     def _fit_here(self, fits, name, side, prepared):
         """A side fitted in this thread (kept in the fit cache where it is on): where no worker could fit it."""
