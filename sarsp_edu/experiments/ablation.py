@@ -37,6 +37,7 @@ __all__ = [
     "ABLATION_CELLS",
     "ABLATION_SETTINGS",
     "PRIOR_AND_FITS",
+    "VARIANCE_THRESHOLDS",
     "AblationResults",
     "cost_fit_length_scales",
     "run_ablation",
@@ -48,6 +49,8 @@ __all__ = [
 
 _OLD_FITS = dict(cost_fit_points=500, reward_fit_points=500)
 
+#: the thresholds sigma*^2 of the threshold study besides the default's 0.8
+VARIANCE_THRESHOLDS = (0.1, 0.3, 2.0, 5.0, 10.0)
 #: name -> settings: an optional "preset" (default "default") and ExperimentConfig fields to change
 ABLATION_SETTINGS = {
     "per step, k=100, 500-row fits (the package before)":
@@ -66,6 +69,10 @@ ABLATION_SETTINGS = {
     "reference preset": dict(preset="reference"),
     # the reference preset less its slowest part: is the whole-buffer reward fit what lifts the levels?
     "reference preset, reward fit on 1,000 rows": dict(preset="reference", reward_fit_points=1000),
+    # the safe set's variance threshold, which the paper sets once (0.8, the default row above): where does each
+    # model stop taking the backup, and does the TP stay the safer model at every threshold?
+    **{f"default, variance threshold {threshold:g}": dict(variance_threshold=threshold)
+       for threshold in VARIANCE_THRESHOLDS},
 }
 
 
