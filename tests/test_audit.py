@@ -1,0 +1,55 @@
+"""Each model's safe set held to the world (sarsp_edu.experiments.audit)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sarsp_edu import ExperimentConfig
+from sarsp_edu.experiments.audit import audit_summary, safe_set_audit
+from sarsp_edu.world.preparation import prepare
+
+SMALL = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
+                         optimizer_steps=5, k_prior=30, episodes=2, n_switch_states=1)
+
+
+@pytest.fixture(scope="module")
+def audit():
+    return safe_set_audit(SMALL, draws=2)
+
+
+def test_every_action_from_every_free_cell_of_the_shifted_world_with_the_truth(audit):
+    env = prepare(SMALL).env  # the world after the shift, as every side's
+    free = env.size * env.size - len(env.unsafe_states)
+    assert len(audit) == 3 * free * 4 and set(audit["model"]) == {"tp", "gp", "t-likelihood"}
+    distances = env.distance_map()  # indexed [y, x]
+    moves = {0: (1, 0), 1: (0, 1), 2: (-1, 0), 3: (0, -1)}  # RIGHT, DOWN, LEFT, UP
+    for row in audit.sample(40, random_state=0).itertuples():
+        dx, dy = moves[row.action]
+        x, y = min(max(row.x + dx, 0), env.size - 1), min(max(row.y + dy, 0), env.size - 1)
+        assert row.distance == pytest.approx(distances[y, x]) and row.violates == (distances[y, x] < SMALL.d)
+    assert audit["safe_share"].between(0, 1).all() and (audit["var_cost"] > 0).all()
+
+
+def test_the_same_priors_are_drawn_for_every_model_and_the_audit_is_reproducible(audit):
+    again = safe_set_audit(SMALL, models=("gp",), draws=2)
+    pd.testing.assert_frame_equal(again.reset_index(drop=True),
+                                  audit[audit["model"] == "gp"].reset_index(drop=True))
+
+
+def test_the_summary_counts_what_each_safe_set_holds():
+    rows = []
+    for model, safe in (("a", [1.0, 1.0, 0.0, 0.0]), ("b", [0.0, 1.0, 0.0, 0.0])):
+        for action, share in enumerate(safe):
+            rows.append({"model": model, "x": 0, "y": 0, "action": action, "mu_cost": 1.0, "var_cost": 0.5,
+                         "safe_share": share, "distance": 1.0, "violates": action == 0})
+        rows += [{"model": model, "x": 1, "y": 0, "action": a, "mu_cost": 0.0, "var_cost": 2.0, "safe_share": 0.0,
+                  "distance": 0.0, "violates": True} for a in range(4)]
+    summary = audit_summary(pd.DataFrame(rows))
+    assert summary.loc["unsafe actions called safe", "a"] == pytest.approx(1 / 5)
+    assert summary.loc["unsafe actions called safe", "b"] == 0.0
+    assert summary.loc["safe actions called safe", "b"] == pytest.approx(1 / 3)
+    assert summary.loc["cells left to the backup"].tolist() == [0.5, 0.5]
+    assert summary.loc["disagreements"].tolist() == [1, 1]
+    assert np.allclose(summary.loc["median variance"], [1.25, 1.25])
