@@ -855,3 +855,22 @@ def test_a_slider_moved_by_steps_gives_the_number_it_shows():
     assert dashboard.status.value.startswith("p = 0.3: ")
     dashboard.controls["magnitude"].value = 40 + 0.1 * 10
     assert "41.00000000000001" not in dashboard.status.value and dashboard.config().outlier_magnitude == 41.0
+
+
+def test_each_side_picks_its_model_and_a_pick_stops_the_run_and_fits_the_new_one():
+    from sarsp_edu.teaching.live.pick import MODEL_TITLES
+
+    live = agent_dashboard(episodes=2, n_switch_states=1, config=ExperimentConfig(**SMALL), fit_ahead=False)
+    assert [picker.value for picker in live.model_pickers.values()] == ["tp", "gp"]
+    live.run_steps(2)
+    assert live.experiments is not None
+    live.model_pickers["tp"].value = "t-likelihood"  # the left side now runs the GP with Student-t noise
+    assert live.experiments is None and "next <b>Run</b>" in live.status.value
+    assert live.sides["tp"] == (MODEL_TITLES["t-likelihood"], {"model": "t-likelihood"})
+    assert MODEL_TITLES["t-likelihood"] in live.headers["tp"].value
+    live.run_steps(3)
+    assert live.experiments["tp"].config.model == "t-likelihood" and live.experiments["gp"].config.model == "gp"
+    assert live._legend_labels() == {"tp": MODEL_TITLES["t-likelihood"], "gp": MODEL_TITLES["gp"]}
+    with pytest.raises(ValueError, match="model must be one of"):
+        live.pick_model("gp", "svm")
+    live.close()

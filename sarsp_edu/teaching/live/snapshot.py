@@ -4,14 +4,17 @@ from __future__ import annotations
 
 import base64
 import os
+import time
 
 from matplotlib.figure import Figure
 
 from .. import plotting
-from ..dashboards.framework import SNAPSHOT_WIDTH_PX, readable_png
+from ..dashboards.framework import SNAPSHOT_WIDTH_PX, readable_png, render_figure, wipe_axes
+from ..dashboards.projector import PROJECTOR_SCALE
 from ..plotting.display import alt_metadata
+from .pick import TP_AND_GP
 
-__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "StaticPicture", "first_episode", "picture",
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "LiveMetrics", "StaticPicture", "first_episode", "picture",
            "picture_alt_text"]
 
 #: the environment variable that, set to 0, keeps ``autoplay`` from starting: batch runs of the notebooks
@@ -124,3 +127,44 @@ class StaticPicture:
             self._autoplayed = True
             self.play_in_background()
         return bundle, alt_metadata(self.alt_text())
+
+
+class LiveMetrics:
+    """The live dashboard's metric curves (a mixin): drawn when an episode ends, sized for the projector."""
+
+    def _size_metrics_figure(self) -> None:
+        """The metric curves' figure: in projector size PROJECTOR_SCALE times narrower in inches, its text
+        the same in points, so that the text is that much larger in the page's full width."""
+        width, height = (14 / PROJECTOR_SCALE, 2.6) if self.projector else (14, 2.5)
+        self.metrics_figure.set_size_inches(width, height)
+        self.metrics_figure.subplots_adjust(left=0.5 / width, right=1 - 0.15 / width, bottom=0.5 / height,
+                                            top=1 - 0.35 / height, wspace=0.32 if self.projector else 0.28)
+
+    def show_metrics(self, throttle: bool = False) -> None:
+        """Redraw the metric curves if an episode ended; while animating (``throttle``), at most every 1.5 s."""
+        if self.experiments is None:
+            return
+        count = sum(len(e.episodes) for e in self.experiments.values())
+        if (len(self.experiments), count) == self._drawn_key:
+            return
+        now = time.perf_counter()
+        if throttle and now - self._metrics_drawn_at < 1.5 and not self.finished:
+            return
+        self._drawn_key = (len(self.experiments), count)
+        self._metrics_drawn_at = now
+        for ax in self.metrics_axes:
+            wipe_axes(ax)
+        plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
+                                   LIVE_METRICS, labels=self._legend_labels())
+        self.metrics_image.value = render_figure(self.metrics_figure, "svg")
+        self.metrics_image.layout.display = None
+
+    @property
+    def metrics_shown(self) -> bool:
+        """Whether the metric curves are on show (an episode has ended since the run began)."""
+        return self._drawn_key is not None and self._drawn_key[1] > 0
+
+    def _legend_labels(self) -> dict | None:
+        # a side that changes the model alone is named by it (a pick changes it); any other by its short name
+        return None if self.sides == TP_AND_GP else {
+            name: title if set(changes) == {"model"} else name for name, (title, changes) in self.sides.items()}

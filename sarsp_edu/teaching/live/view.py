@@ -9,19 +9,17 @@ import ipywidgets as widgets
 from matplotlib.figure import Figure
 
 from ...config import NU, DataSettings
-from .. import plotting
 from ..dashboards.framework import (
     control_row,
     fixed_layout_axes,
-    render_figure,
     slider,
-    wipe_axes,
 )
-from ..dashboards.projector import PROJECTOR_SCALE, PROJECTOR_TEXT_PX, ProjectorMixin
+from ..dashboards.projector import PROJECTOR_TEXT_PX, ProjectorMixin
 from . import markup
 from .background import slider_config
 from .controller import LiveRun
-from .snapshot import AUTOPLAY_VARIABLE, LIVE_METRICS, SNAPSHOT_VARIABLE, StaticPicture, first_episode
+from .pick import TP_AND_GP, key_numbers, model_pickers, picked_side
+from .snapshot import AUTOPLAY_VARIABLE, LIVE_METRICS, SNAPSHOT_VARIABLE, LiveMetrics, StaticPicture, first_episode
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
@@ -30,18 +28,13 @@ __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboar
 #: notebook at 1280 px with the file browser open (about 850 px), in projector size
 _CELL = 22
 
-#: tutorial 4's two sides: name -> (title, the settings that side changes)
-TP_AND_GP = {
-    "tp": ("Student-t process", {"model": "tp"}),
-    "gp": ("Gaussian process", {"model": "gp"}),
-}
 
 def _of_the_run(name: str, doc: str) -> property:
     """A read-only attribute of the dashboard that is its run's (:class:`LiveRun`)."""
     return property(lambda self: getattr(self.run, name), doc=doc)
 
 
-class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
+class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
     """Two agents running paired on one world, side by side, live: by default the TP agent and the GP agent.
 
     Sliders for nu, m, p, nss, the seed and the number of episodes: a move
@@ -167,6 +160,9 @@ class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
             control_row([self.controls[k] for k in ("nu", "magnitude", "proportion", "n_switch_states")]),
             control_row([*self.buttons.values(), *(self.controls[k] for k in ("seed", "episodes")), self.speed]),
         ]
+        self.model_pickers = model_pickers(self)  # each side's model, the TP against the GP unless picked
+        if self.model_pickers:
+            self.settings_rows.insert(1, control_row(list(self.model_pickers.values())))
         super().__init__(children=[
             *self.settings_rows,
             self.status,
@@ -361,15 +357,6 @@ class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
         """
         self.headers[name].value = self._header(name, f"<span style='color:#a04c00'>{html.escape(why)}</span>")
 
-    # -- projector size ---------------------------------------------------------
-    def _size_metrics_figure(self) -> None:
-        """The metric curves' figure: in projector size PROJECTOR_SCALE times narrower in inches, its text
-        the same in points, so that the text is that much larger in the page's full width."""
-        width, height = (14 / PROJECTOR_SCALE, 2.6) if self.projector else (14, 2.5)
-        self.metrics_figure.set_size_inches(width, height)
-        self.metrics_figure.subplots_adjust(left=0.5 / width, right=1 - 0.15 / width, bottom=0.5 / height,
-                                            top=1 - 0.35 / height, wspace=0.32 if self.projector else 0.28)
-
     def _resize_pictures(self) -> None:
         self._size_metrics_figure()
         with self.run.lock:
@@ -404,43 +391,21 @@ class AgentDashboard(StaticPicture, ProjectorMixin, widgets.VBox):
             + "</table>")
 
     def key_numbers(self, name) -> tuple:
-        """A side's key numbers, (label, value) pairs: what its run has done so far."""
-        experiment = self.experiments[name]
-        records = experiment.episodes
-        return (("episodes", len(records)),
-                ("reached goal", sum(e["task_completed"] for e in records)),
-                ("violations", sum(e["episode_cost"] for e in records)),
-                ("S_u moves", len(experiment.agent.unsafe_pairs)),
-                ("corrections", experiment.agent.corrective_updates),
-                ("offline fit", "loaded" if experiment.loaded_from_cache
-                 else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
+        """A side's key numbers, (label, value) pairs (:func:`~sarsp_edu.teaching.live.pick.key_numbers`)."""
+        return key_numbers(self.experiments[name])
 
-    def show_metrics(self, throttle: bool = False) -> None:
-        """Redraw the metric curves if an episode ended; while animating (``throttle``), at most every 1.5 s."""
-        if self.experiments is None:
-            return
-        count = sum(len(e.episodes) for e in self.experiments.values())
-        if (len(self.experiments), count) == self._drawn_key:
-            return
-        now = time.perf_counter()
-        if throttle and now - self._metrics_drawn_at < 1.5 and not self.finished:
-            return
-        self._drawn_key = (len(self.experiments), count)
-        self._metrics_drawn_at = now
-        for ax in self.metrics_axes:
-            wipe_axes(ax)
-        plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
-                                   LIVE_METRICS, labels=self._legend_labels())
-        self.metrics_image.value = render_figure(self.metrics_figure, "svg")
-        self.metrics_image.layout.display = None
+    def pick_model(self, name, model: str) -> None:
+        """Side ``name`` runs ``model`` (a side's dropdown calls it): the run on show stops, the new one is fitted.
 
-    @property
-    def metrics_shown(self) -> bool:
-        """Whether the metric curves are on show (an episode has ended since the run began)."""
-        return self._drawn_key is not None and self._drawn_key[1] > 0
-
-    def _legend_labels(self) -> dict | None:
-        return None if self.sides == TP_AND_GP else {name: name for name in self.sides}
+        Parameters
+        ----------
+        name : str
+            A side of the dashboard.
+        model : str
+            One of :data:`~sarsp_edu.teaching.live.pick.MODEL_TITLES`.
+        """
+        picked_side(self.sides, name, model)
+        self._on_setting(None)
 
 
 def agent_dashboard(**kwargs) -> AgentDashboard:

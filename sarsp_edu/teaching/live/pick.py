@@ -1,0 +1,83 @@
+"""Each side of the live dashboard picks its model: the Student-t process, the GP, or the GP with Student-t noise.
+
+A pick changes that side's model at once, as a slider move changes the
+world: the run on show stops, the preview is drawn, and both sides are
+fitted for the next *Run* (a TP or GP side loaded from the fit cache where it
+was fitted before; a side with Student-t noise, whose fits the cache does not
+keep, fitted afresh).
+"""
+
+from __future__ import annotations
+
+import ipywidgets as widgets
+
+from ..._internal.validation import check_choice
+
+__all__ = ["MODEL_TITLES", "TP_AND_GP", "key_numbers", "model_pickers", "picked_side"]
+
+#: model -> the title its side shows
+MODEL_TITLES = {"tp": "Student-t process", "gp": "Gaussian process", "t-likelihood": "GP, Student-t noise"}
+#: tutorial 4's two sides: name -> (title, the settings that side changes)
+TP_AND_GP = {model: (MODEL_TITLES[model], {"model": model}) for model in ("tp", "gp")}
+
+
+def model_pickers(dashboard) -> dict:
+    """A dropdown per side that changes its model alone (a side that changes other settings keeps them).
+
+    Parameters
+    ----------
+    dashboard : AgentDashboard
+        Its ``sides`` and its ``pick_model``.
+
+    Returns
+    -------
+    dict
+        Side name -> ``ipywidgets.Dropdown``.
+    """
+    pickers = {}
+    for place, (name, (_, changes)) in zip(("left", "right"), dashboard.sides.items()):
+        if set(changes) != {"model"} or changes["model"] not in MODEL_TITLES:
+            continue
+        picker = widgets.Dropdown(options=[(title, model) for model, title in MODEL_TITLES.items()],
+                                  value=changes["model"], description=place, layout=widgets.Layout(width="auto"))
+        picker.observe(lambda change, name=name: dashboard.pick_model(name, change["new"]), names="value")
+        pickers[name] = picker
+    return pickers
+
+
+def picked_side(sides: dict, name, model: str) -> dict:
+    """``sides`` with side ``name`` running ``model`` under its title (the same dict, changed in place: the run
+    and its fit queue hold it).
+
+    Parameters
+    ----------
+    sides : dict
+        Name -> (title, changed settings).
+    name : str
+        The side.
+    model : str
+        One of :data:`MODEL_TITLES`.
+    """
+    check_choice("model", model, tuple(MODEL_TITLES))
+    if name not in sides:
+        raise ValueError(f"name must be a side of the dashboard ({sorted(sides)}), got name={name!r}")
+    sides[name] = (MODEL_TITLES[model], {"model": model})
+    return sides
+
+
+def key_numbers(experiment) -> tuple:
+    """A side's key numbers, (label, value) pairs: what its run has done so far.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The side's run.
+    """
+    records = experiment.episodes
+    return (("episodes", len(records)),
+            ("reached goal", sum(e["task_completed"] for e in records)),
+            ("violations", sum(e["episode_cost"] for e in records)),
+            ("S_u moves", len(experiment.agent.unsafe_pairs)),
+            ("corrections", experiment.agent.corrective_updates),
+            ("offline fit", "loaded" if experiment.loaded_from_cache
+             else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
