@@ -128,3 +128,32 @@ def test_run_starts_each_side_as_its_fit_ends_back_to_fitted_settings_at_once(la
     assert None not in back and None not in fresh, times
     assert max(back) < min(min(cold), min(fresh)), f"settings fitted before should start first: {times}"
     assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
+
+
+SMALL_DASHBOARD = ("from sarsp_edu import ExperimentConfig\n"
+                   "from sarsp_edu.teaching.dashboards.tutorials import agent_dashboard\n\n"
+                   "config = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80,\n"
+                   "                          reward_fit_points=80, optimizer_steps=5, k_prior=30)\n"
+                   "live = agent_dashboard(n_switch_states=1, episodes=5, config=config)\n"
+                   "live")
+
+
+def test_a_side_picks_the_gp_with_student_t_noise_and_both_sides_step(tmp_path, browser, shots, monkeypatch):  # noqa: F811
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits"))
+    work = tmp_path / "lab"
+    work.mkdir()
+    with jupyterlab(one_cell_notebook(SMALL_DASHBOARD, work / "pick.ipynb"), tmp_path, browser) as page:
+        run_all(page, ".widget-dropdown select")
+        pickers = page.locator(".widget-dropdown select")
+        assert pickers.count() == 2
+        assert [pickers.nth(i).input_value() for i in range(2)] == ["Student-t process", "Gaussian process"]
+        pickers.nth(0).select_option(label="GP, Student-t noise")  # the left side: the GP with Student-t noise
+        page.wait_for_function("() => [...document.querySelectorAll('.widget-html-content')]"
+                               ".some(e => e.innerText.trim().startsWith('GP, Student-t noise'))", timeout=60_000)
+        size = page.evaluate("() => parseFloat(getComputedStyle(document.querySelector('.widget-dropdown select'))"
+                             ".fontSize)")
+        assert size >= 18, f"the model picker's text is {size} px: too small for the back row"
+        steps = click_run(page, [])
+        page.screenshot(path=str(shots / "jupyterlab-live-pick-t-likelihood.png"))
+        assert None not in steps, f"a side never stepped: {steps}"
+        assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
