@@ -272,6 +272,19 @@ def test_a_stored_cell_of_the_reduced_sweep_is_what_the_code_computes():
     assert set(report.tp.diagnostics) == {"reward_mse", "cost_prediction_error", "safe_action_variance"}
 
 
+def test_a_stored_run_of_the_third_model_on_the_reduced_sweep_is_what_the_code_computes():
+    """The GP with Student-t noise on a cell of the reduced sweep, recomputed: every column equal, the prediction
+    diagnostics to a relative 1e-7."""
+    from pathlib import Path
+
+    from sarsp_edu.experiments.sweep.models import check_model_cell
+
+    folder = Path(__file__).resolve().parents[1] / "results" / "sweep-reduced-t-likelihood"
+    report = check_model_cell(folder, "m40_p0.2_nss2_seed0")
+    assert report.differing_columns == () and report.episodes == 10, report
+    assert all(value <= 1e-7 for value in report.diagnostics.values()), report
+
+
 def test_check_cell_names_the_first_episode_and_the_columns_that_differ(sweep, capsys):
     from sarsp_edu.experiments.sweep import check_cell
 

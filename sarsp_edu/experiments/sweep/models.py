@@ -25,7 +25,7 @@ from ..results import ExperimentResult, check_paired
 from .cells import _as_key, _cell_name, _name_key, cell_config
 from .stored import SweepResults, stored_sweep
 
-__all__ = ["MODEL_SWEEP_FILE", "load_model_sweep", "run_model_sweep"]
+__all__ = ["MODEL_SWEEP_FILE", "check_model_cell", "load_model_sweep", "run_model_sweep"]
 
 #: the file that names the paired sweep and the model a model sweep's folder holds
 MODEL_SWEEP_FILE = "model_sweep.json"
@@ -148,3 +148,36 @@ def load_model_sweep(results_dir) -> tuple:
         check_paired(paired.comparisons[key].tp, result, folder)
         runs[key] = result
     return paired, runs
+
+
+def check_model_cell(results_dir, cell: str):
+    """Recompute one stored run of a model sweep with this code on this machine and compare its records.
+
+    As :func:`~sarsp_edu.experiments.sweep.check.check_cell` does for a paired cell: every column must be equal
+    but the prediction diagnostics, whose last digits come from the processor's BLAS kernels.
+
+    Parameters
+    ----------
+    results_dir : path-like
+        A model sweep's folder (:func:`run_model_sweep`'s).
+    cell : str
+        A cell folder's name, such as ``"m40_p0.2_nss2_seed0"``.
+
+    Returns
+    -------
+    SideCheck
+        The columns that differ (none where the run is what this machine computes) and the largest relative
+        difference of each prediction diagnostic.
+    """
+    from ..experiment import run_experiment
+    from .check import _side
+
+    results_dir = Path(results_dir)
+    key = _name_key(str(cell))
+    if key is None:
+        raise ValueError(f"cell={cell!r} is not a cell's name; expected one like 'm40_p0.2_nss2_seed1'")
+    meta = read_json(results_dir / MODEL_SWEEP_FILE, keys=("paired", "model", "base_config"))
+    stored = ExperimentResult.load(results_dir / "cells" / str(cell) / meta["model"])
+    base = stored_sweep(results_dir / meta["paired"])[0]
+    again = run_experiment(cell_config(base, *key).replace(model=meta["model"]))
+    return _side(stored.records, again.records)
