@@ -471,10 +471,15 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
         run_model_sweep(tmp_path / "paired", tmp_path / "tl", model="gp")
     with pytest.raises(ValueError, match="not cells of the paired sweep"):
         run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(60.0, 0.2, 1, 0)])
-    first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=1)
-    assert first == {(40.0, 0.2, 1, 0)}
+    said = []
+    first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=1,
+                            report=said.append)
+    assert first == {(40.0, 0.2, 1, 0)} and said == ["t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 1)"]
+    interrupted = tmp_path / "tl" / "cells" / "m40_p0.2_nss2_seed0" / ".t-likelihood.x1"
+    interrupted.mkdir(parents=True)  # a run whose storing was cut short: cleared, and the run made again
     stored = (tmp_path / "tl" / "cells" / "m40_p0.2_nss1_seed0" / "t-likelihood" / "records.csv").read_bytes()
     assert run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1) == {(40.0, 0.2, 1, 0), (40.0, 0.2, 2, 0)}
+    assert not interrupted.exists()
     assert (tmp_path / "tl" / "cells" / "m40_p0.2_nss1_seed0" / "t-likelihood" / "records.csv").read_bytes() == stored
     paired, runs = load_model_sweep(tmp_path / "tl")
     assert set(runs) == set(paired.comparisons)

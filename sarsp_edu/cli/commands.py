@@ -400,6 +400,7 @@ def _model_sweep(args, parser) -> int:
         requested = stored_sweep(args.paired)[1]
     except (FileNotFoundError, StoredResultError) as exc:
         parser.error(f"--paired: {exc}")
-    done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs)
+    done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs,
+                           report=lambda line: print(line, flush=True))
     print(f"{args.model}: {len(done)} of {len(requested)} cells stored in {args.out}")
     return 0

@@ -57,7 +57,7 @@ def _stored(folder: Path, model: str) -> set:
 
 
 def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs: int | None = None,
-                    cells=None) -> set:
+                    cells=None, report=None) -> set:
     """Run ``model`` on the cells of the paired sweep in ``paired_dir``, storing each run in ``results_dir``.
 
     Parameters
@@ -73,6 +73,8 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         Worker processes (one cell each at a time); default one per core.
     cells : iterable of (m, p, nss, seed), optional
         Only these cells (each must be a cell of the paired sweep); default every one.
+    report : callable, optional
+        Called with a line as each cell is stored (``print`` in the command).
 
     Returns
     -------
@@ -99,6 +101,8 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
                                  "use another folder")
         else:
             atomic_write_text(meta, json.dumps(payload, indent=2) + "\n")
+        for stale in (results_dir / "cells").glob(f"m*/.{model}.*"):  # a run whose storing was interrupted
+            shutil.rmtree(stale, ignore_errors=True)
         todo = [key for key in keys if key not in _stored(results_dir, model)]
         if todo:
             from joblib import Parallel, delayed
@@ -106,9 +110,18 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
             from ..._internal.parallel import available_cores
 
             workers = max(1, min(n_jobs or available_cores(), len(todo), available_cores()))
-            for _ in Parallel(n_jobs=workers, return_as="generator_unordered")(
-                    delayed(_run_cell)(base, key, model, str(results_dir)) for key in todo):
-                pass
+            done = len(keys) - len(todo)
+            try:
+                for key in Parallel(n_jobs=workers, return_as="generator_unordered")(
+                        delayed(_run_cell)(base, key, model, str(results_dir)) for key in todo):
+                    done += 1
+                    if report is not None:
+                        report(f"{model}: {_cell_name(*key)} stored ({done} of {len(keys)})")
+            except KeyboardInterrupt:  # the workers stop now (the cells stored stay; a rerun resumes)
+                from joblib.externals.loky import get_reusable_executor
+
+                get_reusable_executor().shutdown(wait=True, kill_workers=True)
+                raise
         return _stored(results_dir, model)
     finally:
         if lock is not None:
