@@ -8,6 +8,7 @@ started the sides are fitted in the thread.
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import time
@@ -234,7 +235,7 @@ def test_a_slider_moved_while_a_run_claims_its_fits_leaves_no_stale_run(monkeypa
         plain_begin(experiments)
 
     monkeypatch.setattr(live.run, "_begin", slow_begin)
-    claim = threading.Thread(target=live.run._claim, args=(live.run.generation,))
+    claim = threading.Thread(target=live.run._claim, args=(live.run._token(),))
     claim.start()
     assert between.wait(60)
     live.controls["n_switch_states"].value = 2  # a slider move meanwhile
@@ -258,3 +259,18 @@ def test_a_side_of_a_model_the_cache_does_not_keep_is_fitted_here_beside_the_wor
         expected[name].run_episode()
         assert runs[name].records().equals(expected[name].records()), name
     assert runs["t"].config.model == "t-likelihood" and not runs["t"].loaded_from_cache
+
+
+def test_a_side_fitted_in_the_queues_thread_is_abandoned_at_its_next_step_for_newer_settings(cache):
+    config = ExperimentConfig(**dict(SMALL, optimizer_steps=3000))  # a fit that would take minutes
+    sides = {"t": ("Student-t noise", {"model": "t-likelihood"}), "gp": ("Gaussian process", {"model": "gp"})}
+    queue = FitQueue(sides)
+    queue.request(config)
+    fits = queue.claim(config)
+    deadline = time.monotonic() + 120
+    while "step" not in fits.progress.get("t", "") and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert re.match(r"fitting its models here: step \d+ of 6000, \d+ s", fits.progress.get("t", "")), fits.progress
+    newer = ExperimentConfig(**SMALL)
+    assert prepared_runs(queue, newer)["t"].config == newer.replace(model="t-likelihood")
+    assert fits.done and "t" not in fits.experiments and fits.error is None  # abandoned, not finished

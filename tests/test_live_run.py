@@ -169,3 +169,40 @@ def test_blas_is_limited_while_a_side_steps_not_between_steps(run, monkeypatch):
     thread.join(60)
     assert steps and all(holders for holders in steps), "each step runs under the limit"
     assert any(free), "between steps nothing holds the limit: the notebook's own cells keep every BLAS thread"
+
+
+def test_run_again_right_after_stop_never_steps_one_side_from_two_threads(run):
+    """Stop, then Run, while a side is inside a long step (a retrain): the earlier launch's thread ends that step
+    and no other; the new launch's thread waits for it, and the earlier thread does not stop the new run."""
+    run.build()
+    experiment = run.experiments["gp"]
+    plain, inside, release, concurrent, most = experiment.step, threading.Event(), threading.Event(), [0], [0]
+
+    def long_step():
+        concurrent[0] += 1
+        most[0] = max(most[0], concurrent[0])
+        try:
+            if not release.is_set():
+                inside.set()
+                release.wait(60)
+            return plain()
+        finally:
+            concurrent[0] -= 1
+
+    experiment.step = long_step
+    first = run.launch()
+    assert inside.wait(60)
+    run.stop()
+    second = run.launch()
+    assert second is not None and run.running
+    release.set()
+    first.join(60)
+    assert not first.is_alive() and run.running, "the earlier launch's end must not stop the new run"
+    steps = len(experiment.act_seconds)
+    assert _wait_until(lambda: len(experiment.act_seconds) >= steps + 3)
+    run.stop()
+    second.join(60)
+    assert most[0] == 1, "two threads stepped one side at once"
+    watched = experiment.agent.refit_model
+    run._adopt("gp", experiment)  # adopted again (both launches' threads adopt a side that joins): one watch
+    assert experiment.agent.refit_model is watched and watched.watched_by is run

@@ -119,6 +119,10 @@ def changed_settings(sides: dict) -> dict:
     return {name: changes for name, (_, changes) in sides.items()}
 
 
+class _Abandoned(Exception):
+    """Raised through a fit in the queue's thread that newer settings (or ``close``) made unwanted."""
+
+
 class PendingFits:
     """The runs of one setting as they are fitted: each side appears as soon as its models are."""
 
@@ -176,7 +180,10 @@ class FitQueue:
     so that the wanted fit never waits behind one nobody waits for; only the
     latest request is kept.  ``claim`` hands the pending fits, finished or
     under way, to the dashboard once.  Where a process cannot be started,
-    the sides are fitted in the thread, one after the other.
+    and for a model whose fits the cache does not keep (a worker hands its
+    fit over through the cache), the sides are fitted in the thread, one
+    after the other, each abandoned at its next optimiser step when newer
+    settings are requested.
     """
 
     def __init__(self, sides: dict, offline: dict | None = None):
@@ -246,6 +253,8 @@ class FitQueue:
                 self._condition.notify_all()
             try:
                 self._fit_settings(config, fits)
+            except _Abandoned:  # newer settings wanted: the fits of these are not waited for
+                pass
             except Exception as exc:  # handed to whoever waits for these settings
                 fits.error = exc
             with self._condition:
@@ -273,7 +282,8 @@ class FitQueue:
                 if experiment is not None:
                     self._hand_over(fits, name, experiment)
                     del sides[name]
-            # a model whose fits the cache does not keep cannot be handed over by a worker: fitted here
+            # a model whose fits the cache does not keep cannot be handed over by a worker: fitted here, after
+            # the workers' sides are handed over (they step meanwhile), abandoned at a step if newer settings come
             here = {name: side for name, side in sides.items() if side.model not in fitcache.CACHED_MODELS}
             sides = {name: side for name, side in sides.items() if name not in here}
             workers = self._workers(sides, folder) if sides else {}
@@ -287,13 +297,30 @@ class FitQueue:
                 self._hand_over(fits, name, self._fit_here(fits, name, side, prepared))
 
     def _fit_here(self, fits, name, side, prepared):
-        """A side fitted in this thread (kept in the fit cache where it is on): where no worker could fit it."""
+        """A side fitted in this thread (kept in the fit cache where it is on): where no worker could fit it.
+
+        Its progress is said step by step; a newer request (or ``close``) abandons it at the next step of its
+        hyperparameter search, which raises :class:`_Abandoned` through the fit.
+        """
         from ...experiments.experiment import Experiment
+        from ...models.optimizers import reporting_steps
         from . import fitcache
+
+        total, taken, began = side.offline_fit_steps or 0, [0], time.perf_counter()
+
+        def step() -> None:
+            if self._pending:  # newer settings wanted: nobody waits for this fit any more
+                raise _Abandoned
+            taken[0] += 1
+            with self._condition:
+                fits.progress[name] = (f"fitting its models here: step {taken[0]}" + (f" of {total}" if total else "")
+                                       + f", {time.perf_counter() - began:.0f} s")
+                self._condition.notify_all()
 
         with self._condition:
             fits.progress[name] = "fitting its models here"
-        experiment = Experiment(side, prepared=prepared)
+        with reporting_steps(step):
+            experiment = Experiment(side, prepared=prepared)
         if fitcache.cache_directory() is not None:
             fitcache.store(experiment)
         return experiment

@@ -20,7 +20,7 @@ import html
 import threading
 import time
 
-from ..._internal.threads import one_blas_thread
+from ..._internal.threads import DaemonCall, one_blas_thread
 from .background import FitQueue, changed_settings
 
 __all__ = ["WAIT_SHOWN_AFTER", "LiveRun", "QuietView"]
@@ -83,6 +83,8 @@ class LiveRun:
         self.lock = threading.RLock()
         self.fits = FitQueue(sides, offline=offline)
         self.generation = 0  # counts the run's discards: a thread of an older generation ends quietly
+        self._launches = 0  # counts launches: a thread of an earlier launch (Stop, then Run) ends quietly too
+        self._step_locks = {name: threading.Lock() for name in sides}  # one stepper per side, whoever launched it
         self._cancel = threading.Event()  # set when the run is stopped or discarded: sleeping sides wake up
         self.pending = None  # the fits under way for the current settings (FitQueue.claim)
         self.experiments = None
@@ -113,6 +115,8 @@ class LiveRun:
         if name in self.parts:
             agent.parts = self.parts[name]
         inner = agent.refit_model
+        if getattr(inner, "watched_by", None) is self:  # adopted before (by an earlier launch's thread)
+            return experiment
 
         def watched(model, X, y):
             self.retraining[name] = True
@@ -121,6 +125,7 @@ class LiveRun:
             finally:
                 self.retraining[name] = False
 
+        watched.watched_by = self
         agent.refit_model = watched
         return experiment
 
@@ -179,7 +184,7 @@ class LiveRun:
             self.build()
         for name in self.sides:
             if name not in self.experiments:
-                self._await_side(name, self.generation)
+                self._await_side(name, self._token())
 
     def step_pair(self, draw: bool = True) -> None:
         """One step of each agent that has episodes left (refused while the agents are animated)."""
@@ -188,7 +193,8 @@ class LiveRun:
         with one_blas_thread(), self.lock:
             for name, experiment in self.experiments.items():
                 if not experiment.finished:
-                    self.last[name] = experiment.step()
+                    with self._step_locks[name]:  # a stopped side's thread ends the step it was in first
+                        self.last[name] = experiment.step()
             if draw:
                 now = time.perf_counter()
                 for name in self.sides:
@@ -250,7 +256,8 @@ class LiveRun:
                 return None
             self.running = True
             self._cancel.clear()
-            generation = self.generation
+            self._launches += 1
+            generation = self._token()
         thread = threading.Thread(target=self._launched, args=(generation, episodes, on_end),
                                   name="sarsp-edu-live-run", daemon=True)
         thread.start()
@@ -267,7 +274,7 @@ class LiveRun:
                 self.view.say(f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>")
         finally:
             with self.lock:
-                if generation == self.generation:
+                if self._current(generation):
                     self.running = False
             if on_end is not None:
                 on_end()
@@ -287,8 +294,13 @@ class LiveRun:
         self.discard()
         self.fits.close()
 
+    def _token(self) -> tuple:
+        """What a thread of the run now carries: the settings' generation and the launch."""
+        return self.generation, self._launches
+
     def _current(self, generation) -> bool:
-        return generation == self.generation and not self.closed
+        """Whether a thread carrying ``generation`` (a :meth:`_token`) still belongs to the run on show."""
+        return generation == self._token() and not self.closed
 
     def _claim(self, generation) -> None:
         """Take the runs fitted (or being fitted) for the current settings; each side joins when fitted."""
@@ -316,7 +328,7 @@ class LiveRun:
         if name in self.experiments:
             return self.experiments[name]
         pending, said = self.pending, None
-        while not pending.ready(name) and not self.closed:
+        while not pending.ready(name) and self._current(generation):
             progress = pending.progress.get(name, "waiting for its fit to begin")
             if progress != said:
                 with self.lock:
@@ -346,8 +358,8 @@ class LiveRun:
         with self.lock:
             self.frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
             self.frames = 0
-        sides = [_Side(self._run_side, name, generation) for name in self.sides]
-        watch = _Side(self._show_waits, generation, sides)
+        sides = [DaemonCall(self._run_side, name, generation) for name in self.sides]
+        watch = DaemonCall(self._show_waits, generation, sides)
         for side in [*sides, watch]:
             side.result()
         self._say_where_it_stands(generation)
@@ -385,12 +397,15 @@ class LiveRun:
             return
         while self.running and self._current(generation) and not experiment.finished:
             start = time.perf_counter()
-            self.stepping_since[name] = start
-            try:
-                with one_blas_thread():  # per step: the notebook's own cells keep every BLAS thread meanwhile
-                    record = experiment.step()
-            finally:
-                self.stepping_since[name] = None
+            with self._step_locks[name]:  # an earlier launch's thread ends its step first
+                if not self._current(generation):
+                    return
+                self.stepping_since[name] = start
+                try:
+                    with one_blas_thread():  # per step: the notebook's own cells keep every BLAS thread meanwhile
+                        record = experiment.step()
+                finally:
+                    self.stepping_since[name] = None
             with self.lock:
                 if not self._current(generation):  # the settings changed: the preview is on show now
                     return
@@ -424,26 +439,3 @@ class LiveRun:
                         if self._current(generation):
                             self.view.show_waiting(name, f"{why} ({now - since:.1f} s)")
             time.sleep(0.1)
-
-
-class _Side(threading.Thread):
-    """A daemon thread running ``target(*args)``; ``result()`` waits for it and raises what it raised."""
-
-    def __init__(self, target, *args):
-        super().__init__(name="sarsp-edu-side", daemon=True)
-        self._call, self._args, self._error = target, args, None
-        self.start()
-
-    def run(self) -> None:
-        try:
-            self._call(*self._args)
-        except BaseException as exc:  # handed to whoever waits, as a future would
-            self._error = exc
-
-    def done(self) -> bool:
-        return not self.is_alive()
-
-    def result(self) -> None:
-        self.join()
-        if self._error is not None:
-            raise self._error
