@@ -329,3 +329,11 @@ def test_compare_pairs_the_models_it_is_given_and_its_default_is_the_tp_and_gp_b
     with pytest.raises(SystemExit):
         main(["compare", *TINY, "--models", "tp", "tp"])
     assert "two or more distinct models" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["compare", *TINY, "--models", "gp", "t-likelihood", "--out", str(tmp_path / "three")])
+    assert "holds runs of gp, t-likelihood already" in capsys.readouterr().err
+    assert main(["compare", *TINY, "--models", "gp", "t-likelihood", "--out", str(tmp_path / "three"),
+                 "--overwrite"]) == 0
+    with pytest.raises(SystemExit):
+        main(["compare", *TINY, "--models", "gp", "t-likelihood", "--jobs", "2"])
+    assert "leave --jobs out" in capsys.readouterr().err

@@ -471,6 +471,8 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
         run_model_sweep(tmp_path / "paired", tmp_path / "tl", model="gp")
     with pytest.raises(ValueError, match="not cells of the paired sweep"):
         run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(60.0, 0.2, 1, 0)])
+    with pytest.raises(ValueError, match="holds a paired sweep"):  # never into the paired sweep's own folder
+        run_model_sweep(tmp_path / "paired", tmp_path / "paired")
     said = []
     first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=1,
                             report=said.append)
@@ -483,6 +485,10 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
     assert (tmp_path / "tl" / "cells" / "m40_p0.2_nss1_seed0" / "t-likelihood" / "records.csv").read_bytes() == stored
     paired, runs = load_model_sweep(tmp_path / "tl")
     assert set(runs) == set(paired.comparisons)
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1,), seeds=(0,),
+              results_dir=tmp_path / "another")
+    with pytest.raises(ValueError, match="holds runs of 't-likelihood' on the paired sweep"):
+        run_model_sweep(tmp_path / "another", tmp_path / "tl")  # the folder's runs belong to another sweep
     key = (40.0, 0.2, 2, 0)
     again = run_experiment(cell_config(TINY, *key).replace(model="t-likelihood"))  # the stored run, recomputed
     pd.testing.assert_frame_equal(again.records, runs[key].records)
@@ -516,3 +522,6 @@ def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_t
     assert main(["tables", str(tmp_path / "tl")]) == 0
     out = capsys.readouterr().out
     assert "partial: 3 of the paired sweep's 4 cells" in out and "Table 2 with a third model" in out
+    with pytest.raises(SystemExit):
+        main(["tables", str(tmp_path / "tl"), "--all"])
+    assert "--all: not for a model sweep's folder" in capsys.readouterr().err

@@ -56,6 +56,7 @@ MOVED = {
     "markup": "teaching.live.markup",
     "fitcache": "teaching.live.fitcache",
     "live.dashboard": "teaching.live.view",
+    "live.animation": "teaching.live.controller",  # the animation mixin became the LiveRun controller
     "live": "teaching.live",
 }
 

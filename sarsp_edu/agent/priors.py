@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..models.kernels import KernelTable, whole_distance_bound
+from ..models.processes.robust import StudentTLikelihoodGP
 from .parts import predict_from_parts
 
 __all__ = ["KERNEL_TABLE_MAX_DISTINCT", "PriorPredictor"]
@@ -78,7 +79,7 @@ class PriorPredictor:
             The predictive's degrees of freedom (inf for the GP).
         """
         X, y = buffer.X, buffer.y
-        if not hasattr(model, "noise_variance_"):  # a Student-t likelihood: a Laplace approximation per prior
+        if isinstance(model, StudentTLikelihoodGP):  # a Student-t likelihood: a Laplace approximation per prior
             return model.predict_batch([X[r] for r in prior_rows], [y[r] for r in prior_rows], query_sets,
                                        include_noise=True)
         if parts is not None and not parts.package_models:

@@ -122,11 +122,21 @@ def _compare(args, parser) -> int:
 
 def _compare_models(args, parser, config) -> int:
     """``compare --models ...``: several models paired, their summaries and Definition 4 for each pair."""
+    from pathlib import Path
+
     from ..experiments.comparison import compare_models
 
     if len(set(args.models)) != len(args.models) or len(args.models) < 2:
         parser.error(f"--models takes two or more distinct models, got {' '.join(args.models)}")
-    check_out(parser, args.out, "compare", config, args.overwrite)
+    if args.jobs is not None:
+        parser.error("--jobs runs the GP beside the TP of the default pair; with --models the runs are made one "
+                     "after the other: leave --jobs out")
+    if args.out:
+        check_writable(parser, "--out", args.out, Path(args.out))
+        held = [model for model in args.models if (Path(args.out) / model / "result.json").exists()]
+        if held and not args.overwrite:
+            parser.error(f"--out {args.out} holds runs of {', '.join(held)} already; to keep them, give another "
+                         "folder; to replace them, add --overwrite")
     with _out_lock(parser, args.out, "compare"):
         try:
             comparison = compare_models(config, args.models, progress=not args.quiet, a=args.a)

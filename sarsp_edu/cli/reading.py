@@ -181,6 +181,12 @@ def _ablation_table(args, parser) -> int:
 def _model_tables(args, parser) -> int:
     """A model sweep's folder: Table 2 of three models over the cells run so far, the tests, Definition 4."""
     from .._internal.io import StoredResultError
+
+    unsupported = [flag for flag, given in (("--markdown", args.markdown), ("--all", args.all),
+                                            ("--seeds", args.seeds)) if given]
+    if unsupported:
+        parser.error(f"{', '.join(unsupported)}: not for a model sweep's folder, whose tables are Table 2 with a "
+                     "third column, its tests and Definition 4 over the cells run so far")
     from ..experiments.sweep.model_tables import model_sweep_tables
     from ..experiments.sweep.models import load_model_sweep
 

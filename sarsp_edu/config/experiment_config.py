@@ -40,7 +40,7 @@ class ExperimentConfig(_Settings):
     """Every setting of one run; the defaults are the paper's (and its reference code's).
 
     Each setting is declared once, here: its group, its default and its help
-    (``metadata["group"]`` and ``metadata["help"]``; the ``sarsp-edu`` command
+    (``metadata["groups"]`` and ``metadata["help"]``; the ``sarsp-edu`` command
     builds its flags from the same text, a stored ``result.json`` has one key
     per field).  The code takes the settings in groups derived from these
     fields, :class:`WorldSettings`, :class:`DataSettings`,

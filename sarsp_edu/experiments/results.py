@@ -307,8 +307,8 @@ class Comparison:
         return cls(tp, gp, a)
 
 
-def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory) -> None:
-    """Refuse a TP and a GP run whose episodes did not start and end at the same cells (they are paired).
+def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory, names=("tp/", "gp/")) -> None:
+    """Refuse two runs (a TP and a GP, say) whose episodes did not start and end at the same cells (they are paired).
 
     Parameters
     ----------
@@ -316,6 +316,8 @@ def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory) -> None:
         The two runs, whose records' ``start`` and ``goal`` columns are compared episode by episode.
     directory : path-like
         Named in the error.
+    names : (str, str), default ("tp/", "gp/")
+        The two runs' names in the error.
 
     Raises
     ------
@@ -327,7 +329,8 @@ def check_paired(tp: ExperimentResult, gp: ExperimentResult, directory) -> None:
         if any(differ):
             row = differ.index(True)
             raise StoredResultError(
-                f"{directory}: tp/ and gp/ differ in episode {row + 1}'s {column} ({tp.records[column].iloc[row]} "
+                f"{directory}: {names[0]} and {names[1]} differ in episode {row + 1}'s {column} "
+                f"({tp.records[column].iloc[row]} "
                 f"against {gp.records[column].iloc[row]}), where a paired comparison runs both on the same "
                 "episodes; one of the records was edited")
 

@@ -22,7 +22,7 @@ from ..._internal.validation import check_choice
 from ..._version import __version__
 from ...config import MODELS
 from ..results import ExperimentResult, check_paired
-from .cells import _as_key, _cell_name, _name_key, cell_config
+from .cells import _as_key, _cell_name, _name_key, cell_config, finished_cells
 from .stored import SweepResults, stored_sweep
 
 __all__ = ["MODEL_SWEEP_FILE", "check_model_cell", "load_model_sweep", "run_model_sweep"]
@@ -83,11 +83,16 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
     """
     check_choice("model", model, tuple(m for m in MODELS if m not in ("tp", "gp")))
     paired_dir, results_dir = Path(paired_dir), Path(results_dir)
-    base, requested = stored_sweep(paired_dir)
-    keys = sorted(requested if cells is None else {_as_key(key) for key in cells})
-    unknown = sorted(set(keys) - requested)
+    if results_dir.resolve() == paired_dir.resolve() or (results_dir / "sweep.json").exists():
+        raise ValueError(f"results_dir={str(results_dir)!r} holds a paired sweep; the model's runs go into a "
+                         "folder of their own")
+    base, _ = stored_sweep(paired_dir)
+    stored = finished_cells(paired_dir)  # the cells whose TP and GP runs are there to be paired with
+    keys = sorted(stored if cells is None else {_as_key(key) for key in cells})
+    unknown = sorted(set(keys) - stored)
     if unknown:
-        raise ValueError(f"cells {unknown} are not cells of the paired sweep in {paired_dir}")
+        raise ValueError(f"cells {unknown} are not cells of the paired sweep in {paired_dir} (stored: "
+                         f"{len(stored)})")
     results_dir.mkdir(parents=True, exist_ok=True)
     lock = lock_folder(results_dir, _LOCK, "model sweep")
     try:
@@ -95,10 +100,12 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         payload = {"paired": os.path.relpath(paired_dir, results_dir), "model": model,
                    "base_config": base.replace(model=model).to_dict(), "sarsp_edu_version": __version__}
         if meta.exists():
-            stored = read_json(meta, keys=("paired", "model", "base_config"))
-            if (stored["model"], stored["base_config"]) != (model, payload["base_config"]):
-                raise ValueError(f"{results_dir} holds runs of another model or settings ({stored['model']!r}); "
-                                 "use another folder")
+            held = read_json(meta, keys=("paired", "model", "base_config"))
+            same_paired = (results_dir / held["paired"]).resolve() == paired_dir.resolve()
+            if (held["model"], held["base_config"]) != (model, payload["base_config"]) or not same_paired:
+                raise ValueError(f"{results_dir} holds runs of {held['model']!r} on the paired sweep "
+                                 f"{(results_dir / held['paired']).resolve()}; use another folder for {model!r} on "
+                                 f"{paired_dir.resolve()}")
         else:
             atomic_write_text(meta, json.dumps(payload, indent=2) + "\n")
         for stale in (results_dir / "cells").glob(f"m*/.{model}.*"):  # a run whose storing was interrupted
@@ -150,15 +157,15 @@ def load_model_sweep(results_dir) -> tuple:
     """
     results_dir = Path(results_dir)
     meta = read_json(results_dir / MODEL_SWEEP_FILE, keys=("paired", "model", "base_config"))
-    paired = SweepResults.load(results_dir / meta["paired"])
+    paired = SweepResults.load(results_dir / meta["paired"], allow_partial=True)
     model, base = meta["model"], paired.base
     runs = {}
-    for key in sorted(_stored(results_dir, model)):
+    for key in sorted(_stored(results_dir, model) & set(paired.comparisons)):
         folder = results_dir / "cells" / _cell_name(*key)
         result = ExperimentResult.load(folder / model)
         if result.config != cell_config(base, *key).replace(model=model):
             raise StoredResultError(f"{folder / model} ran other settings than its cell's")
-        check_paired(paired.comparisons[key].tp, result, folder)
+        check_paired(paired.comparisons[key].tp, result, folder, names=("TP", model))
         runs[key] = result
     return paired, runs
 

@@ -122,7 +122,7 @@ class LaplaceMode:
     log_q : float
         The approximate log marginal likelihood ``-a^T f / 2 + log p(y | f) - log|B| / 2``.
     steps : int
-        Newton steps taken.
+        Steps of the search (Newton and EM), the last one tried included.
     """
 
     f: np.ndarray
@@ -181,7 +181,7 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
             # a = K^-1 (K^-1 + W)^-1 b = (I + W K)^-1 b
             direction = b - WL(_solve(C, WL(b, transpose=True))) - a
         else:  # not concave here: an EM step, a GP's mean with the rows weighted (it never lowers psi)
-            weight = (nu + 1) / (nu * scale * scale + (y - f[group]) ** 2)  # each row's precision / s^-2
+            weight = (nu + 1) / (nu * scale * scale + (y - f[group]) ** 2)  # each row's precision in the EM step
             w = np.sqrt(np.bincount(group, weight, m))
             target = np.bincount(group, weight * y, m)
             C = _factor(w[:, None] * K * w[None, :])

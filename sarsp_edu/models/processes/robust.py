@@ -18,11 +18,11 @@ Williams 2006, ch. 3; Vanhatalo, Jylanki and Vehtari 2009) replaces it by the
 Gaussian at its mode ``f_hat`` with precision ``K^-1 + W``,
 ``W = diag(-d^2 log p(y_i | f_i) / d f_i^2)``.  For the Student-t, ``W`` is
 negative for a point whose residual exceeds ``sqrt(nu) s``, so the textbook
-algorithm (which needs ``W >= 0``) is changed in two places: the mode is
-found by Newton steps with ``max(W, 0)`` and a line search (an ascent
-direction every step, the same fixed point), and the covariance uses
-``B = I + L^T W L`` (``K = L L^T``), positive definite exactly when the mode
-is a maximum.
+algorithm (which needs ``W >= 0``) is changed
+(:mod:`~sarsp_edu.models.processes.laplace`): the mode is found by Newton
+steps where the log posterior is concave and EM steps where it is not, each
+with a line search, and the covariance uses ``B = I + L^T W L``
+(``K = L L^T``), positive definite exactly when the mode is a maximum.
 """
 
 from __future__ import annotations
