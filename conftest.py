@@ -29,7 +29,8 @@ ROOT = Path(__file__).parent
 SLOW_MODULES = {
     "test_ablation", "test_accessibility", "test_binder", "test_browser", "test_browser_live", "test_capstone",
     "test_cli", "test_cli_fuzz", "test_course", "test_dashboards", "test_experiment", "test_exercises",
-    "test_fitcache", "test_hostile_inputs", "test_layers", "test_live_fitting", "test_live_run",
+    "test_audit", "test_fitcache", "test_hostile_inputs", "test_layers", "test_likelihood_agent", "test_live_fitting",
+    "test_live_run",
     "test_notebook_threads", "test_outputs", "test_pages", "test_prose", "test_stored_results", "test_sweep",
 }
 
