@@ -136,3 +136,22 @@ def test_scikit_learns_estimator_checks_pass():
     # with the given hyperparameters: the L-BFGS search passes them too (measured) but takes two minutes
     results = check_estimator(StudentTLikelihoodGP(optimizer=None), on_fail=None)
     assert [(r["check_name"], str(r["exception"])[:200]) for r in results if r["status"] == "failed"] == []
+
+
+def test_a_prior_whose_mode_search_is_slow_is_still_found():
+    """A strategic prior of the agent's cost data (recorded where a paper-size run stopped when the search was
+    allowed 100 steps): most of its rows start as outliers to the fitted noise scale of 0.006, and the EM steps
+    take 182 steps to the mode."""
+    from pathlib import Path
+
+    from sarsp_edu.models.processes.laplace import MAX_NEWTON, laplace_mode, student_t_log_likelihood
+
+    case = np.load(Path(__file__).parent / "data" / "laplace_slow_prior.npz")
+    K, y, group, nu, scale = case["K"], case["y"], case["group"], float(case["nu"]), float(case["scale"])
+    with pytest.raises(RuntimeError, match="not found in max_newton=100 steps"):
+        laplace_mode(K, y, group, nu, scale, max_newton=100)
+    mode = laplace_mode(K, y, group, nu, scale)
+    assert 100 < mode.steps < MAX_NEWTON
+    gradient = np.bincount(group, student_t_log_likelihood(y - mode.f[group], nu, scale)[1], len(K))
+    # the log posterior's gradient, 0 at the mode: here the search ends where no step raises it beyond rounding
+    assert np.max(np.abs(gradient - mode.a)) <= 1e-4 * (1 + np.max(np.abs(gradient)))

@@ -40,6 +40,7 @@ from ..kernels import RBF
 from ..linalg import distinct_rows
 from ..optimizers import adam
 from .laplace import (
+    MAX_NEWTON,
     laplace_gradient,
     laplace_mode,
     laplace_predict,
@@ -83,8 +84,9 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
     prior : {"lognormal", None}, default None
         LogNormal(0, 1) priors on the amplitude, the length scale and ``scale``
         (MAP), as the agent's GP and TP have.
-    max_newton : int, default 100
-        Newton steps allowed to find the posterior mode.
+    max_newton : int, default 1000
+        Steps allowed to find the posterior mode (a prior of the agent's cost data took 182, its EM steps
+        slow where most rows start as outliers to a noise scale of 0.006).
 
     Notes
     -----
@@ -113,7 +115,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     def __init__(self, kernel: RBF | None = None, *, nu: float = 3.0, scale: float = 0.5,
                  optimizer: str | None = "lbfgs", learning_rate: float = LEARNING_RATE, max_iter: int | None = None,
-                 prior: str | None = None, max_newton: int = 100):
+                 prior: str | None = None, max_newton: int = MAX_NEWTON):
         self.kernel = kernel
         self.nu = nu
         self.scale = scale
