@@ -525,3 +525,9 @@ def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_t
     with pytest.raises(SystemExit):
         main(["tables", str(tmp_path / "tl"), "--all"])
     assert "--all: not for a model sweep's folder" in capsys.readouterr().err
+    stored = tmp_path / "tl" / "cells" / "m40_p0.2_nss2_seed0" / "t-likelihood" / "result.json"
+    payload = json.loads(stored.read_text())
+    payload["code"] = {**payload["code"], "source_sha256": "another version of the package"}
+    stored.write_text(json.dumps(payload))
+    assert main(["tables", str(tmp_path / "tl")]) == 0
+    assert "computed by 2 versions of the code" in capsys.readouterr().out

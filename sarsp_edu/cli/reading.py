@@ -181,6 +181,7 @@ def _ablation_table(args, parser) -> int:
 def _model_tables(args, parser) -> int:
     """A model sweep's folder: Table 2 of three models over the cells run so far, the tests, Definition 4."""
     from .._internal.io import StoredResultError
+    from ..experiments.provenance import code_label
 
     unsupported = [flag for flag, given in (("--markdown", args.markdown), ("--all", args.all),
                                             ("--seeds", args.seeds)) if given]
@@ -201,6 +202,13 @@ def _model_tables(args, parser) -> int:
     tables = model_sweep_tables(paired, runs, a=args.a)
     if len(runs) < len(paired):
         print(f"partial: {len(runs)} of the paired sweep's {len(paired)} cells run so far")
+    versions = {}
+    for result in runs.values():
+        label = code_label(result.code)
+        versions[label] = versions.get(label, 0) + 1
+    if len(versions) > 1:
+        print(f"note: the third model's runs were computed by {len(versions)} versions of the code, whose numbers "
+              "may differ: " + "; ".join(f"{label}: {count} runs" for label, count in versions.items()))
     print(_LEGEND)
     print(f"\nTable 2 with a third model: each metric's mean over the configurations run\n"
           f"{_format_table(tables['mean'])}")
