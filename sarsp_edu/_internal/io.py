@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -91,6 +92,30 @@ def staging_directory(parent, name: str) -> Path:
     staging = Path(tempfile.mkdtemp(prefix=f".{name}.", dir=parent))
     os.chmod(staging, _permissions(directory=True))
     return staging
+
+
+def publish_folder(final, write, marker: str) -> Path:
+    """Build the folder ``final`` with ``write(staging)`` in a hidden staging folder beside it, then rename it into
+    place: a reader sees the whole folder or none of it.
+
+    Where another process published ``final`` first (its ``marker`` file is there), ours is removed and theirs
+    kept; on any error the staging folder is removed and the error raised.
+    """
+    final = Path(final)
+    final.parent.mkdir(parents=True, exist_ok=True)
+    staging = staging_directory(final.parent, final.name)
+    try:
+        write(staging)
+        try:
+            os.rename(staging, final)
+        except OSError:
+            if not (final / marker).exists():
+                raise
+            shutil.rmtree(staging)  # another worker finished the same folder first
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return final
 
 
 def atomic_write_text(path, text: str) -> Path:

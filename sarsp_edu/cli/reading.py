@@ -38,10 +38,7 @@ def _tables(args, parser) -> int:
     if results.missing:
         print(f"partial sweep: {len(results)} of {len(results) + len(results.missing)} cells stored; "
               f"missing: {describe_cells(results.missing)}")
-    versions = results.code_versions()
-    if len(versions) > 1:
-        print(f"note: the runs were computed by {len(versions)} versions of the code, whose numbers may differ: "
-              + "; ".join(f"{label}: {runs} runs" for label, runs in versions.items()))
+    _say_versions(results.code_versions(), "the runs")
     print(_LEGEND)
     print(f"\nTable 2: each metric's mean over the configurations, TP against GP\n{_format_table(tables['mean'])}")
     print("\n" + _verdict_counts(tables["table1"]))
@@ -178,10 +175,17 @@ def _ablation_table(args, parser) -> int:
     return 0
 
 
+def _say_versions(versions: dict, what: str) -> None:
+    """A note where ``what`` (a sweep's runs) come from more than one version of the code."""
+    if len(versions) > 1:
+        print(f"note: {what} were computed by {len(versions)} versions of the code, whose numbers may differ: "
+              + "; ".join(f"{label}: {runs} runs" for label, runs in versions.items()))
+
+
 def _model_tables(args, parser) -> int:
     """A model sweep's folder: Table 2 of three models over the cells run so far, the tests, Definition 4."""
     from .._internal.io import StoredResultError
-    from ..experiments.provenance import code_label
+    from ..experiments.provenance import code_versions
 
     unsupported = [flag for flag, given in (("--markdown", args.markdown), ("--all", args.all),
                                             ("--seeds", args.seeds)) if given]
@@ -202,13 +206,7 @@ def _model_tables(args, parser) -> int:
     tables = model_sweep_tables(paired, runs, a=args.a)
     if len(runs) < len(paired):
         print(f"partial: {len(runs)} of the paired sweep's {len(paired)} cells run so far")
-    versions = {}
-    for result in runs.values():
-        label = code_label(result.code)
-        versions[label] = versions.get(label, 0) + 1
-    if len(versions) > 1:
-        print(f"note: the third model's runs were computed by {len(versions)} versions of the code, whose numbers "
-              "may differ: " + "; ".join(f"{label}: {count} runs" for label, count in versions.items()))
+    _say_versions(code_versions(runs.values()), "the third model's runs")
     print(_LEGEND)
     print(f"\nTable 2 with a third model: each metric's mean over the configurations run\n"
           f"{_format_table(tables['mean'])}")

@@ -26,15 +26,6 @@ from .experiment import experiments_on_one_world
 __all__ = ["audit_summary", "safe_set_audit"]
 
 
-def _observation(env, cell) -> np.ndarray:
-    """The observation of the agent on ``cell`` in ``env`` (the world's own layout of it)."""
-    unsafe = env.unsafe_states
-    i, distance = nearest(cell, unsafe)
-    gx, gy = env.goal
-    return np.array([cell[0], cell[1], gx, gy, abs(cell[0] - gx) + abs(cell[1] - gy), unsafe[i][0], unsafe[i][1],
-                     distance], dtype=float)
-
-
 def safe_set_audit(config: ExperimentConfig | None = None, models=MODELS, draws: int = 3, rng=0) -> pd.DataFrame:
     """Every model's cost predictions and safe set, for every action from every free cell of the shifted world.
 
@@ -65,7 +56,7 @@ def safe_set_audit(config: ExperimentConfig | None = None, models=MODELS, draws:
     for model, experiment in experiments.items():
         agent, saved = experiment.agent, experiment.agent.rng
         for c, cell in enumerate(cells):
-            observation = _observation(env, cell)
+            observation = env.observation_at(cell)
             mus, variances, safe = [], [], []
             for draw in range(draws):
                 agent.rng = np.random.default_rng(seeds[c * draws + draw])  # the same draws for every model

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from .._version import __version__
 
-__all__ = ["code_provenance", "code_label"]
+__all__ = ["code_label", "code_provenance", "code_versions"]
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -80,3 +80,19 @@ def code_label(code: dict | None) -> str:
         return "not recorded"
     return (f"{code.get('sarsp_edu_version')}, source {str(code.get('source_sha256'))[:8]}, "
             f"numpy {code.get('numpy')}, scipy {code.get('scipy')}")
+
+
+def code_versions(results) -> dict:
+    """How many of ``results`` each version of the code computed: ``{code_label: runs}``.
+
+    More than one entry means the runs come from different code, whose numbers may differ.
+
+    Parameters
+    ----------
+    results : iterable of ExperimentResult
+    """
+    counts: dict = {}
+    for result in results:
+        label = code_label(result.code)
+        counts[label] = counts.get(label, 0) + 1
+    return counts

@@ -17,7 +17,7 @@ import os
 import shutil
 from pathlib import Path
 
-from ..._internal.io import StoredResultError, atomic_write_text, lock_folder, read_json, staging_directory
+from ..._internal.io import StoredResultError, atomic_write_text, lock_folder, publish_folder, read_json
 from ..._internal.validation import check_choice
 from ..._version import __version__
 from ...config import MODELS
@@ -37,16 +37,7 @@ def _run_cell(base, key, model: str, folder: str) -> tuple:
     from ..experiment import run_experiment
 
     result = run_experiment(cell_config(base, *key).replace(model=model))
-    cells = Path(folder) / "cells"
-    final = cells / _cell_name(*key)
-    final.mkdir(parents=True, exist_ok=True)
-    staging = staging_directory(final, model)
-    try:
-        result.save(staging)
-        os.rename(staging, final / model)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+    publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
     return key
 
 

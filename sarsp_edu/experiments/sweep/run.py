@@ -8,7 +8,6 @@ rerun of the same command skips the cells already stored.
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import signal
 import warnings
@@ -19,8 +18,8 @@ from ..._internal.io import (
     atomic_write_text,
     lock_folder,
     one_line_warning,
+    publish_folder,
     read_json,
-    staging_directory,
 )
 from ..._internal.validation import check_fraction, check_int, check_positive
 from ..._version import __version__
@@ -77,22 +76,11 @@ def _run_cell_in_worker(base: ExperimentConfig, key: tuple, results_dir: str | N
 
 def _store_cell(results_dir: Path, key: tuple, comparison: Comparison) -> None:
     """Write the cell into a temporary folder, then rename it into place (atomic)."""
-    cells = results_dir / "cells"
-    cells.mkdir(parents=True, exist_ok=True)
-    final = cells / _cell_name(*key)
-    staging = staging_directory(cells, final.name)
-    try:
+    def write(staging):
         comparison.save(staging)
         atomic_write_text(staging / "cell.json", json.dumps({"key": list(key)}) + "\n")
-        try:
-            os.rename(staging, final)
-        except OSError:
-            if not (final / "cell.json").exists():
-                raise
-            shutil.rmtree(staging)  # another worker finished the same cell first
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+
+    publish_folder(results_dir / "cells" / _cell_name(*key), write, marker="cell.json")
 
 
 def _prepare_folder(results_dir: Path, base: ExperimentConfig, keys: list) -> set:

@@ -11,7 +11,7 @@ import pandas as pd
 from ..._internal.io import StoredResultError, read_json
 from ...config import DEFINITION_4_A, ExperimentConfig
 from ..metrics import SUMMARY_METRICS
-from ..provenance import code_label
+from ..provenance import code_versions
 from ..results import Comparison, ExperimentResult, check_paired
 from .cells import _KEY, _as_key, _name_key, _shared_fields, _stored_base, _stored_key, cell_config, describe_cells
 
@@ -46,12 +46,8 @@ class SweepResults:
 
         More than one entry means the cells come from different code, whose numbers may differ.
         """
-        counts: dict = {}
-        for comparison in self.comparisons.values():
-            for result in (comparison.tp, comparison.gp):
-                label = code_label(result.code)
-                counts[label] = counts.get(label, 0) + 1
-        return counts
+        return code_versions(result for comparison in self.comparisons.values()
+                             for result in (comparison.tp, comparison.gp))
 
     def frame(self) -> pd.DataFrame:
         """One row per cell and model: m, p, nss, seed, model and the six summary metrics."""

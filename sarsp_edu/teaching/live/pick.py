@@ -13,7 +13,7 @@ import ipywidgets as widgets
 
 from ..._internal.validation import check_choice
 
-__all__ = ["MODEL_TITLES", "TP_AND_GP", "key_numbers", "model_pickers", "picked_side"]
+__all__ = ["MODEL_TITLES", "TP_AND_GP", "model_pickers", "picked_side"]
 
 #: model -> the title its side shows
 MODEL_TITLES = {"tp": "Student-t process", "gp": "Gaussian process", "t-likelihood": "GP, Student-t noise"}
@@ -63,21 +63,3 @@ def picked_side(sides: dict, name, model: str) -> dict:
         raise ValueError(f"name must be a side of the dashboard ({sorted(sides)}), got name={name!r}")
     sides[name] = (MODEL_TITLES[model], {"model": model})
     return sides
-
-
-def key_numbers(experiment) -> tuple:
-    """A side's key numbers, (label, value) pairs: what its run has done so far.
-
-    Parameters
-    ----------
-    experiment : Experiment
-        The side's run.
-    """
-    records = experiment.episodes
-    return (("episodes", len(records)),
-            ("reached goal", sum(e["task_completed"] for e in records)),
-            ("violations", sum(e["episode_cost"] for e in records)),
-            ("S_u moves", len(experiment.agent.unsafe_pairs)),
-            ("corrections", experiment.agent.corrective_updates),
-            ("offline fit", "loaded" if experiment.loaded_from_cache
-             else f"{experiment.timings['offline_fit_seconds']:.1f} s"))

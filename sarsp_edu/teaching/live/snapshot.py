@@ -14,8 +14,8 @@ from ..dashboards.projector import PROJECTOR_SCALE
 from ..plotting.display import alt_metadata
 from .pick import TP_AND_GP
 
-__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "LiveMetrics", "StaticPicture", "first_episode", "picture",
-           "picture_alt_text"]
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "LiveMetrics", "StaticPicture", "first_episode", "key_numbers",
+           "picture", "picture_alt_text"]
 
 #: the environment variable that, set to 0, keeps ``autoplay`` from starting: batch runs of the notebooks
 #: (the test suite, ``sarsp-edu course``), where nobody watches and the agents would only compete for the cores
@@ -33,6 +33,24 @@ def first_episode(prepared):
     offline episodes left it.  ``prepared`` is the preview's own copy: resetting it changes no run."""
     prepared.env.reset(seed=int(prepared.episode_seeds[0]))
     return prepared.env.layout()
+
+
+def key_numbers(experiment) -> tuple:
+    """A side's key numbers, (label, value) pairs: what its run has done so far.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The side's run.
+    """
+    records = experiment.episodes
+    return (("episodes", len(records)),
+            ("reached goal", sum(e["task_completed"] for e in records)),
+            ("violations", sum(e["episode_cost"] for e in records)),
+            ("S_u moves", len(experiment.agent.unsafe_pairs)),
+            ("corrections", experiment.agent.corrective_updates),
+            ("offline fit", "loaded" if experiment.loaded_from_cache
+             else f"{experiment.timings['offline_fit_seconds']:.1f} s"))
 
 
 def picture(dashboard) -> bytes:

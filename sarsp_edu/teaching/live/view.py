@@ -18,8 +18,16 @@ from ..dashboards.projector import PROJECTOR_TEXT_PX, ProjectorMixin
 from . import markup
 from .background import slider_config
 from .controller import LiveRun
-from .pick import TP_AND_GP, key_numbers, model_pickers, picked_side
-from .snapshot import AUTOPLAY_VARIABLE, LIVE_METRICS, SNAPSHOT_VARIABLE, LiveMetrics, StaticPicture, first_episode
+from .pick import TP_AND_GP, model_pickers, picked_side
+from .snapshot import (
+    AUTOPLAY_VARIABLE,
+    LIVE_METRICS,
+    SNAPSHOT_VARIABLE,
+    LiveMetrics,
+    StaticPicture,
+    first_episode,
+    key_numbers,
+)
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "agent_dashboard"]
 
@@ -391,7 +399,7 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
             + "</table>")
 
     def key_numbers(self, name) -> tuple:
-        """A side's key numbers, (label, value) pairs (:func:`~sarsp_edu.teaching.live.pick.key_numbers`)."""
+        """A side's key numbers, (label, value) pairs (:func:`~sarsp_edu.teaching.live.snapshot.key_numbers`)."""
         return key_numbers(self.experiments[name])
 
     def pick_model(self, name, model: str) -> None:

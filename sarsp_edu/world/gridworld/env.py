@@ -221,8 +221,13 @@ class SafeGridWorld(Rendering, gym.Env):
         return np.sqrt((diff**2).sum(-1).min(axis=1)).reshape(self.size, self.size)
 
     def _observation(self) -> np.ndarray:
-        unsafe, distance = self.nearest_unsafe(self._agent)
-        ax, ay = self._agent
+        return self.observation_at(self._agent)
+
+    def observation_at(self, position) -> np.ndarray:
+        """The observation of the agent on ``position`` (x, y) in this world as it is now (its goal, its unsafe
+        states): what :meth:`step` would return there."""
+        unsafe, distance = self.nearest_unsafe(position)
+        ax, ay = position
         gx, gy = self._goal
         return np.array(
             [ax, ay, gx, gy, abs(ax - gx) + abs(ay - gy), unsafe[0], unsafe[1], distance], dtype=np.float64
