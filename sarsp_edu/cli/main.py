@@ -9,7 +9,7 @@ import sys
 from .._version import __version__
 from .arguments import add_config_arguments
 from .commands import _ablation, _cache, _compare, _course, _info, _model_sweep, _prefit, _run, _sweep
-from .reading import _check_cell, _tables
+from .reading import _check_cell, _tables, _threshold_study
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -155,6 +155,24 @@ def build_parser() -> argparse.ArgumentParser:
     ablation.add_argument("--out", metavar="DIR", help="results folder (runs stored as they finish)")
     ablation.add_argument("--quiet", action="store_true", help="no progress bars")
     ablation.set_defaults(func=_ablation, parser=ablation, record_command=True)
+
+    thresholds = sub.add_parser(
+        "threshold-study",
+        help="tabulate and draw the three models against the variance threshold sigma*^2",
+        description="Read the threshold study's runs: the TP and GP runs of the ablation's settings 'default, "
+        "variance threshold X' beside its default row (sigma*^2 = 0.8), and the third model's runs on each of those "
+        "settings' folders (model-sweep --paired ABLATION/FOLDER --out MODELS/FOLDER). Print, per threshold and "
+        "model, the backup share, total cost and TSR with 95%% intervals, who beats whom run by run, and where each "
+        "model leaves the backup; --figure draws them against sigma*^2.",
+    )
+    thresholds.add_argument("--ablation", metavar="DIR", default="results/ablation",
+                            help="the ablation's folder [default: results/ablation]")
+    thresholds.add_argument("--models", metavar="DIR",
+                            help="the third model's runs, a model sweep per setting folder (such as "
+                                 "results/ablation-t-likelihood)")
+    thresholds.add_argument("--markdown", metavar="FILE", help="also write the tables as Markdown to FILE")
+    thresholds.add_argument("--figure", metavar="FILE", help="draw the study to FILE (.png, .svg or .pdf)")
+    thresholds.set_defaults(func=_threshold_study, parser=thresholds)
 
     course = sub.add_parser(
         "course",

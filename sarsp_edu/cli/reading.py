@@ -213,3 +213,62 @@ def _model_tables(args, parser) -> int:
     print(f"\nThe third model against TP and GP over configurations\n{_format_table(tables['tests'])}")
     print(f"\nDefinition 4 in each configuration\n{_format_table(tables['definition4'])}")
     return 0
+
+
+def _threshold_study(args, parser) -> int:
+    """``threshold-study``: the three models against sigma*^2, from an ablation's folder and the third model's."""
+    from pathlib import Path
+
+    from .._internal.io import StoredResultError, atomic_write_bytes, atomic_write_text
+    from ..experiments.tables import frame_to_markdown
+    from ..experiments.thresholds import ThresholdStudy, threshold_settings
+
+    for flag, path in (("--markdown", args.markdown), ("--figure", args.figure)):
+        if path:
+            check_file(parser, flag, path)
+    if args.figure and Path(args.figure).suffix.lower() not in (".png", ".svg", ".pdf"):
+        parser.error(f"--figure {args.figure}: name a .png, .svg or .pdf file")
+    try:
+        study = ThresholdStudy.load(args.ablation, args.models)
+    except (StoredResultError, FileNotFoundError, ValueError, TypeError) as exc:
+        parser.error(str(exc))
+    if not len(study.runs):
+        print(f"{args.ablation} holds none of the study's settings yet: run 'sarsp-edu ablation --settings "
+              + " ".join(f'"{name}"' for name in threshold_settings()) + f" --out {args.ablation}'")
+        return 0
+    table, pairs = study.table(), study.pairs()
+    shown = table[["runs", *[c for m in ("backup_share", "total_cost", "task_success_rate")
+                             for c in (m, f"{m} low", f"{m} high")]]]
+    print(f"the threshold study: {args.ablation}" + (f" and {args.models}" if args.models else "")
+          + "\neach measure's mean over the runs (configurations x seeds) and its 95% t-interval (low, high)\n"
+          + _format_table(shown.round(2)))
+    print(f"\nthe models run by run, at each threshold\n{_format_table(pairs.round(2))}")
+    runs = table["runs"]
+    if runs.nunique() > 1 or len(runs) < len(study.thresholds) * len(study.models):
+        print(f"\npartial: the thresholds and models hold {runs.min()} to {runs.max()} runs; means over different "
+              "runs are not comparable until every setting's runs are stored")
+    left = study.lowest_threshold_off_backup()
+    print("\nthe smallest threshold at which a model's backup share falls below 50%: "
+          + ", ".join(f"{model} {value:g}" for model, value in left.items()))
+    if args.markdown:
+        atomic_write_text(args.markdown, frame_to_markdown(shown.round(2).reset_index()) + "\n\n"
+                          + frame_to_markdown(pairs.round(2).reset_index()) + "\n")
+        print(f"\nMarkdown tables written to {args.markdown}")
+    if args.figure:
+        import io
+
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from ..teaching.plotting import plot_threshold_study
+
+        figure, axes = plt.subplots(1, 3, figsize=(13, 4.2), layout="constrained")
+        plot_threshold_study(axes, table)
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format=Path(args.figure).suffix.lower()[1:], dpi=110)
+        plt.close(figure)
+        atomic_write_bytes(args.figure, buffer.getvalue())
+        print(f"figure written to {args.figure}")
+    return 0

@@ -41,6 +41,7 @@ __all__ = [
     "AblationResults",
     "cost_fit_length_scales",
     "run_ablation",
+    "run_measures",
     "setting_config",
     "setting_folder",
 ]
@@ -164,6 +165,24 @@ def _t_interval(values: np.ndarray, level: float = 0.95) -> tuple:
     return (values.mean() - half, values.mean() + half)
 
 
+def run_measures(result) -> dict:
+    """One run's measures as the ablation tabulates them: its episodes and successes, TSR, mean steps, total
+    cost, cost rate, backup share (%), failures, trapped failures and retrains.
+
+    Parameters
+    ----------
+    result : ExperimentResult
+        A stored or fresh run (its ``records`` and ``summary``).
+    """
+    records, summary = result.records, result.summary
+    failed = ~records["task_completed"].astype(bool)
+    return {"episodes": len(records), "successes": int((~failed).sum()),
+            "task_success_rate": summary["task_success_rate"], "mean_steps": summary["mean_steps"],
+            "total_cost": summary["total_cost"], "cost_rate": summary["cost_rate"],
+            "backup_share": 100.0 * backup_share(records), "failures": int(failed.sum()),
+            "trapped_failures": int(trapped_episodes(records).sum()), "retrains": int(records["retrains"].iloc[-1])}
+
+
 @dataclass
 class AblationResults:
     """The sweeps of an ablation, one per setting.
@@ -185,19 +204,8 @@ class AblationResults:
         for name, sweep in self.sweeps.items():
             for (m, p, nss, seed), comparison in sorted(sweep.comparisons.items()):
                 for model in ("tp", "gp"):
-                    records = getattr(comparison, model).records
-                    summary = getattr(comparison, model).summary
-                    failed = ~records["task_completed"].astype(bool)
-                    rows.append({
-                        "setting": name, "m": m, "p": p, "nss": nss, "seed": seed, "model": model.upper(),
-                        "episodes": len(records), "successes": int((~failed).sum()),
-                        "task_success_rate": summary["task_success_rate"], "mean_steps": summary["mean_steps"],
-                        "total_cost": summary["total_cost"], "cost_rate": summary["cost_rate"],
-                        "backup_share": 100.0 * backup_share(records),
-                        "failures": int(failed.sum()),
-                        "trapped_failures": int(trapped_episodes(records).sum()),
-                        "retrains": int(records["retrains"].iloc[-1]),
-                    })
+                    rows.append({"setting": name, "m": m, "p": p, "nss": nss, "seed": seed, "model": model.upper(),
+                                 **run_measures(getattr(comparison, model))})
         return pd.DataFrame(rows)
 
     def table(self) -> pd.DataFrame:

@@ -16,9 +16,10 @@ from scipy import stats
 
 from ..metrics import SUMMARY_METRICS, prefers
 
-__all__ = ["model_sweep_frame", "model_sweep_tables"]
+__all__ = ["MODEL_NAMES", "model_sweep_frame", "model_sweep_tables"]
 
-_NAMES = {"tp": "TP", "gp": "GP", "t-likelihood": "t-likelihood GP"}
+#: the models' names in tables and figures
+MODEL_NAMES = {"tp": "TP", "gp": "GP", "t-likelihood": "t-likelihood GP"}
 
 
 def model_sweep_frame(paired, runs: dict) -> pd.DataFrame:
@@ -35,7 +36,7 @@ def model_sweep_frame(paired, runs: dict) -> pd.DataFrame:
     for key, result in sorted(runs.items()):
         m, p, nss, seed = key
         comparison = paired.comparisons[key]
-        for name, run in (("TP", comparison.tp), ("GP", comparison.gp), (_NAMES[result.config.model], result)):
+        for name, run in (("TP", comparison.tp), ("GP", comparison.gp), (MODEL_NAMES[result.config.model], result)):
             rows.append({"m": m, "p": p, "nss": nss, "seed": seed, "model": name, **run.summary})
     return pd.DataFrame(rows, columns=["m", "p", "nss", "seed", "model", *SUMMARY_METRICS])
 

@@ -33,6 +33,7 @@ from .results import (
     plot_macro,
     plot_metric_curves,
     plot_paper_figure,
+    plot_threshold_study,
 )
 from .style import COLOURS, LINESTYLES, MARKERS, PlainLogFormatter, log_scale
 from .world import plot_gridworld, plot_outlier_scatter
@@ -56,6 +57,7 @@ __all__ = [
     "plot_metric_curves",
     "plot_outlier_scatter",
     "plot_paper_figure",
+    "plot_threshold_study",
     "plot_outlier_weights",
     "plot_robust",
     "plot_posterior",

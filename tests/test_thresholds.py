@@ -1,0 +1,95 @@
+"""The threshold study: the ablation's runs at each sigma*^2 and the third model's on the same folders."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import matplotlib
+import pytest
+
+from sarsp_edu.experiments.ablation import AblationResults, run_ablation, setting_folder
+from sarsp_edu.experiments.sweep.models import run_model_sweep
+from sarsp_edu.experiments.thresholds import DEFAULT_SETTING, ThresholdStudy, threshold_settings
+
+matplotlib.use("Agg")
+
+TINY = dict(grid_size=5, n_unsafe=3, offline_episodes=6, cost_fit_points=60, reward_fit_points=60, k_prior=20,
+            optimizer_steps=3)
+HIGH = "default, variance threshold 10"
+SETTINGS = {DEFAULT_SETTING: dict(TINY), HIGH: dict(TINY, variance_threshold=10.0)}
+
+
+@pytest.fixture(scope="module")
+def study_folders(tmp_path_factory):
+    root = tmp_path_factory.mktemp("thresholds")
+    run_ablation(SETTINGS, cells=[(40, 0.2, 1)], seeds=(0, 1), episodes=2, results_dir=root / "ablation")
+    for name in SETTINGS:
+        run_model_sweep(root / "ablation" / setting_folder(name), root / "third" / setting_folder(name), n_jobs=1)
+    return root
+
+
+def test_the_study_reads_the_ablation_and_the_third_model_on_the_same_runs(study_folders):
+    study = ThresholdStudy.load(study_folders / "ablation", study_folders / "third")
+    assert study.thresholds == [0.8, 10.0] and study.models == ["TP", "GP", "t-likelihood GP"]
+    table = study.table()
+    assert list(table.index) == [(t, m) for t in (0.8, 10.0) for m in ("TP", "GP", "t-likelihood GP")]
+    assert (table["runs"] == 2).all()
+    for measure in ("backup_share", "total_cost", "task_success_rate"):
+        assert ((table[f"{measure} low"] <= table[measure] + 1e-12)
+                & (table[measure] <= table[f"{measure} high"] + 1e-12)).all()
+    # the TP and GP rows are the ablation's own runs, their thresholds the settings' configs'
+    ablation = AblationResults.load(study_folders / "ablation").runs()
+    for name, threshold in ((DEFAULT_SETTING, 0.8), (HIGH, 10.0)):
+        mine = study.runs[(study.runs["threshold"] == threshold) & study.runs["model"].isin(["TP", "GP"])]
+        theirs = ablation[ablation["setting"] == name]
+        assert sorted(mine["total_cost"]) == sorted(theirs["total_cost"])
+        assert sorted(mine["backup_share"]) == sorted(theirs["backup_share"])
+    pairs = study.pairs()
+    assert list(pairs.index.get_level_values("pair").unique()) == [
+        "TP vs GP", "TP vs t-likelihood GP", "GP vs t-likelihood GP"]
+    assert (pairs["runs"] == 2).all()
+
+
+def test_without_the_third_model_the_study_holds_tp_and_gp(study_folders):
+    study = ThresholdStudy.load(study_folders / "ablation")
+    assert study.models == ["TP", "GP"] and len(study.runs) == 8
+    left = study.lowest_threshold_off_backup(share=101.0)  # every share is below 101%: the smallest threshold
+    assert left == {"TP": 0.8, "GP": 0.8}
+    assert math.isnan(study.lowest_threshold_off_backup(share=0.0)["TP"])  # no share is below 0%
+
+
+def test_a_third_model_run_on_another_setting_is_refused(study_folders, tmp_path):
+    import shutil
+
+    third = tmp_path / "third"
+    shutil.copytree(study_folders / "third", third)
+    meta = third / setting_folder(HIGH) / "model_sweep.json"
+    payload = json.loads(meta.read_text())
+    payload["paired"] = payload["paired"].replace(setting_folder(HIGH), setting_folder(DEFAULT_SETTING))
+    meta.write_text(json.dumps(payload))
+    with pytest.raises(ValueError, match="not on the ablation's setting"):
+        ThresholdStudy.load(study_folders / "ablation", third)
+
+
+def test_the_study_names_every_threshold_setting_of_the_ablation():
+    from sarsp_edu.experiments.ablation import ABLATION_SETTINGS, VARIANCE_THRESHOLDS
+
+    names = threshold_settings()
+    assert names[0] == DEFAULT_SETTING and len(names) == len(VARIANCE_THRESHOLDS) + 1
+    assert all(name in ABLATION_SETTINGS for name in names)
+
+
+def test_the_command_prints_the_tables_and_draws_the_figure(study_folders, tmp_path, capsys):
+    from sarsp_edu.cli import main
+
+    figure, markdown = tmp_path / "study.png", tmp_path / "study.md"
+    assert main(["threshold-study", "--ablation", str(study_folders / "ablation"), "--models",
+                 str(study_folders / "third"), "--figure", str(figure), "--markdown", str(markdown)]) == 0
+    out = capsys.readouterr().out
+    assert "t-likelihood GP" in out and "TP vs GP" in out and "backup share falls below 50%" in out
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "| threshold |" in markdown.read_text()
+    with pytest.raises(SystemExit):
+        main(["threshold-study", "--ablation", str(study_folders / "ablation"), "--figure", str(tmp_path / "x.txt")])
+    assert "--figure" in capsys.readouterr().err
