@@ -133,11 +133,21 @@ def prefers(summary_1, summary_2, a):
         or summary_1["task_success_rate"] >= a)
 
 
+def backup_shares(mu_cost, var_cost, d, thresholds):
+    """By hand, a decision at a time: the backup decides where no action passes both tests."""
+    shares = []
+    for threshold in thresholds:
+        backups = sum(not any(v <= threshold and m >= d for m, v in zip(mus, variances))
+                      for mus, variances in zip(mu_cost, var_cost))
+        shares.append(100.0 * backups / len(mu_cost))
+    return np.array(shares)
+
+
 RIGHT = {"1.1": student_t_logpdf, "1.2": tail_ratio, "1.3": outlier_costs, "2.1": rbf, "2.2": gp_posterior,
          "2.3": tp_variance_factor, "2.4": tp_log_marginal_likelihood, "2.7": student_t_pull, "3.1": cap_duplicates,
          "3.2": distance_to_unsafe, "3.3": move, "4.1": safe_actions, "4.2": choose, "4.3": corrects,
          "5.1": symmetric_percent_difference, "5.2": agreement_share, "5.3": sign_test,
-         "6.1": tsr_and_cost_rate, "6.2": prefers}
+         "6.1": tsr_and_cost_rate, "6.2": prefers, "6.3": backup_shares}
 
 
 # -- two usual wrong answers of each, with the diagnosis they must get -------------------------------
@@ -214,6 +224,10 @@ WRONG = {
             (lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]),
              "third branch missing")],
+    "6.3": [(lambda mu, var, d, thresholds: np.array([100 * np.mean(~((var <= t) & (mu >= d)).any(axis=1))
+                                                      for t in thresholds]) / 100, "in %"),
+            (lambda mu, var, d, thresholds: np.array([100 * np.mean(~((var <= t) & (mu >= d)))
+                                                      for t in thresholds]), "not actions")],
 }
 
 # -- the slips a student's attempt at every exercise made, each with the reply that names it -----------
@@ -256,6 +270,10 @@ SLIPS = {
     "6.2": [(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] > s2["mean_reward"] or s1["task_success_rate"] > s2["task_success_rate"]
                 or s1["task_success_rate"] >= a), "equal to agent 2's is enough")],
+    "6.3": [(lambda mu, var, d, thresholds: np.array([100 * np.mean(~((var < t) & (mu >= d)).any(axis=1))
+                                                      for t in thresholds]), "at most, not below"),
+            (lambda mu, var, d, thresholds: np.array([100 * np.mean(~(var <= t).any(axis=1))
+                                                      for t in thresholds]), "distance of at least d")],
 }
 
 
@@ -415,7 +433,8 @@ def test_a_prediction_may_be_a_function_and_its_placeholder_is_not_answered(caps
 # -- "Labs without holes", section 1: the grader's holes, one test each ----------------------------------
 #: the values of number arguments that the notebooks use in their examples (besides each first case's)
 NOTEBOOK_VALUES = {"3.1": {"cap": (1, 12)}, "3.3": {"size": 10}, "4.1": {"d": 1.0, "variance_threshold": 0.8},
-                   "4.2": {"d": 1.0, "variance_threshold": 0.8}, "4.3": {"d": 1.0}, "6.2": {"a": 100.0}}
+                   "4.2": {"d": 1.0, "variance_threshold": 0.8}, "4.3": {"d": 1.0}, "6.2": {"a": 100.0},
+                   "6.3": {"d": 1.0}}
 
 
 def _written_in(name, position, value):

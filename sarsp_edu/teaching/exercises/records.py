@@ -1,4 +1,5 @@
-"""Coding exercises on a run's records: Table 1's % difference (5.1), eq. 12 (6.1), Definition 4 (6.2).
+"""Coding exercises on a run's records: Table 1's % difference (5.1), eq. 12 (6.1), Definition 4 (6.2), the backup
+share at each variance threshold (6.3).
 
 Each reference calls the package's own metrics (``sarsp_edu.experiments.metrics``);
 where the equations leave a case undefined, the exercise's question says the
@@ -115,6 +116,51 @@ def _prefers_with(condition):
     return wrong
 
 
+# -- Tutorial 6: the backup share at each variance threshold -----------------------------------------
+def _decision_cases(rng):
+    thresholds = np.array([0.1, 0.3, 0.8, 2.0, 5.0, 10.0])
+    cases = [
+        # one decision: action 1 passes from 0.8 on (its variance is the threshold exactly), action 0 never (d)
+        {"mu_cost": np.array([[0.5, 1.0, 3.0, 2.0]]), "var_cost": np.array([[0.05, 0.8, 6.0, 12.0]]), "d": 1.0,
+         "thresholds": thresholds},
+        # known-unsafe actions (distance -inf, variance +inf) are never safe
+        {"mu_cost": np.array([[-np.inf, 2.0, -np.inf, 2.0], [1.5, -np.inf, 2.5, 0.9]]),
+         "var_cost": np.array([[np.inf, 4.0, np.inf, 0.3], [2.0, np.inf, 0.2, 0.01]]), "d": 1.0,
+         "thresholds": np.array([0.1, 0.3, 2.0])},
+        # every variance above every threshold: the backup decides everything
+        {"mu_cost": np.full((3, 4), 5.0), "var_cost": np.full((3, 4), 50.0), "d": 1.0, "thresholds": thresholds},
+        # distances exactly d pass
+        {"mu_cost": np.array([[2.0, 2.0, 1.0, 1.0], [1.99, 1.99, 1.99, 1.99]]),
+         "var_cost": np.full((2, 4), 0.5), "d": 2.0, "thresholds": np.array([0.5, 1.0])},
+    ]
+    for n in (7, 250):
+        mu = rng.integers(-1, 5, (n, 4)).astype(float) + np.where(rng.random((n, 4)) < 0.5, 0.0, rng.random((n, 4)))
+        var = np.exp(rng.normal(0.0, 1.5, (n, 4)))
+        var[rng.random((n, 4)) < 0.1] = 0.8
+        cases.append({"mu_cost": mu, "var_cost": var, "d": float(rng.choice([1.0, 0.5])), "thresholds": thresholds})
+    return cases
+
+
+def _backup_shares(mu_cost, var_cost, d, thresholds):
+    from ...agent.decision import safe_actions
+
+    mu_cost, var_cost = np.atleast_2d(mu_cost), np.atleast_2d(var_cost)
+    none_known = np.zeros(mu_cost.shape[1], dtype=bool)
+    return np.array([100.0 * np.mean([not safe_actions(mu, var, none_known, d, threshold).any()
+                                      for mu, var in zip(mu_cost, var_cost)]) for threshold in thresholds])
+
+
+def _shares_where(safe_of, share_of=lambda safe: ~safe.any(axis=1), scale=100.0):
+    """The shares computed with another safety test or another count: a mistake."""
+    def wrong(mu_cost, var_cost, d, thresholds):
+        mu_cost, var_cost = np.atleast_2d(mu_cost), np.atleast_2d(var_cost)
+        return np.array([scale * np.mean(share_of(safe_of(mu_cost, var_cost, d, t))) for t in thresholds])
+    return wrong
+
+
+_SAFE = lambda mu, var, d, t: (var <= t) & (mu >= d)  # noqa: E731 (the rule, for the mistakes to vary)
+
+
 RECORD_EXERCISES = {
     "5.1": CodingExercise(
         question="Table 1's '% difference' of a and b: |a - b| over the mean of their sizes, (|a| + |b|) / 2, "
@@ -211,5 +257,35 @@ RECORD_EXERCISES = {
         ),
         hint="Redo the case above by hand, one condition of Definition 4 at a time.",
         explanation="It matches sarsp_edu.prefers; with a = 100 the third branch needs a perfect success rate.",
+    ),
+    "6.3": CodingExercise(
+        question="the share (%) of decisions the backup rule takes at each variance threshold sigma*^2 of "
+                 "thresholds: a decision (a row; its four actions the columns, as the agent saw them, known-unsafe "
+                 "ones at distance -inf and variance +inf) goes to the backup when no action is safe, that is "
+                 "when no action has a variance at most sigma*^2 and a predicted distance at least d",
+        signature="backup_shares(mu_cost, var_cost, d, thresholds) -> ndarray, one share (%) per threshold",
+        reference=_backup_shares,
+        cases=_decision_cases,
+        examples={"d": 1.0},
+        mistakes=(
+            Mistake(_shares_where(lambda mu, var, d, t: (var < t) & (mu >= d)),
+                    "A variance equal to sigma*^2 is safe enough: at most, not below."),
+            Mistake(_shares_where(lambda mu, var, d, t: (var <= t) & (mu > d)),
+                    "A predicted distance equal to d is safe enough: at least, not above."),
+            Mistake(_shares_where(lambda mu, var, d, t: var <= t),
+                    "A safe action also needs a predicted distance of at least d."),
+            Mistake(_shares_where(lambda mu, var, d, t: mu >= d),
+                    "A safe action also needs a variance of at most sigma*^2."),
+            Mistake(_shares_where(_SAFE, share_of=lambda safe: ~safe),
+                    "Count decisions, not actions: a decision goes to the backup when none of its four is safe."),
+            Mistake(_shares_where(_SAFE, share_of=lambda safe: ~safe.all(axis=1)),
+                    "One safe action is enough to keep a decision from the backup."),
+            Mistake(_shares_where(_SAFE, share_of=lambda safe: safe.any(axis=1)),
+                    "That is the share of decisions with a safe action; the question asks for the others."),
+            Mistake(_shares_where(_SAFE, scale=1.0), "The share is in %."),
+        ),
+        hint="Redo the first case above by hand, one threshold at a time: which actions pass both tests?",
+        explanation="Where every variance a model predicts lies above sigma*^2, the backup takes every decision "
+                    "whatever the model predicts: the threshold, set against the model's fitted noise, decides.",
     ),
 }
