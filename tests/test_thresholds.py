@@ -93,3 +93,27 @@ def test_the_command_prints_the_tables_and_draws_the_figure(study_folders, tmp_p
     with pytest.raises(SystemExit):
         main(["threshold-study", "--ablation", str(study_folders / "ablation"), "--figure", str(tmp_path / "x.txt")])
     assert "--figure" in capsys.readouterr().err
+
+
+def test_the_three_learning_curves_are_the_means_of_the_cells_run(study_folders):
+    import matplotlib.pyplot as plt
+
+    from sarsp_edu.experiments.sweep.model_tables import model_sweep_curves
+    from sarsp_edu.experiments.sweep.models import load_model_sweep
+    from sarsp_edu.teaching.plotting import plot_model_curves
+
+    paired, runs = load_model_sweep(study_folders / "third" / setting_folder(DEFAULT_SETTING))
+    curves = model_sweep_curves(paired, runs, "total_cost")
+    assert list(curves.columns) == ["TP", "GP", "t-likelihood GP"] and list(curves.index) == [1, 2]
+    third = sum(run.records["total_cost"].to_numpy() for run in runs.values()) / len(runs)
+    assert curves["t-likelihood GP"].to_numpy() == pytest.approx(third)
+    gp = sum(paired.comparisons[key].gp.records["total_cost"].to_numpy() for key in runs) / len(runs)
+    assert curves["GP"].to_numpy() == pytest.approx(gp)
+    with pytest.raises(ValueError, match="records column"):
+        model_sweep_curves(paired, runs, "no such metric")
+    with pytest.raises(ValueError, match="none of the paired sweep's cells"):
+        model_sweep_curves(paired, {}, "total_cost")
+    figure, ax = plt.subplots()
+    plot_model_curves(ax, curves, metric="total_cost")
+    assert [line.get_label() for line in ax.get_lines()] == ["TP", "GP", "t-likelihood GP"]
+    plt.close(figure)

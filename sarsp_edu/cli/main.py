@@ -121,6 +121,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="tabulate a sweep with cells still to run (and list them)")
     tables.add_argument("--seeds", type=int, nargs="+", metavar="SEED",
                         help="tabulate only these sweep seeds [default: every seed stored]")
+    tables.add_argument("--figure", metavar="FILE",
+                        help="a model sweep's folder: draw the three models' learning curves to FILE (png, svg, pdf)")
     tables.set_defaults(func=_tables, parser=tables)
 
     check = sub.add_parser(

@@ -20,9 +20,14 @@ def _tables(args, parser) -> int:
             parser.error(f"--markdown {args.markdown} lies inside the results folder {args.results_dir}, whose files "
                          "it could replace; write the tables outside it")
 
+    model_sweep = (Path(args.results_dir) / "model_sweep.json").is_file()  # another model on a paired sweep's cells
+    if args.figure and not model_sweep:
+        parser.error("--figure draws the learning curves of a model sweep's three models; "
+                     f"{args.results_dir} is not a model sweep's folder")
+    _check_figure(parser, args.figure)
     if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
         return _ablation_table(args, parser)
-    if (Path(args.results_dir) / "model_sweep.json").is_file():  # another model on a paired sweep's cells
+    if model_sweep:
         return _model_tables(args, parser)
     try:
         stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
@@ -187,8 +192,7 @@ def _model_tables(args, parser) -> int:
     from .._internal.io import StoredResultError
     from ..experiments.provenance import code_versions
 
-    unsupported = [flag for flag, given in (("--markdown", args.markdown), ("--all", args.all),
-                                            ("--seeds", args.seeds)) if given]
+    unsupported = [flag for flag, given in (("--all", args.all), ("--seeds", args.seeds)) if given]
     if unsupported:
         parser.error(f"{', '.join(unsupported)}: not for a model sweep's folder, whose tables are Table 2 with a "
                      "third column, its tests and Definition 4 over the cells run so far")
@@ -212,22 +216,71 @@ def _model_tables(args, parser) -> int:
           f"{_format_table(tables['mean'])}")
     print(f"\nThe third model against TP and GP over configurations\n{_format_table(tables['tests'])}")
     print(f"\nDefinition 4 in each configuration\n{_format_table(tables['definition4'])}")
+    if args.markdown:
+        from .._internal.io import atomic_write_text
+        from ..experiments.tables import frame_to_markdown
+
+        atomic_write_text(args.markdown, "\n\n".join(frame_to_markdown(tables[key].round(3).reset_index())
+                                                      for key in ("mean", "tests", "definition4")) + "\n")
+        print(f"\nMarkdown tables written to {args.markdown}")
+    if args.figure:
+        from ..experiments.sweep.model_tables import model_sweep_curves
+        from ..teaching.plotting import plot_model_curves
+
+        figure, axes = _figure(1, 2, (11, 4.2))
+        for ax, metric in zip(axes, ("task_success_rate", "total_cost")):
+            plot_model_curves(ax, model_sweep_curves(paired, runs, metric), metric=metric, settle=10,
+                              title=f"mean over the {len(runs)} cells run")
+        _save_figure(figure, args.figure)
     return 0
+
+
+def _check_figure(parser, path) -> None:
+    """Refuse a ``--figure`` file that cannot be written or whose suffix names no format matplotlib writes here."""
+    from pathlib import Path
+
+    if path:
+        check_file(parser, "--figure", path)
+        if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
+            parser.error(f"--figure {path}: name a .png, .svg or .pdf file")
+
+
+def _figure(rows: int, columns: int, size: tuple):
+    """A new figure drawn without a display (the command may run where there is none)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(rows, columns, figsize=size, layout="constrained")
+
+
+def _save_figure(figure, path) -> None:
+    """Write ``figure`` to ``path`` (its suffix the format) through a temporary file, and close it."""
+    import io
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    from .._internal.io import atomic_write_bytes
+
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format=Path(path).suffix.lower()[1:], dpi=110)
+    plt.close(figure)
+    atomic_write_bytes(path, buffer.getvalue())
+    print(f"figure written to {path}")
 
 
 def _threshold_study(args, parser) -> int:
     """``threshold-study``: the three models against sigma*^2, from an ablation's folder and the third model's."""
-    from pathlib import Path
 
-    from .._internal.io import StoredResultError, atomic_write_bytes, atomic_write_text
+    from .._internal.io import StoredResultError, atomic_write_text
     from ..experiments.tables import frame_to_markdown
     from ..experiments.thresholds import ThresholdStudy, threshold_settings
 
-    for flag, path in (("--markdown", args.markdown), ("--figure", args.figure)):
-        if path:
-            check_file(parser, flag, path)
-    if args.figure and Path(args.figure).suffix.lower() not in (".png", ".svg", ".pdf"):
-        parser.error(f"--figure {args.figure}: name a .png, .svg or .pdf file")
+    if args.markdown:
+        check_file(parser, "--markdown", args.markdown)
+    _check_figure(parser, args.figure)
     try:
         study = ThresholdStudy.load(args.ablation, args.models)
     except (StoredResultError, FileNotFoundError, ValueError, TypeError) as exc:
@@ -255,20 +308,9 @@ def _threshold_study(args, parser) -> int:
                           + frame_to_markdown(pairs.round(2).reset_index()) + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     if args.figure:
-        import io
-
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
         from ..teaching.plotting import plot_threshold_study
 
-        figure, axes = plt.subplots(1, 3, figsize=(13, 4.2), layout="constrained")
+        figure, axes = _figure(1, 3, (13, 4.2))
         plot_threshold_study(axes, table)
-        buffer = io.BytesIO()
-        figure.savefig(buffer, format=Path(args.figure).suffix.lower()[1:], dpi=110)
-        plt.close(figure)
-        atomic_write_bytes(args.figure, buffer.getvalue())
-        print(f"figure written to {args.figure}")
+        _save_figure(figure, args.figure)
     return 0

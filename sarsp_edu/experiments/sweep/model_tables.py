@@ -16,7 +16,7 @@ from scipy import stats
 
 from ..metrics import SUMMARY_METRICS, prefers
 
-__all__ = ["MODEL_NAMES", "model_sweep_frame", "model_sweep_tables"]
+__all__ = ["MODEL_NAMES", "model_sweep_curves", "model_sweep_frame", "model_sweep_tables"]
 
 #: the models' names in tables and figures
 MODEL_NAMES = {"tp": "TP", "gp": "GP", "t-likelihood": "t-likelihood GP"}
@@ -87,3 +87,31 @@ def model_sweep_tables(paired, runs: dict, a: float | None = None) -> dict:
         verdicts.append({"pair": f"{first} vs {second}", **counts})
     return {"mean": mean, "tests": pd.DataFrame(tests).set_index(["against", "metric"]),
             "definition4": pd.DataFrame(verdicts).set_index("pair")}
+
+
+def model_sweep_curves(paired, runs: dict, metric: str) -> pd.DataFrame:
+    """The learning curves of the three models: ``metric`` per episode, the mean over the cells the third has run.
+
+    Parameters
+    ----------
+    paired : SweepResults
+    runs : dict
+        As for :func:`model_sweep_frame`.
+    metric : str
+        A records column, such as one of ``SUMMARY_METRICS`` (the running value after each episode).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Indexed by episode, a column per model (TP, GP, the third).
+    """
+    if not runs:
+        raise ValueError("runs holds no cell: the third model has run none of the paired sweep's cells yet")
+    series = {}
+    for key, result in sorted(runs.items()):
+        comparison = paired.comparisons[key]
+        for name, run in (("TP", comparison.tp), ("GP", comparison.gp), (MODEL_NAMES[result.config.model], result)):
+            if metric not in run.records:
+                raise ValueError(f"metric must be a records column such as {SUMMARY_METRICS}, got metric={metric!r}")
+            series.setdefault(name, []).append(run.records.set_index("episode")[metric])
+    return pd.DataFrame({name: pd.concat(values, axis=1).mean(axis=1) for name, values in series.items()})

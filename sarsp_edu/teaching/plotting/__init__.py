@@ -7,7 +7,9 @@ One module per subject, all re-exported here (``sarsp_edu.teaching.plotting.plot
 - ``models``: densities and tail ratios (tutorial 1), GP and TP posteriors (tutorial 2);
 - ``world``: the gridworld and the cost model's data (tutorials 3 and 4);
 - ``results``: the paper's Figures 2-9, the live dashboard's curves and ours beside the authors' runs
-  (tutorials 4 and 5).
+  (tutorials 4 and 5);
+- ``third_model``: the GP with Student-t noise beside the TP and the GP: learning curves, the threshold study
+  (tutorial 6).
 """
 
 from __future__ import annotations
@@ -33,9 +35,9 @@ from .results import (
     plot_macro,
     plot_metric_curves,
     plot_paper_figure,
-    plot_threshold_study,
 )
 from .style import COLOURS, LINESTYLES, MARKERS, PlainLogFormatter, log_scale
+from .third_model import plot_model_curves, plot_threshold_study
 from .world import plot_gridworld, plot_outlier_scatter
 
 __all__ = [
@@ -55,6 +57,7 @@ __all__ = [
     "plot_live_metrics",
     "plot_macro",
     "plot_metric_curves",
+    "plot_model_curves",
     "plot_outlier_scatter",
     "plot_paper_figure",
     "plot_threshold_study",

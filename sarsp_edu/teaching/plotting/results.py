@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import COLOURS, LINESTYLES, MARKERS, SMALL, finish_axes, log_scale
+from .style import COLOURS, LINESTYLES, MARKERS, SMALL
 
 __all__ = [
     "METRIC_LABELS",
@@ -16,7 +16,6 @@ __all__ = [
     "plot_macro",
     "plot_metric_curves",
     "plot_paper_figure",
-    "plot_threshold_study",
 ]
 
 #: axis labels of the summary metrics, in the paper's symbols
@@ -369,45 +368,3 @@ def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str =
         ax.legend(fontsize=SMALL, frameon=False)
     return ax
 
-
-#: the style keys of the threshold study's models (the GP with Student-t noise is drawn as "robust" everywhere)
-_STUDY_STYLES = {"TP": "tp", "GP": "gp", "t-likelihood GP": "robust"}
-_STUDY_LABELS = {"backup_share": "decisions by the backup rule (%)", "total_cost": METRIC_LABELS["total_cost"],
-                 "task_success_rate": METRIC_LABELS["task_success_rate"], "mean_steps": METRIC_LABELS["mean_steps"]}
-
-
-def plot_threshold_study(axes, table, *, measures=("backup_share", "total_cost", "task_success_rate"),
-                         paper_threshold: float = 0.8):
-    """Each model's mean (with its 95% interval) against the variance threshold sigma*^2, one Axes per measure.
-
-    Parameters
-    ----------
-    axes : sequence of matplotlib Axes
-        One per measure.
-    table : pandas.DataFrame
-        :meth:`~sarsp_edu.experiments.thresholds.ThresholdStudy.table`: indexed by (threshold, model), with
-        each measure and its ``low`` and ``high`` columns.
-    measures : sequence of str
-        Columns of ``table`` to draw.
-    paper_threshold : float, default 0.8
-        Marked with a dotted line: the paper's sigma*^2.
-    """
-    models = list(dict.fromkeys(table.index.get_level_values("model")))
-    for ax, measure in zip(axes, measures):
-        for model in models:
-            part = table.xs(model, level="model").sort_index()
-            key = _STUDY_STYLES.get(model, "tp")
-            x = part.index.to_numpy(dtype=float)
-            low, high = part[f"{measure} low"].to_numpy(), part[f"{measure} high"].to_numpy()
-            ax.fill_between(x, low, high, color=COLOURS[key], alpha=0.12, lw=0)
-            ax.plot(x, part[measure], color=COLOURS[key], ls=LINESTYLES[key], marker=MARKERS[key], lw=1.8,
-                    label=model)
-        ax.axvline(paper_threshold, color="0.4", ls=":", lw=1.2)
-        ax.annotate(f"the paper's {paper_threshold:g}", (paper_threshold, 1.0), xycoords=("data", "axes fraction"),
-                    xytext=(3, -3), textcoords="offset points", ha="left", va="top", fontsize=SMALL, color="0.3")
-        log_scale(ax, "x")
-        finish_axes(ax, "variance threshold $\\sigma_*^2$", _STUDY_LABELS.get(measure, measure),
-                    _STUDY_LABELS.get(measure, measure).split(" (")[0].split(" $")[0])
-        if ax is not axes[0]:
-            ax.get_legend().remove()
-    return axes

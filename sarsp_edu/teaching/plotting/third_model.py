@@ -1,0 +1,74 @@
+"""Beyond the paper: the GP with Student-t noise beside the TP and the GP (learning curves, the threshold study)."""
+
+from __future__ import annotations
+
+from .results import METRIC_LABELS, _settled_ylim
+from .style import COLOURS, LINESTYLES, MARKERS, SMALL, finish_axes, log_scale
+
+__all__ = ["plot_model_curves", "plot_threshold_study"]
+
+#: the style keys of the threshold study's models (the GP with Student-t noise is drawn as "robust" everywhere)
+_STUDY_STYLES = {"TP": "tp", "GP": "gp", "t-likelihood GP": "robust"}
+_STUDY_LABELS = {"backup_share": "decisions by the backup rule (%)", "total_cost": METRIC_LABELS["total_cost"],
+                 "task_success_rate": METRIC_LABELS["task_success_rate"], "mean_steps": METRIC_LABELS["mean_steps"]}
+
+
+def plot_threshold_study(axes, table, *, measures=("backup_share", "total_cost", "task_success_rate"),
+                         paper_threshold: float = 0.8):
+    """Each model's mean (with its 95% interval) against the variance threshold sigma*^2, one Axes per measure.
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib Axes
+        One per measure.
+    table : pandas.DataFrame
+        :meth:`~sarsp_edu.experiments.thresholds.ThresholdStudy.table`: indexed by (threshold, model), with
+        each measure and its ``low`` and ``high`` columns.
+    measures : sequence of str
+        Columns of ``table`` to draw.
+    paper_threshold : float, default 0.8
+        Marked with a dotted line: the paper's sigma*^2.
+    """
+    models = list(dict.fromkeys(table.index.get_level_values("model")))
+    for ax, measure in zip(axes, measures):
+        for model in models:
+            part = table.xs(model, level="model").sort_index()
+            key = _STUDY_STYLES.get(model, "tp")
+            x = part.index.to_numpy(dtype=float)
+            low, high = part[f"{measure} low"].to_numpy(), part[f"{measure} high"].to_numpy()
+            ax.fill_between(x, low, high, color=COLOURS[key], alpha=0.12, lw=0)
+            ax.plot(x, part[measure], color=COLOURS[key], ls=LINESTYLES[key], marker=MARKERS[key], lw=1.8,
+                    label=model)
+        ax.axvline(paper_threshold, color="0.4", ls=":", lw=1.2)
+        ax.annotate(f"the paper's {paper_threshold:g}", (paper_threshold, 1.0), xycoords=("data", "axes fraction"),
+                    xytext=(3, -3), textcoords="offset points", ha="left", va="top", fontsize=SMALL, color="0.3")
+        log_scale(ax, "x")
+        finish_axes(ax, "variance threshold $\\sigma_*^2$", _STUDY_LABELS.get(measure, measure),
+                    _STUDY_LABELS.get(measure, measure).split(" (")[0].split(" $")[0])
+        if ax is not axes[0]:
+            ax.get_legend().remove()
+    return axes
+
+
+def plot_model_curves(ax, curves, *, metric: str, title: str | None = None, settle: int = 0):
+    """Learning curves of two or three models on one Axes, each in its own colour, line style and markers.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    curves : pandas.DataFrame
+        Indexed by episode, a column per model ("TP", "GP", "t-likelihood GP";
+        :func:`~sarsp_edu.experiments.sweep.model_tables.model_sweep_curves`).
+    metric : str
+        A summary metric name, for the axis label.
+    settle : int, default 0
+        As in :func:`plot_metric_curves`.
+    """
+    for model in curves.columns:
+        key = _STUDY_STYLES.get(model, "tp")
+        ax.plot(curves.index, curves[model], color=COLOURS[key], ls=LINESTYLES[key], lw=1.8, label=model,
+                marker=MARKERS[key], markevery=max(len(curves) // 8, 1))
+    if settle and len(curves) > settle:  # a run of fewer episodes has nothing to settle on
+        _settled_ylim([ax], [curves], settle)
+    finish_axes(ax, "episode", METRIC_LABELS.get(metric, metric), title or "")
+    return ax
