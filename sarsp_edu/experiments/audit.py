@@ -7,9 +7,13 @@ strategic prior as a decision draws it.  :func:`safe_set_audit` records the
 predicted distance, its variance, how often the action falls in Algorithm 1's
 safe set (variance at most sigma*^2, distance at least d; ``S_u`` empty, as at
 the first online step), and whether it truly violates (the distance after the
-move is below d).  :func:`audit_summary` counts, per model: the truly unsafe
-actions its safe set holds, the safe actions it leaves out, the cells with no
-safe action (where the backup decides), and where the models disagree.
+move is below d); beside them, the predicted reward of every action against the
+true one (minus the distance from the new cell to the world's goal of the
+moment).  :func:`audit_summary` counts, per model: the truly unsafe actions its
+safe set holds, the safe actions it leaves out, the cells with no safe action
+(where the backup decides), where the models disagree, and the cells where the
+reward model's best action is truly a best move (the backup's choice, and the
+safe set's when it holds every action).
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ from ..config import MODELS, ExperimentConfig, config_or_default
 from ..world.gridworld.layout import moved, nearest
 from .experiment import experiments_on_one_world
 
-__all__ = ["audit_summary", "safe_set_audit"]
+__all__ = ["audit_summary", "disagreements", "safe_set_audit"]
 
 
 def safe_set_audit(config: ExperimentConfig | None = None, models=MODELS, draws: int = 3, rng=0) -> pd.DataFrame:
@@ -44,35 +48,51 @@ def safe_set_audit(config: ExperimentConfig | None = None, models=MODELS, draws:
     pandas.DataFrame
         One row per model, cell and action: ``model, x, y, action``, the mean over draws of the predicted
         distance ``mu_cost`` and its variance ``var_cost``, ``safe_share`` (the share of draws in which the action
-        is in the safe set), the true distance after the move and ``violates`` (below d).
+        is in the safe set), the true distance after the move and ``violates`` (below d), the mean predicted
+        reward ``mu_reward`` and the true ``reward`` of the move.
     """
     config = config_or_default(config)
     experiments = experiments_on_one_world(config, {model: {"model": model} for model in models})
     env = next(iter(experiments.values())).env
     unsafe = {tuple(int(v) for v in cell) for cell in env.unsafe_states}
-    cells = [(x, y) for x in range(env.size) for y in range(env.size) if (x, y) not in unsafe]
+    goal = tuple(int(v) for v in env.observation_at((0, 0))[2:4])
+    cells = [(x, y) for x in range(env.size) for y in range(env.size) if (x, y) not in unsafe and (x, y) != goal]
     seeds = as_generator(rng).integers(2**63, size=len(cells) * draws)
     rows = []
     for model, experiment in experiments.items():
         agent, saved = experiment.agent, experiment.agent.rng
         for c, cell in enumerate(cells):
             observation = env.observation_at(cell)
-            mus, variances, safe = [], [], []
+            mus, variances, safe, rewards = [], [], [], []
             for draw in range(draws):
                 agent.rng = np.random.default_rng(seeds[c * draws + draw])  # the same draws for every model
-                mu, var = agent.predict(observation)[:2]
+                mu, var, mu_reward = agent.predict(observation)[:3]
                 mus.append(mu)
+                rewards.append(mu_reward)
                 variances.append(var)
                 safe.append(safe_actions(mu, var, np.zeros(len(mu), dtype=bool), config.d, config.variance_threshold))
             for action in range(len(mus[0])):
-                distance = nearest(moved(cell, action, env.size), env.unsafe_states)[1]
+                after = moved(cell, action, env.size)
+                distance = nearest(after, env.unsafe_states)[1]
                 rows.append({"model": model, "x": cell[0], "y": cell[1], "action": action,
                              "mu_cost": float(np.mean([m[action] for m in mus])),
                              "var_cost": float(np.mean([v[action] for v in variances])),
                              "safe_share": float(np.mean([s[action] for s in safe])),
-                             "distance": float(distance), "violates": bool(distance < config.d)})
+                             "distance": float(distance), "violates": bool(distance < config.d),
+                             "mu_reward": float(np.mean([r[action] for r in rewards])),
+                             "reward": -float(np.hypot(after[0] - goal[0], after[1] - goal[1]))})
         agent.rng = saved
     return pd.DataFrame(rows)
+
+
+def _best_move_share(part: pd.DataFrame) -> float:
+    """The share of cells where an action of the highest mean predicted reward truly rewards most."""
+    hits = []
+    for _, cell in part.groupby(["x", "y"]):
+        chosen = cell["action"].to_numpy()[np.argmax(cell["mu_reward"].to_numpy())]
+        best = cell["reward"].to_numpy().max()
+        hits.append(bool(np.isclose(cell.loc[cell["action"] == chosen, "reward"].iloc[0], best)))
+    return float(np.mean(hits))
 
 
 def audit_summary(audit: pd.DataFrame) -> pd.DataFrame:
@@ -89,8 +109,9 @@ def audit_summary(audit: pd.DataFrame) -> pd.DataFrame:
         Per model: ``unsafe actions called safe`` (the share of truly violating actions in the safe set, over
         draws), ``safe actions called safe``, ``cells left to the backup`` (the share of cells and draws whose
         safe set is empty, estimated as the cells where no action is ever safe), the median predicted variance,
-        and ``disagreements``: the (cell, action) pairs whose safe-set verdict (in the set in most draws) differs
-        from another model's.
+        ``disagreements``: the (cell, action) pairs whose safe-set verdict (in the set in most draws) differs
+        from another model's, and ``best move by reward``: the share of cells whose highest mean predicted reward
+        is a move of the highest true reward.
     """
     verdict = audit.assign(safe=audit["safe_share"] > 0.5).pivot_table(
         index=["x", "y", "action"], columns="model", values="safe", aggfunc="first")
@@ -103,5 +124,38 @@ def audit_summary(audit: pd.DataFrame) -> pd.DataFrame:
                        "safe actions called safe": fine["safe_share"].mean(),
                        "cells left to the backup": float((by_cell == 0).mean()),
                        "median variance": part["var_cost"].median(),
-                       "disagreements": int((verdict[others].ne(verdict[model], axis=0)).any(axis=1).sum())}
+                       "disagreements": int((verdict[others].ne(verdict[model], axis=0)).any(axis=1).sum()),
+                       "best move by reward": _best_move_share(part)}
     return pd.DataFrame(rows)
+
+
+def disagreements(audit: pd.DataFrame) -> pd.DataFrame:
+    """Where the models' safe sets part: each model's predictions at the (cell, action) pairs it judges otherwise.
+
+    Parameters
+    ----------
+    audit : pandas.DataFrame
+        :func:`safe_set_audit`'s rows.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per pair of models: the (cell, action) pairs whose verdicts (in the safe set in most draws)
+        differ, how many of them truly violate, and for each of the two models the pairs it calls safe and its
+        median predicted distance and variance there.
+    """
+    verdict = audit.assign(safe=audit["safe_share"] > 0.5).set_index(["model", "x", "y", "action"])
+    models = list(dict.fromkeys(audit["model"]))
+    rows = []
+    for i, first in enumerate(models):
+        for second in models[i + 1:]:
+            one, two = verdict.loc[first], verdict.loc[second]
+            differ = one.index[one["safe"].to_numpy() != two["safe"].reindex(one.index).to_numpy()]
+            row = {"pair": f"{first} vs {second}", "pairs that differ": len(differ),
+                   "truly violate": int(one.loc[differ, "violates"].sum())}
+            for model, part in ((first, one.loc[differ]), (second, two.loc[differ])):
+                row[f"{model}: called safe"] = int(part["safe"].sum())
+                row[f"{model}: median distance"] = float(part["mu_cost"].median()) if len(part) else float("nan")
+                row[f"{model}: median variance"] = float(part["var_cost"].median()) if len(part) else float("nan")
+            rows.append(row)
+    return pd.DataFrame(rows).set_index("pair")

@@ -56,7 +56,8 @@ SCHEMA_VERSION = 3
 HANDOUT_FILES = (("tutorials/GLOSSARY.md", "tutorials/GLOSSARY.md"), ("tutorials/HANDOUT.md", "tutorials/README.md"),
                  ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"))
 #: the stored results the tutorials read (``../results/...`` from ``tutorials/``)
-HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-reduced", "results/sweep-reference", "results/ablation")
+HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-reduced", "results/sweep-reference", "results/ablation",
+                   "results/ablation-t-likelihood")
 
 
 def _regions(lines: list[str], begin: str, end: str):
