@@ -367,4 +367,3 @@ def plot_learning_curves_beside_authors(ax, curves, *, metric: str, label: str =
     if legend:
         ax.legend(fontsize=SMALL, frameon=False)
     return ax
-
