@@ -75,3 +75,18 @@ def test_where_two_models_part_each_ones_predictions_are_read_at_those_pairs():
     assert row["pairs that differ"] == 2 and row["truly violate"] == 1  # actions 0 and 2; action 0 violates
     assert row["a: called safe"] == 1 and row["b: called safe"] == 1
     assert row["a: median distance"] == pytest.approx(1.0) and row["b: median variance"] == pytest.approx(6.0)
+
+
+def test_the_fitted_hyperparameters_are_each_agents_own():
+    from sarsp_edu.experiments.audit import fitted_hyperparameters
+    from sarsp_edu.experiments.experiment import Experiment
+    from sarsp_edu.models.processes.laplace import noise_variance
+
+    table = fitted_hyperparameters(SMALL, models=("gp", "t-likelihood"))
+    assert list(table.index) == [("gp", "cost"), ("gp", "reward"), ("t-likelihood", "cost"),
+                                 ("t-likelihood", "reward")]
+    robust = Experiment(SMALL.replace(model="t-likelihood")).agent.cost_model
+    row = table.loc[("t-likelihood", "cost")]
+    assert row["length_scale"] == robust.kernel_.length_scale and row["scale"] == robust.scale_
+    assert row["noise_variance"] == pytest.approx(noise_variance(robust.nu, robust.scale_))
+    assert np.isnan(table.loc[("gp", "cost"), "scale"]) and table.loc[("gp", "cost"), "noise_variance"] > 0

@@ -27,7 +27,7 @@ from ..config import MODELS, ExperimentConfig, config_or_default
 from ..world.gridworld.layout import moved, nearest
 from .experiment import experiments_on_one_world
 
-__all__ = ["audit_summary", "disagreements", "safe_set_audit"]
+__all__ = ["audit_summary", "disagreements", "fitted_hyperparameters", "safe_set_audit"]
 
 
 def safe_set_audit(config: ExperimentConfig | None = None, models=MODELS, draws: int = 3, rng=0) -> pd.DataFrame:
@@ -159,3 +159,37 @@ def disagreements(audit: pd.DataFrame) -> pd.DataFrame:
                 row[f"{model}: median variance"] = float(part["var_cost"].median()) if len(part) else float("nan")
             rows.append(row)
     return pd.DataFrame(rows).set_index("pair")
+
+
+def fitted_hyperparameters(config: ExperimentConfig | None = None, models=MODELS) -> pd.DataFrame:
+    """Each model's offline fit on one world: the cost and the reward model's amplitude, length scale and noise.
+
+    Parameters
+    ----------
+    config : ExperimentConfig, optional
+        The world, data and settings (its ``model`` is ignored); every model is fitted on its one world.
+    models : sequence of str, default every model of ``MODELS``
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per model and target (``"cost"``, ``"reward"``): ``amplitude``, ``length_scale`` and
+        ``noise_variance``, the variance of a new observation's noise (for the GP with Student-t noise
+        ``s^2 nu / (nu - 2)``, its ``scale`` s beside it).
+    """
+    from ..models.processes.laplace import noise_variance
+
+    config = config_or_default(config)
+    experiments = experiments_on_one_world(config, {model: {"model": model} for model in models})
+    rows = []
+    for model, experiment in experiments.items():
+        for target in ("cost", "reward"):
+            fitted = getattr(experiment.agent, f"{target}_model")
+            row = {"model": model, "target": target, "amplitude": float(fitted.kernel_.amplitude),
+                   "length_scale": float(fitted.kernel_.length_scale)}
+            if hasattr(fitted, "scale_"):
+                row.update(noise_variance=noise_variance(fitted.nu, fitted.scale_), scale=fitted.scale_)
+            else:
+                row.update(noise_variance=float(fitted.noise_variance_), scale=np.nan)
+            rows.append(row)
+    return pd.DataFrame(rows).set_index(["model", "target"])
