@@ -311,6 +311,6 @@ def _threshold_study(args, parser) -> int:
         from ..teaching.plotting import plot_threshold_study
 
         figure, axes = _figure(1, 3, (13, 4.2))
-        plot_threshold_study(axes, table)
+        plot_threshold_study(axes, study.runs)
         _save_figure(figure, args.figure)
     return 0

@@ -13,32 +13,37 @@ _STUDY_LABELS = {"backup_share": "decisions by the backup rule (%)", "total_cost
                  "task_success_rate": METRIC_LABELS["task_success_rate"], "mean_steps": METRIC_LABELS["mean_steps"]}
 
 
-def plot_threshold_study(axes, table, *, measures=("backup_share", "total_cost", "task_success_rate"),
+def plot_threshold_study(axes, runs, *, measures=("backup_share", "total_cost", "task_success_rate"),
                          paper_threshold: float = 0.8):
-    """Each model's mean (with its 95% interval) against the variance threshold sigma*^2, one Axes per measure.
+    """Each model's runs (faint dots) and their mean (a line) against the variance threshold sigma*^2.
+
+    The runs mix the ablation's configurations, whose levels differ more than a run's noise: the dots show
+    that spread, which a t-interval over so few runs would hide behind a band wider than the measure's range.
 
     Parameters
     ----------
     axes : sequence of matplotlib Axes
         One per measure.
-    table : pandas.DataFrame
-        :meth:`~sarsp_edu.experiments.thresholds.ThresholdStudy.table`: indexed by (threshold, model), with
-        each measure and its ``low`` and ``high`` columns.
+    runs : pandas.DataFrame
+        :attr:`~sarsp_edu.experiments.thresholds.ThresholdStudy.runs`: ``threshold``, ``model`` and the
+        measures, a row per run.
     measures : sequence of str
-        Columns of ``table`` to draw.
+        Columns of ``runs`` to draw.
     paper_threshold : float, default 0.8
         Marked with a dotted line: the paper's sigma*^2.
     """
-    models = list(dict.fromkeys(table.index.get_level_values("model")))
+    present = set(runs["model"])
+    models = [m for m in _STUDY_STYLES if m in present] + sorted(present - set(_STUDY_STYLES))
     for ax, measure in zip(axes, measures):
-        for model in models:
-            part = table.xs(model, level="model").sort_index()
+        for i, model in enumerate(models):
+            part = runs[runs["model"] == model]
             key = _STUDY_STYLES.get(model, "tp")
-            x = part.index.to_numpy(dtype=float)
-            low, high = part[f"{measure} low"].to_numpy(), part[f"{measure} high"].to_numpy()
-            ax.fill_between(x, low, high, color=COLOURS[key], alpha=0.12, lw=0)
-            ax.plot(x, part[measure], color=COLOURS[key], ls=LINESTYLES[key], marker=MARKERS[key], lw=1.8,
-                    label=model)
+            shift = 1.0 + 0.06 * (i - (len(models) - 1) / 2)  # the models' dots side by side on the log axis
+            ax.scatter(part["threshold"] * shift, part[measure], s=14, color=COLOURS[key], marker=MARKERS[key],
+                       alpha=0.35, lw=0)
+            mean = part.groupby("threshold")[measure].mean()
+            ax.plot(mean.index * shift, mean.to_numpy(), color=COLOURS[key], ls=LINESTYLES[key],
+                    marker=MARKERS[key], lw=1.8, label=model)
         ax.axvline(paper_threshold, color="0.4", ls=":", lw=1.2)
         ax.annotate(f"the paper's {paper_threshold:g}", (paper_threshold, 1.0), xycoords=("data", "axes fraction"),
                     xytext=(3, -3), textcoords="offset points", ha="left", va="top", fontsize=SMALL, color="0.3")
