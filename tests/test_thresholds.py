@@ -117,3 +117,20 @@ def test_the_three_learning_curves_are_the_means_of_the_cells_run(study_folders)
     plot_model_curves(ax, curves, metric="total_cost")
     assert [line.get_label() for line in ax.get_lines()] == ["TP", "GP", "t-likelihood GP"]
     plt.close(figure)
+
+
+def test_the_complete_study_leaves_out_what_is_still_running(study_folders, tmp_path):
+    import shutil
+
+    shutil.copytree(study_folders, tmp_path / "copy")  # the third model's folders name the ablation's relatively
+    third = tmp_path / "copy" / "third"
+    run = next((third / setting_folder(HIGH) / "cells").glob("m*")) / "t-likelihood"
+    shutil.rmtree(run)  # one run of the third model at sigma*^2 = 10 not stored yet
+    study = ThresholdStudy.load(tmp_path / "copy" / "ablation", third)
+    assert study.planned == 2
+    assert study.missing[(10.0, "t-likelihood GP")] == 1 and study.missing[(0.1, "TP")] == 0
+    assert (0.8, "TP") not in study.missing
+    complete = study.complete()
+    assert set(zip(complete.runs["threshold"], complete.runs["model"])) == {
+        (0.8, "TP"), (0.8, "GP"), (0.8, "t-likelihood GP"), (10.0, "TP"), (10.0, "GP")}
+    assert (complete.table()["runs"] == 2).all()

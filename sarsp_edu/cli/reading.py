@@ -289,6 +289,11 @@ def _threshold_study(args, parser) -> int:
         print(f"{args.ablation} holds none of the study's settings yet: run 'sarsp-edu ablation --settings "
               + " ".join(f'"{name}"' for name in threshold_settings()) + f" --out {args.ablation}'")
         return 0
+    missing = study.missing
+    study = study.complete()  # each mean over the same runs: the thresholds and models still running left out
+    if not len(study.runs):
+        print("no threshold and model has all its runs stored yet")
+        return 0
     table, pairs = study.table(), study.pairs()
     shown = table[["runs", *[c for m in ("backup_share", "total_cost", "task_success_rate")
                              for c in (m, f"{m} low", f"{m} high")]]]
@@ -296,10 +301,9 @@ def _threshold_study(args, parser) -> int:
           + "\neach measure's mean over the runs (configurations x seeds) and its 95% t-interval (low, high)\n"
           + _format_table(shown.round(2)))
     print(f"\nthe models run by run, at each threshold\n{_format_table(pairs.round(2))}")
-    runs = table["runs"]
-    if runs.nunique() > 1 or len(runs) < len(study.thresholds) * len(study.models):
-        print(f"\npartial: the thresholds and models hold {runs.min()} to {runs.max()} runs; means over different "
-              "runs are not comparable until every setting's runs are stored")
+    if missing:
+        print(f"\nleft out, their runs not all stored (of {study.planned}): "
+              + ", ".join(f"{model} at {threshold:g} ({runs})" for (threshold, model), runs in missing.items()))
     left = study.lowest_threshold_off_backup()
     print("\nthe smallest threshold at which a model's backup share falls below 50%: "
           + ", ".join(f"{model} {value:g}" for model, value in left.items()))

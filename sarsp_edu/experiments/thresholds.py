@@ -23,6 +23,7 @@ from pathlib import Path
 import pandas as pd
 
 from .._internal.io import read_json
+from ..config import VARIANCE_THRESHOLD
 from .ablation import VARIANCE_THRESHOLDS, AblationResults, _t_interval, run_measures, setting_folder
 from .sweep.model_tables import MODEL_NAMES
 from .sweep.models import MODEL_SWEEP_FILE, load_model_sweep
@@ -49,9 +50,12 @@ class ThresholdStudy:
     runs : pandas.DataFrame
         Columns ``threshold``, ``setting``, ``m``, ``p``, ``nss``, ``seed``, ``model`` ("TP", "GP",
         "t-likelihood GP") and the measures of :func:`~sarsp_edu.experiments.ablation.run_measures`.
+    planned : int, optional
+        The runs the ablation plans per setting and model (its cells times its seeds).
     """
 
     runs: pd.DataFrame
+    planned: int | None = None
 
     @classmethod
     def load(cls, ablation_dir, models_dir=None) -> "ThresholdStudy":
@@ -93,8 +97,24 @@ class ThresholdStudy:
                 rows.append({"threshold": threshold, "setting": name, "m": m, "p": p, "nss": nss, "seed": seed,
                              "model": MODEL_NAMES[result.config.model], **run_measures(result)})
         runs = pd.concat([frame, pd.DataFrame(rows)], ignore_index=True) if rows else frame
+        design = read_json(Path(ablation_dir) / "ablation.json", keys=("cells", "seeds"))
         return cls(runs.sort_values(["threshold", "model", "m", "p", "nss", "seed"], kind="stable")
-                   .reset_index(drop=True))
+                   .reset_index(drop=True), planned=len(design["cells"]) * len(design["seeds"]))
+
+    def complete(self) -> "ThresholdStudy":
+        """The study less every (threshold, model) whose runs are not all stored yet, so that each mean is over
+        the same configurations and seeds (:attr:`missing` says what is left out)."""
+        counts = self.runs.groupby(["threshold", "model"])["seed"].transform("size")
+        return ThresholdStudy(self.runs[counts == self.planned].reset_index(drop=True), self.planned)
+
+    @property
+    def missing(self) -> dict:
+        """``{(threshold, model): runs stored}`` for each threshold and model with fewer runs than planned, the
+        three models at every threshold of :func:`threshold_settings` counted (0 where none is stored)."""
+        stored = self.runs.groupby(["threshold", "model"]).size().to_dict()
+        every = sorted({VARIANCE_THRESHOLD, *VARIANCE_THRESHOLDS})
+        return {(threshold, model): stored.get((threshold, model), 0) for threshold in every
+                for model in MODEL_NAMES.values() if stored.get((threshold, model), 0) != self.planned}
 
     @property
     def thresholds(self) -> list:
