@@ -134,3 +134,21 @@ def test_the_complete_study_leaves_out_what_is_still_running(study_folders, tmp_
     assert set(zip(complete.runs["threshold"], complete.runs["model"])) == {
         (0.8, "TP"), (0.8, "GP"), (0.8, "t-likelihood GP"), (10.0, "TP"), (10.0, "GP")}
     assert (complete.table()["runs"] == 2).all()
+
+
+def test_the_stored_study_holds_what_reproduction_md_reads_from_it():
+    """REPRODUCTION.md, "The threshold the comparison hinges on", from the stored runs."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent / "results"
+    study = ThresholdStudy.load(root / "ablation", root / "ablation-t-likelihood").complete()
+    table, pairs = study.table(), study.pairs()
+    assert set(study.thresholds) == {0.1, 0.3, 0.8, 2.0, 5.0, 10.0}
+    tp = study.runs[study.runs["model"] == "TP"].sort_values(["threshold", "m", "p", "nss", "seed"])
+    by_threshold = [part[["total_cost", "backup_share", "task_success_rate"]].to_numpy()
+                    for _, part in tp.groupby("threshold")]
+    assert all((runs == by_threshold[0]).all() for runs in by_threshold)  # the TP's runs: the same at every threshold
+    gp = table.xs("GP", level="model")["backup_share"]
+    assert (gp.loc[[0.1, 0.3, 0.8, 2.0]] == 100.0).all() and gp.loc[10.0] < 10.0
+    tp_vs_gp = pairs.xs("TP vs GP", level="pair")["mean total cost difference"]
+    assert (tp_vs_gp < 0).all() and tp_vs_gp.loc[10.0] > tp_vs_gp.loc[0.8]  # lower everywhere, by less at 10
