@@ -130,6 +130,8 @@ def test_the_complete_study_leaves_out_what_is_still_running(study_folders, tmp_
     assert study.planned == 2
     assert study.missing[(10.0, "t-likelihood GP")] == 1 and study.missing[(0.1, "TP")] == 0
     assert (0.8, "TP") not in study.missing
+    without = ThresholdStudy.load(tmp_path / "copy" / "ablation")  # no third model asked for: none missing
+    assert all(model != "t-likelihood GP" for _, model in without.missing)
     complete = study.complete()
     assert set(zip(complete.runs["threshold"], complete.runs["model"])) == {
         (0.8, "TP"), (0.8, "GP"), (0.8, "t-likelihood GP"), (10.0, "TP"), (10.0, "GP")}

@@ -273,7 +273,6 @@ def _save_figure(figure, path) -> None:
 
 def _threshold_study(args, parser) -> int:
     """``threshold-study``: the three models against sigma*^2, from an ablation's folder and the third model's."""
-
     from .._internal.io import StoredResultError, atomic_write_text
     from ..experiments.tables import frame_to_markdown
     from ..experiments.thresholds import ThresholdStudy, threshold_settings
@@ -306,7 +305,8 @@ def _threshold_study(args, parser) -> int:
               + ", ".join(f"{model} at {threshold:g} ({runs})" for (threshold, model), runs in missing.items()))
     left = study.lowest_threshold_off_backup()
     print("\nthe smallest threshold at which a model's backup share falls below 50%: "
-          + ", ".join(f"{model} {value:g}" for model, value in left.items()))
+          + ", ".join(f"{model} {value:g}" if value == value else f"{model} at none of them"
+                      for model, value in left.items()))
     if args.markdown:
         atomic_write_text(args.markdown, frame_to_markdown(shown.round(2).reset_index()) + "\n\n"
                           + frame_to_markdown(pairs.round(2).reset_index()) + "\n")

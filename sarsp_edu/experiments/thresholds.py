@@ -109,12 +109,12 @@ class ThresholdStudy:
 
     @property
     def missing(self) -> dict:
-        """``{(threshold, model): runs stored}`` for each threshold and model with fewer runs than planned, the
-        three models at every threshold of :func:`threshold_settings` counted (0 where none is stored)."""
+        """``{(threshold, model): runs stored}`` for each threshold and model with fewer runs than planned: every
+        threshold of :func:`threshold_settings` for each model with runs stored (0 where none is)."""
         stored = self.runs.groupby(["threshold", "model"]).size().to_dict()
         every = sorted({VARIANCE_THRESHOLD, *VARIANCE_THRESHOLDS})
         return {(threshold, model): stored.get((threshold, model), 0) for threshold in every
-                for model in MODEL_NAMES.values() if stored.get((threshold, model), 0) != self.planned}
+                for model in self.models if stored.get((threshold, model), 0) != self.planned}
 
     @property
     def thresholds(self) -> list:
