@@ -93,6 +93,9 @@ def test_the_command_prints_the_tables_and_draws_the_figure(study_folders, tmp_p
     with pytest.raises(SystemExit):
         main(["threshold-study", "--ablation", str(study_folders / "ablation"), "--figure", str(tmp_path / "x.txt")])
     assert "--figure" in capsys.readouterr().err
+    # 'tables' on the folder of the third model's sweeps finds their ablation and prints the same study
+    assert main(["tables", str(study_folders / "third")]) == 0
+    assert "the threshold study" in capsys.readouterr().out
 
 
 def test_the_three_learning_curves_are_the_means_of_the_cells_run(study_folders):

@@ -21,14 +21,18 @@ def _tables(args, parser) -> int:
                          "it could replace; write the tables outside it")
 
     model_sweep = (Path(args.results_dir) / "model_sweep.json").is_file()  # another model on a paired sweep's cells
-    if args.figure and not model_sweep:
-        parser.error("--figure draws the learning curves of a model sweep's three models; "
-                     f"{args.results_dir} is not a model sweep's folder")
+    ablation = _ablation_of_model_sweeps(Path(args.results_dir))  # another model on each of an ablation's settings
+    if args.figure and not (model_sweep or ablation):
+        parser.error("--figure draws the learning curves of a model sweep's three models, or the threshold study of "
+                     f"a folder of model sweeps on an ablation's settings; {args.results_dir} is neither")
     _check_figure(parser, args.figure)
     if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
         return _ablation_table(args, parser)
     if model_sweep:
         return _model_tables(args, parser)
+    if ablation is not None:
+        args.ablation, args.models = str(ablation), args.results_dir
+        return _threshold_study(args, parser)
     try:
         stored_sweep(args.results_dir)  # sweep.json itself, which a rerun would refuse too
     except (FileNotFoundError, ValueError) as exc:
@@ -233,6 +237,18 @@ def _model_tables(args, parser) -> int:
                               title=f"mean over the {len(runs)} cells run")
         _save_figure(figure, args.figure)
     return 0
+
+
+def _ablation_of_model_sweeps(folder):
+    """The ablation whose settings the model sweeps in ``folder``'s subfolders ran on (as
+    ``results/ablation-t-likelihood`` holds them), or None where ``folder`` holds no such sweep."""
+    from .._internal.io import read_json
+
+    for meta in sorted(folder.glob("*/model_sweep.json")) if folder.is_dir() else ():
+        paired = (meta.parent / read_json(meta, keys=("paired",))["paired"]).resolve()
+        if (paired.parent / "ablation.json").is_file():
+            return paired.parent
+    return None
 
 
 def _check_figure(parser, path) -> None:
