@@ -530,7 +530,7 @@ def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_t
     assert figure.read_bytes()[:4] == b"\x89PNG" and "| t-likelihood GP vs TP |" in markdown.read_text()
     with pytest.raises(SystemExit):  # a paired sweep has no third model to draw
         main(["tables", str(tmp_path / "paired"), "--figure", str(figure)])
-    assert "not a model sweep's folder" in capsys.readouterr().err
+    assert "is neither" in capsys.readouterr().err
     stored = tmp_path / "tl" / "cells" / "m40_p0.2_nss2_seed0" / "t-likelihood" / "result.json"
     payload = json.loads(stored.read_text())
     payload["code"] = {**payload["code"], "source_sha256": "another version of the package"}
