@@ -89,9 +89,8 @@ def _best_move_share(part: pd.DataFrame) -> float:
     """The share of cells where an action of the highest mean predicted reward truly rewards most."""
     hits = []
     for _, cell in part.groupby(["x", "y"]):
-        chosen = cell["action"].to_numpy()[np.argmax(cell["mu_reward"].to_numpy())]
-        best = cell["reward"].to_numpy().max()
-        hits.append(bool(np.isclose(cell.loc[cell["action"] == chosen, "reward"].iloc[0], best)))
+        reward = cell["reward"].to_numpy()
+        hits.append(bool(np.isclose(reward[np.argmax(cell["mu_reward"].to_numpy())], reward.max())))
     return float(np.mean(hits))
 
 
