@@ -1,0 +1,143 @@
+"""Which of an agent's two models costs it the goal: runs with the cost and the reward model of different kinds, and
+how the reward model ranks the four moves along the run's own steps.
+
+An agent reaches its goal by following its reward model among the moves its
+cost model lets it take.  :func:`mixed_experiment` builds a run whose cost
+model is one kind (``"tp"``, ``"gp"``, ``"t-likelihood"``) and whose reward
+model is another, on the same world, data, episodes and random stream as the
+config's own run: with both kinds the config's model it *is* that run, step
+for step.  :func:`reward_ranking` runs it and records, at every step, the four
+predicted rewards against the true ones (minus the distance from each move's
+cell to the goal): whether the move predicted best is truly a best move, the
+spread of the predictions against the truth's, and their correlation.
+:func:`ranking_study` sets several pairs of kinds side by side on one world.
+
+Unlike :func:`~sarsp_edu.experiments.audit.safe_set_audit`, which predicts from
+every cell of the world once, these are the cells the agent visits, as often
+as it visits them: a model wrong where the agent circles weighs as much as the
+agent's circling does.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .._internal.threads import one_blas_thread
+from .._internal.validation import check_choice
+from ..config import MODELS, ExperimentConfig, config_or_default
+from ..models.processes.settings import make_model
+from ..world.gridworld.layout import moved
+from ..world.preparation import prepare
+from .experiment import Experiment
+
+__all__ = ["RANKING_PAIRS", "mixed_experiment", "ranking_study", "ranking_summary", "reward_ranking"]
+
+#: (cost model, reward model): each model alone, and the third model's two models each beside the TP's
+RANKING_PAIRS = (("tp", "tp"), ("t-likelihood", "t-likelihood"), ("t-likelihood", "tp"), ("tp", "t-likelihood"))
+
+
+def mixed_experiment(config: ExperimentConfig | None = None, cost: str | None = None, reward: str | None = None, *,
+                     prepared=None) -> Experiment:
+    """A run of ``config`` whose cost model is of kind ``cost`` and reward model of kind ``reward``.
+
+    Parameters
+    ----------
+    config : ExperimentConfig, optional
+        Everything else: the world, the data, the episodes, the settings.
+    cost, reward : {"tp", "gp", "t-likelihood"}, optional
+        Each model's kind (default ``config.model``), with the config's settings of that kind (``nu``,
+        ``likelihood_nu``).
+    prepared : Prepared, optional
+        ``prepare(config)``, to share one world among several runs.
+
+    Returns
+    -------
+    Experiment
+        Fitted, not yet run.  The agent's random stream is the config's run's: with ``cost == reward ==
+        config.model`` its steps are :func:`~sarsp_edu.experiments.experiment.run_experiment`'s.
+    """
+    config = config_or_default(config)
+    cost, reward = (config.model if kind is None else kind for kind in (cost, reward))
+    check_choice("cost", cost, MODELS)
+    check_choice("reward", reward, MODELS)
+
+    def fit(agent):
+        agent.cost_model = make_model(config.replace(model=cost))
+        agent.reward_model = make_model(config.replace(model=reward))
+        agent.fit()
+
+    return Experiment(config.replace(model=cost), prepared=prepared, fit=fit)
+
+
+def reward_ranking(experiment: Experiment) -> pd.DataFrame:
+    """Run ``experiment`` to its end; at each step, how its reward model ranked the four moves.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per step: ``episode``, ``backup`` (no action was safe), ``predicted best is best`` (the move of
+        the highest predicted reward is a move of the highest true reward), ``chosen is best`` (the move taken
+        is), ``predicted spread`` and ``true spread`` (the largest minus the smallest of the four), their
+        ``correlation`` (NaN where the predictions are all equal) and the episode's ``completed``.
+    """
+    rows = []
+    with one_blas_thread():
+        while not experiment.finished:
+            rows.append(_ranked_step(experiment))
+    steps = pd.DataFrame(rows)
+    completed = {i + 1: bool(episode["task_completed"]) for i, episode in enumerate(experiment.episodes)}
+    return steps.assign(completed=steps["episode"].map(completed))
+
+
+def _ranked_step(experiment: Experiment) -> dict:
+    """One step of ``experiment``, and its reward model's ranking of the four moves (:func:`reward_ranking`)."""
+    record = experiment.step()
+    env = experiment.env  # its goal is the step's: an episode's end leaves it, the next step's reset draws anew
+    true = np.array([-np.hypot(*np.subtract(moved(record.position, action, env.size), env.goal))
+                     for action in range(4)])
+    predicted = np.asarray(record.decision.mu_reward, dtype=float)
+    best = np.isclose(true, true.max())
+    return {"episode": record.episode, "backup": bool(record.decision.backup),
+            "predicted best is best": bool(best[np.argmax(predicted)]), "chosen is best": bool(best[record.action]),
+            "predicted spread": float(np.ptp(predicted)), "true spread": float(np.ptp(true)),
+            "correlation": float(np.corrcoef(predicted, true)[0, 1]) if np.ptp(predicted) > 0 else np.nan}
+
+
+def ranking_summary(steps: pd.DataFrame) -> pd.Series:
+    """One run's :func:`reward_ranking` in a few numbers.
+
+    Returns
+    -------
+    pandas.Series
+        ``TSR %`` and ``steps`` per episode; over steps, ``backup %``, ``predicted best is best %``,
+        ``chosen is best %``, the mean ``predicted spread`` and ``true spread``, and the mean ``correlation``.
+    """
+    episodes = steps.groupby("episode")
+    return pd.Series({"TSR %": 100 * episodes["completed"].first().mean(), "steps": episodes.size().mean(),
+                      "backup %": 100 * steps["backup"].mean(),
+                      "predicted best is best %": 100 * steps["predicted best is best"].mean(),
+                      "chosen is best %": 100 * steps["chosen is best"].mean(),
+                      "predicted spread": steps["predicted spread"].mean(),
+                      "true spread": steps["true spread"].mean(), "correlation": steps["correlation"].mean()})
+
+
+def ranking_study(config: ExperimentConfig | None = None, pairs=RANKING_PAIRS) -> pd.DataFrame:
+    """:func:`ranking_summary` of a run per (cost model, reward model) pair, all on ``config``'s one world.
+
+    Parameters
+    ----------
+    config : ExperimentConfig, optional
+        Its ``episodes`` are each run's.
+    pairs : sequence of (str, str), default RANKING_PAIRS
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per pair, indexed by ``cost`` and ``reward``.
+    """
+    config = config_or_default(config)
+    prepared = prepare(config)
+    rows = {tuple(pair): ranking_summary(reward_ranking(mixed_experiment(config, *pair, prepared=prepared)))
+            for pair in pairs}
+    return pd.DataFrame(rows).T.rename_axis(["cost", "reward"])

@@ -1,0 +1,86 @@
+"""Runs with mixed models, and the reward model's ranking along a run (sarsp_edu.experiments.ranking)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sarsp_edu import ExperimentConfig, GaussianProcess, StudentTLikelihoodGP, StudentTProcess, run_experiment
+from sarsp_edu.experiments.ranking import mixed_experiment, ranking_study, ranking_summary, reward_ranking
+from sarsp_edu.world.preparation import prepare
+
+SMALL = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
+                         optimizer_steps=5, k_prior=30, episodes=3, n_switch_states=1, max_steps=30)
+
+
+def test_with_both_models_of_the_configs_kind_the_run_is_the_configs_own_step_for_step():
+    experiment = mixed_experiment(SMALL.replace(model="gp"), "gp", "gp")
+    steps = reward_ranking(experiment)
+    own = run_experiment(SMALL.replace(model="gp")).records
+    pd.testing.assert_frame_equal(experiment.records(), own)
+    assert len(steps) == own["episode_steps"].sum()
+    assert list(steps.groupby("episode")["completed"].first()) == list(own["task_completed"])
+
+
+def test_each_model_is_of_the_kind_asked_and_fitted_on_the_configs_rows():
+    experiment = mixed_experiment(SMALL, cost="t-likelihood", reward="gp")
+    assert isinstance(experiment.agent.cost_model, StudentTLikelihoodGP)
+    assert isinstance(experiment.agent.reward_model, GaussianProcess)
+    assert experiment.config.model == "t-likelihood"
+    default = mixed_experiment(SMALL)  # the config's model for both
+    assert isinstance(default.agent.cost_model, StudentTProcess)
+    assert isinstance(default.agent.reward_model, StudentTProcess)
+    # the reward model is the one a run of its own kind fits: the same rows, the same hyperparameters
+    gp_run = mixed_experiment(SMALL, "gp", "gp")
+    assert experiment.agent.reward_model.kernel_.get_params() == gp_run.agent.reward_model.kernel_.get_params()
+
+
+@pytest.mark.parametrize("name, value", [("cost", "student-t"), ("reward", "GP")])
+def test_an_unknown_kind_is_refused_by_name(name, value):
+    with pytest.raises(ValueError, match=rf"{name}.*{value}"):
+        mixed_experiment(SMALL, **{name: value})
+
+
+def test_each_step_holds_the_predicted_rewards_against_the_worlds():
+    experiment = mixed_experiment(SMALL, "tp", "tp")
+    env, seen = experiment.env, []
+    original = experiment.step
+
+    def step():  # what the step saw, to recompute the ranking independently
+        record = original()
+        seen.append((record, experiment.env.goal))
+        return record
+
+    experiment.step = step
+    steps = reward_ranking(experiment)
+    assert len(steps) == len(seen)
+    moves = {0: (1, 0), 1: (0, 1), 2: (-1, 0), 3: (0, -1)}  # RIGHT, DOWN, LEFT, UP
+    for (record, goal), row in zip(seen, steps.itertuples(index=False)):
+        x, y = record.position
+        true = [-np.hypot(min(max(x + dx, 0), env.size - 1) - goal[0], min(max(y + dy, 0), env.size - 1) - goal[1])
+                for dx, dy in moves.values()]
+        predicted = record.decision.mu_reward
+        assert row[2] == (true[int(np.argmax(predicted))] == pytest.approx(max(true)))  # predicted best is best
+        assert row[3] == (true[record.action] == pytest.approx(max(true)))  # chosen is best
+        assert row[4] == pytest.approx(np.ptp(predicted)) and row[5] == pytest.approx(np.ptp(true))
+        assert row[6] == pytest.approx(np.corrcoef(predicted, true)[0, 1])
+
+
+def test_the_summary_counts_episodes_once_and_steps_by_their_share():
+    steps = pd.DataFrame({"episode": [1, 1, 1, 2], "backup": [True, False, False, False],
+                          "predicted best is best": [True, True, False, False], "chosen is best": [False] * 4,
+                          "predicted spread": [1.0, 2.0, 3.0, 4.0], "true spread": [2.0] * 4,
+                          "correlation": [0.5, np.nan, 0.5, 0.2], "completed": [True, True, True, False]})
+    summary = ranking_summary(steps)
+    assert summary["TSR %"] == 50 and summary["steps"] == 2 and summary["backup %"] == 25
+    assert summary["predicted best is best %"] == 50 and summary["predicted spread"] == 2.5
+    assert summary["correlation"] == pytest.approx(0.4)  # NaN (all predictions equal) left out
+
+
+def test_the_study_runs_every_pair_on_one_world():
+    study = ranking_study(SMALL.replace(episodes=2), pairs=[("tp", "tp"), ("gp", "tp")])
+    assert list(study.index) == [("tp", "tp"), ("gp", "tp")] and study.index.names == ["cost", "reward"]
+    alone = ranking_summary(reward_ranking(mixed_experiment(SMALL.replace(episodes=2), "gp", "tp",
+                                                            prepared=prepare(SMALL.replace(episodes=2)))))
+    pd.testing.assert_series_equal(study.loc[("gp", "tp")], alone, check_names=False)
