@@ -76,7 +76,9 @@ def reward_ranking(experiment: Experiment) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        One row per step: ``episode``, ``backup`` (no action was safe), ``predicted best is best`` (the move of
+        One row per step: ``episode``, ``backup`` (no action was safe), ``best move allowed`` (a move of the
+        highest true reward is among those the rule chooses from: the safe set, or on a backup every move not
+        known to be unsafe), ``predicted best is best`` (the move of
         the highest predicted reward is a move of the highest true reward), ``chosen is best`` (the move taken
         is), ``predicted spread`` and ``true spread`` (the largest minus the smallest of the four), their
         ``correlation`` (NaN where the predictions are all equal) and the episode's ``completed``.
@@ -98,7 +100,10 @@ def _ranked_step(experiment: Experiment) -> dict:
                      for action in range(4)])
     predicted = np.asarray(record.decision.mu_reward, dtype=float)
     best = np.isclose(true, true.max())
-    return {"episode": record.episode, "backup": bool(record.decision.backup),
+    decision = record.decision
+    allowed = ~np.asarray(decision.known_unsafe) if decision.backup else np.asarray(decision.safe)
+    return {"episode": record.episode, "backup": bool(decision.backup),
+            "best move allowed": bool(np.any(best & allowed)),
             "predicted best is best": bool(best[np.argmax(predicted)]), "chosen is best": bool(best[record.action]),
             "predicted spread": float(np.ptp(predicted)), "true spread": float(np.ptp(true)),
             "correlation": float(np.corrcoef(predicted, true)[0, 1]) if np.ptp(predicted) > 0 else np.nan}
@@ -110,12 +115,14 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
     Returns
     -------
     pandas.Series
-        ``TSR %`` and ``steps`` per episode; over steps, ``backup %``, ``predicted best is best %``,
+        ``TSR %`` and ``steps`` per episode; over steps, ``backup %``, ``best move allowed %``,
+        ``predicted best is best %``,
         ``chosen is best %``, the mean ``predicted spread`` and ``true spread``, and the mean ``correlation``.
     """
     episodes = steps.groupby("episode")
     return pd.Series({"TSR %": 100 * episodes["completed"].first().mean(), "steps": episodes.size().mean(),
                       "backup %": 100 * steps["backup"].mean(),
+                      "best move allowed %": 100 * steps["best move allowed"].mean(),
                       "predicted best is best %": 100 * steps["predicted best is best"].mean(),
                       "chosen is best %": 100 * steps["chosen is best"].mean(),
                       "predicted spread": steps["predicted spread"].mean(),
