@@ -76,9 +76,9 @@ def reward_ranking(experiment: Experiment) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        One row per step: ``episode``, ``backup`` (no action was safe), ``best move allowed`` (a move of the
-        highest true reward is among those the rule chooses from: the safe set, or on a backup every move not
-        known to be unsafe), ``predicted best is best`` (the move of
+        One row per step: ``episode``, the cell ``x, y`` and the ``action`` taken, ``backup`` (no action was
+        safe), ``best move allowed`` (a move of the highest true reward is among those the rule chooses from:
+        the safe set, or on a backup every move not known to be unsafe), ``predicted best is best`` (the move of
         the highest predicted reward is a move of the highest true reward), ``chosen is best`` (the move taken
         is), ``predicted spread`` and ``true spread`` (the largest minus the smallest of the four), their
         ``correlation`` (NaN where the predictions are all equal) and the episode's ``completed``.
@@ -102,7 +102,8 @@ def _ranked_step(experiment: Experiment) -> dict:
     best = np.isclose(true, true.max())
     decision = record.decision
     allowed = ~np.asarray(decision.known_unsafe) if decision.backup else np.asarray(decision.safe)
-    return {"episode": record.episode, "backup": bool(decision.backup),
+    return {"episode": record.episode, "x": int(record.position[0]), "y": int(record.position[1]),
+            "action": int(record.action), "backup": bool(decision.backup),
             "best move allowed": bool(np.any(best & allowed)),
             "predicted best is best": bool(best[np.argmax(predicted)]), "chosen is best": bool(best[record.action]),
             "predicted spread": float(np.ptp(predicted)), "true spread": float(np.ptp(true)),
@@ -116,7 +117,8 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
     -------
     pandas.Series
         ``TSR %`` and ``steps`` per episode; over steps, ``backup %``, ``best move allowed %``,
-        ``predicted best is best %``,
+        ``predicted best is best %``, ``same move on a return %`` (of the steps from a cell the episode has left
+        before, those that take the move taken there last: an agent circling repeats itself),
         ``chosen is best %``, the mean ``predicted spread`` and ``true spread``, and the mean ``correlation``.
     """
     episodes = steps.groupby("episode")
@@ -125,8 +127,21 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
                       "best move allowed %": 100 * steps["best move allowed"].mean(),
                       "predicted best is best %": 100 * steps["predicted best is best"].mean(),
                       "chosen is best %": 100 * steps["chosen is best"].mean(),
+                      "same move on a return %": 100 * _same_move_on_return(steps),
                       "predicted spread": steps["predicted spread"].mean(),
                       "true spread": steps["true spread"].mean(), "correlation": steps["correlation"].mean()})
+
+
+def _same_move_on_return(steps: pd.DataFrame) -> float:
+    """The share of returns to a cell (within an episode) that repeat the move taken there last (NaN: none)."""
+    repeats = []
+    for _, episode in steps.groupby("episode", sort=False):
+        last = {}
+        for x, y, action in zip(episode["x"], episode["y"], episode["action"]):
+            if (x, y) in last:
+                repeats.append(last[(x, y)] == action)
+            last[(x, y)] = action
+    return float(np.mean(repeats)) if repeats else float("nan")
 
 
 def ranking_study(config: ExperimentConfig | None = None, pairs=RANKING_PAIRS) -> pd.DataFrame:
