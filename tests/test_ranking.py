@@ -67,8 +67,9 @@ def test_each_step_holds_the_predicted_rewards_against_the_worlds():
         assert row[5] == bool(np.any(best & allowed))
         assert row[6] == (true[int(np.argmax(predicted))] == pytest.approx(max(true)))  # predicted best is best
         assert row[7] == (true[record.action] == pytest.approx(max(true)))  # chosen is best
-        assert row[8] == pytest.approx(np.ptp(predicted)) and row[9] == pytest.approx(np.ptp(true))
-        assert row[10] == pytest.approx(np.corrcoef(predicted, true)[0, 1])
+        assert row[8] == (true[record.action] > -np.hypot(x - goal[0], y - goal[1]))  # closer
+        assert row[9] == pytest.approx(np.ptp(predicted)) and row[10] == pytest.approx(np.ptp(true))
+        assert row[11] == pytest.approx(np.corrcoef(predicted, true)[0, 1])
 
 
 def test_the_summary_counts_episodes_once_and_steps_by_their_share():
@@ -76,11 +77,12 @@ def test_the_summary_counts_episodes_once_and_steps_by_their_share():
                           "backup": [True, False, False, False],
                           "best move allowed": [True, True, True, False],
                           "predicted best is best": [True, True, False, False], "chosen is best": [False] * 4,
+                          "closer": [True, False, False, False],
                           "predicted spread": [1.0, 2.0, 3.0, 4.0], "true spread": [2.0] * 4,
                           "correlation": [0.5, np.nan, 0.5, 0.2], "completed": [True, True, True, False]})
     summary = ranking_summary(steps)
     assert summary["TSR %"] == 50 and summary["steps"] == 2 and summary["backup %"] == 25
-    assert summary["best move allowed %"] == 75
+    assert summary["best move allowed %"] == 75 and summary["closer %"] == 25
     assert summary["predicted best is best %"] == 50 and summary["predicted spread"] == 2.5
     assert summary["correlation"] == pytest.approx(0.4)  # NaN (all predictions equal) left out
     assert summary["same move on a return %"] == 100  # episode 1 returns to (0, 0) once and moves right again;

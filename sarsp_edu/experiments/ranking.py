@@ -80,8 +80,9 @@ def reward_ranking(experiment: Experiment) -> pd.DataFrame:
         safe), ``best move allowed`` (a move of the highest true reward is among those the rule chooses from:
         the safe set, or on a backup every move not known to be unsafe), ``predicted best is best`` (the move of
         the highest predicted reward is a move of the highest true reward), ``chosen is best`` (the move taken
-        is), ``predicted spread`` and ``true spread`` (the largest minus the smallest of the four), their
-        ``correlation`` (NaN where the predictions are all equal) and the episode's ``completed``.
+        is), ``closer`` (the move taken ends nearer the goal than it began), ``predicted spread`` and ``true
+        spread`` (the largest minus the smallest of the four), their ``correlation`` (NaN where the
+        predictions are all equal) and the episode's ``completed``.
     """
     rows = []
     with one_blas_thread():
@@ -100,12 +101,14 @@ def _ranked_step(experiment: Experiment) -> dict:
                      for action in range(4)])
     predicted = np.asarray(record.decision.mu_reward, dtype=float)
     best = np.isclose(true, true.max())
+    here = -np.hypot(*np.subtract(record.position, env.goal))
     decision = record.decision
     allowed = ~np.asarray(decision.known_unsafe) if decision.backup else np.asarray(decision.safe)
     return {"episode": record.episode, "x": int(record.position[0]), "y": int(record.position[1]),
             "action": int(record.action), "backup": bool(decision.backup),
             "best move allowed": bool(np.any(best & allowed)),
             "predicted best is best": bool(best[np.argmax(predicted)]), "chosen is best": bool(best[record.action]),
+            "closer": bool(true[record.action] > here),
             "predicted spread": float(np.ptp(predicted)), "true spread": float(np.ptp(true)),
             "correlation": float(np.corrcoef(predicted, true)[0, 1]) if np.ptp(predicted) > 0 else np.nan}
 
@@ -117,9 +120,10 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
     -------
     pandas.Series
         ``TSR %`` and ``steps`` per episode; over steps, ``backup %``, ``best move allowed %``,
-        ``predicted best is best %``, ``same move on a return %`` (of the steps from a cell the episode has left
-        before, those that take the move taken there last: an agent circling repeats itself),
-        ``chosen is best %``, the mean ``predicted spread`` and ``true spread``, and the mean ``correlation``.
+        ``predicted best is best %``, ``chosen is best %``, ``closer %``, ``same move on a return %`` (of the
+        steps from a cell the episode has left before, those that take the move taken there last: an agent
+        circling repeats itself), the mean ``predicted spread`` and ``true spread``, and the mean
+        ``correlation``.
     """
     episodes = steps.groupby("episode")
     return pd.Series({"TSR %": 100 * episodes["completed"].first().mean(), "steps": episodes.size().mean(),
@@ -127,6 +131,7 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
                       "best move allowed %": 100 * steps["best move allowed"].mean(),
                       "predicted best is best %": 100 * steps["predicted best is best"].mean(),
                       "chosen is best %": 100 * steps["chosen is best"].mean(),
+                      "closer %": 100 * steps["closer"].mean(),
                       "same move on a return %": 100 * _same_move_on_return(steps),
                       "predicted spread": steps["predicted spread"].mean(),
                       "true spread": steps["true spread"].mean(), "correlation": steps["correlation"].mean()})
