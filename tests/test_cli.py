@@ -257,6 +257,55 @@ def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
     assert not list(out.glob("cells/.*"))  # no staging folder left behind
 
 
+def test_a_sigterm_to_a_parallel_sweep_stops_its_workers_and_keeps_finished_cells(tmp_path):
+    # 'kill PID' or a batch system's stop: SIGTERM to the command alone, not to its workers
+    import re
+    import signal
+    import time
+
+    psutil = pytest.importorskip("psutil")
+    out = tmp_path / "sweep"
+    argv = [sys.executable, "-m", "sarsp_edu.cli", "sweep", "--jobs", "2", "--out", str(out), "--quiet",
+            "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--k-prior", "20",
+            "--cost-fit-points", "50", "--reward-fit-points", "50",
+            "--m", "40", "80", "--p", "0.2", "--nss", "1", "2", "--seeds", "0", "1", "--episodes", "60"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    command = psutil.Process(proc.pid)
+    deadline = time.monotonic() + 240
+    while time.monotonic() < deadline and proc.poll() is None and not list(out.glob("cells/m*/cell.json")):
+        time.sleep(0.2)
+    workers = command.children(recursive=True)
+    try:
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=120)
+        if proc.returncode == 0:
+            pytest.skip("the sweep finished before it could be stopped")
+        assert proc.returncode == 143, err
+        lines = err.strip().splitlines()
+        assert len(lines) == 1, err
+        match = re.fullmatch(rf"terminated: (\d+) of 8 cells are saved in {re.escape(str(out))}; "
+                             r"rerun the same command to resume", lines[0])
+        assert match, lines[0]
+        assert len(list(out.glob("cells/m*/cell.json"))) == int(match.group(1))
+        assert not list(out.glob("cells/.*"))  # no staging folder left behind
+        _, alive = psutil.wait_procs(workers, timeout=30)
+        assert not alive, f"workers outlived the command: {alive}"
+    finally:  # a failed test leaves no process behind
+        for process in [command, *workers]:
+            try:
+                process.kill()
+            except psutil.NoSuchProcess:
+                pass
+
+
+def test_the_sigterm_handler_is_the_callers_again_after_a_command(capsys):
+    import signal
+
+    before = signal.getsignal(signal.SIGTERM)
+    assert main(["info"]) == 0
+    assert signal.getsignal(signal.SIGTERM) == before
+
+
 def test_tables_name_a_damaged_file_and_refuse_a_partial_sweep(tmp_path, capsys):
     out = tmp_path / "sweep"
     settings = [a for i, a in enumerate(TINY) if a != "--nss" and (i == 0 or TINY[i - 1] != "--nss")]

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 
 from .._version import __version__
 from .arguments import add_config_arguments
@@ -269,10 +271,15 @@ def main(argv: list[str] | None = None) -> int:
     if not hasattr(args, "func"):
         parser.print_help()
         return 0
+    previous = _stop_on_sigterm()
     try:
         return args.func(args, args.parser)
-    except KeyboardInterrupt:
-        print(_interrupted(args), file=sys.stderr)
+    except KeyboardInterrupt as stop:  # Ctrl-C, or a SIGTERM (Terminated): the same clean stop
+        line = _interrupted(args)
+        if isinstance(stop, Terminated):
+            print("terminated" + line[len("interrupted"):], file=sys.stderr)
+            return 128 + signal.SIGTERM  # 143, the shell's code for a command ended by SIGTERM
+        print(line, file=sys.stderr)
         return 130  # the shell's code for a command ended by Ctrl-C
     except BrokenPipeError:  # the reader left ('tables ... | head'): stop quietly, as other tools do
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -281,6 +288,29 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:  # a full disk, a folder made read-only meanwhile: one line, not a traceback
         print(f"sarsp-edu {args.command}: error: {exc}", file=sys.stderr)
         return 1
+    finally:
+        if previous is not _NOT_SET:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
+
+
+class Terminated(KeyboardInterrupt):
+    """A SIGTERM (``kill PID``, a batch system's stop): the command stops as on Ctrl-C, its worker processes
+    with it, and what it has stored stays; raised where the main thread is when the signal arrives."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated
+
+
+_NOT_SET = object()
+
+
+def _stop_on_sigterm():
+    """Turn SIGTERM into :class:`Terminated` while a command runs; the handler it replaces (``_NOT_SET`` off the
+    main thread, where no handler can be set; None where it was not set from Python)."""
+    if threading.current_thread() is not threading.main_thread():
+        return _NOT_SET
+    return signal.signal(signal.SIGTERM, _raise_terminated)
 
 
 def _interrupted(args) -> str:
