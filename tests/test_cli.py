@@ -226,14 +226,11 @@ def test_ctrl_c_in_a_run_is_one_line(tmp_path, capsys, monkeypatch, command):
     assert not (tmp_path / "r").exists()
 
 
-def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
-    # a terminal's Ctrl-C: SIGINT to the command's whole process group
-    import os
-    import re
-    import signal
+def _parallel_sweep_with_a_cell_stored(out):
+    """A small sweep of 8 cells on 2 workers, started in a session of its own; returned once it has stored a
+    cell (or ended, or 240 s passed)."""
     import time
 
-    out = tmp_path / "sweep"
     argv = [sys.executable, "-m", "sarsp_edu.cli", "sweep", "--jobs", "2", "--out", str(out), "--quiet",
             "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--k-prior", "20",
             "--cost-fit-points", "50", "--reward-fit-points", "50",
@@ -242,6 +239,17 @@ def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
     deadline = time.monotonic() + 240
     while time.monotonic() < deadline and proc.poll() is None and not list(out.glob("cells/m*/cell.json")):
         time.sleep(0.2)
+    return proc
+
+
+def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
+    # a terminal's Ctrl-C: SIGINT to the command's whole process group
+    import os
+    import re
+    import signal
+
+    out = tmp_path / "sweep"
+    proc = _parallel_sweep_with_a_cell_stored(out)
     os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=120)
     if proc.returncode == 0:
@@ -261,19 +269,11 @@ def test_a_sigterm_to_a_parallel_sweep_stops_its_workers_and_keeps_finished_cell
     # 'kill PID' or a batch system's stop: SIGTERM to the command alone, not to its workers
     import re
     import signal
-    import time
 
     psutil = pytest.importorskip("psutil")
     out = tmp_path / "sweep"
-    argv = [sys.executable, "-m", "sarsp_edu.cli", "sweep", "--jobs", "2", "--out", str(out), "--quiet",
-            "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--k-prior", "20",
-            "--cost-fit-points", "50", "--reward-fit-points", "50",
-            "--m", "40", "80", "--p", "0.2", "--nss", "1", "2", "--seeds", "0", "1", "--episodes", "60"]
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    proc = _parallel_sweep_with_a_cell_stored(out)
     command = psutil.Process(proc.pid)
-    deadline = time.monotonic() + 240
-    while time.monotonic() < deadline and proc.poll() is None and not list(out.glob("cells/m*/cell.json")):
-        time.sleep(0.2)
     workers = command.children(recursive=True)
     try:
         proc.send_signal(signal.SIGTERM)
