@@ -275,12 +275,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args, args.parser)
     except KeyboardInterrupt as stop:  # Ctrl-C, or a SIGTERM (Terminated): the same clean stop
-        line = _interrupted(args)
-        if isinstance(stop, Terminated):
-            print("terminated" + line[len("interrupted"):], file=sys.stderr)
-            return 128 + signal.SIGTERM  # 143, the shell's code for a command ended by SIGTERM
-        print(line, file=sys.stderr)
-        return 130  # the shell's code for a command ended by Ctrl-C
+        terminated = isinstance(stop, Terminated)
+        print(_interrupted(args, "terminated" if terminated else "interrupted"), file=sys.stderr)
+        # the shell's codes for a command ended by SIGTERM (143) and by Ctrl-C (130)
+        return 128 + signal.SIGTERM if terminated else 130
     except BrokenPipeError:  # the reader left ('tables ... | head'): stop quietly, as other tools do
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush finds no pipe either
@@ -313,18 +311,18 @@ def _stop_on_sigterm():
     return signal.signal(signal.SIGTERM, _raise_terminated)
 
 
-def _interrupted(args) -> str:
-    """One line for Ctrl-C: what is saved and how to go on."""
+def _interrupted(args, stopped: str = "interrupted") -> str:
+    """One line for Ctrl-C (or, ``stopped="terminated"``, a SIGTERM): what is saved and how to go on."""
     stored = getattr(args, "stored", None)
     if stored:
         from ..experiments.sweep import finished_cells
 
         saved = sum(len(finished_cells(folder) & keys) for folder, keys in stored)
         total = sum(len(keys) for _, keys in stored)
-        return (f"interrupted: {saved} of {total} cells are saved in {args.out}; "
+        return (f"{stopped}: {saved} of {total} cells are saved in {args.out}; "
                 "rerun the same command to resume")
     if args.command in ("sweep", "ablation"):
-        return "interrupted: nothing was saved (with --out DIR finished cells are kept, and a rerun resumes)"
+        return f"{stopped}: nothing was saved (with --out DIR finished cells are kept, and a rerun resumes)"
     if args.command in ("run", "compare"):
-        return "interrupted: nothing was saved (a run is saved only when it has finished)"
-    return "interrupted"
+        return f"{stopped}: nothing was saved (a run is saved only when it has finished)"
+    return stopped

@@ -24,7 +24,7 @@ import pandas as pd
 from .._internal.rng import as_generator
 from ..agent.decision import safe_actions
 from ..config import MODELS, ExperimentConfig, config_or_default
-from ..world.gridworld.layout import moved, nearest
+from ..world.gridworld.layout import goal_reward, moved, nearest
 from .experiment import experiments_on_one_world
 
 __all__ = ["audit_summary", "disagreements", "fitted_hyperparameters", "safe_set_audit"]
@@ -80,7 +80,7 @@ def safe_set_audit(config: ExperimentConfig | None = None, models=MODELS, draws:
                              "safe_share": float(np.mean([s[action] for s in safe])),
                              "distance": float(distance), "violates": bool(distance < config.d),
                              "mu_reward": float(np.mean([r[action] for r in rewards])),
-                             "reward": -float(np.hypot(after[0] - goal[0], after[1] - goal[1]))})
+                             "reward": goal_reward(after, goal)})
         agent.rng = saved
     return pd.DataFrame(rows)
 

@@ -27,7 +27,7 @@ from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import MODELS, ExperimentConfig, config_or_default
 from ..models.processes.settings import make_model
-from ..world.gridworld.layout import moved
+from ..world.gridworld.layout import goal_reward, moved
 from ..world.preparation import prepare
 from .experiment import Experiment
 
@@ -97,11 +97,10 @@ def _ranked_step(experiment: Experiment) -> dict:
     """One step of ``experiment``, and its reward model's ranking of the four moves (:func:`reward_ranking`)."""
     record = experiment.step()
     env = experiment.env  # its goal is the step's: an episode's end leaves it, the next step's reset draws anew
-    true = np.array([-np.hypot(*np.subtract(moved(record.position, action, env.size), env.goal))
-                     for action in range(4)])
+    true = np.array([goal_reward(moved(record.position, action, env.size), env.goal) for action in range(4)])
     predicted = np.asarray(record.decision.mu_reward, dtype=float)
     best = np.isclose(true, true.max())
-    here = -np.hypot(*np.subtract(record.position, env.goal))
+    here = goal_reward(record.position, env.goal)
     decision = record.decision
     allowed = ~np.asarray(decision.known_unsafe) if decision.backup else np.asarray(decision.safe)
     return {"episode": record.episode, "x": int(record.position[0]), "y": int(record.position[1]),

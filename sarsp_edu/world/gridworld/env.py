@@ -12,7 +12,7 @@ from gymnasium import spaces
 from ..._internal.rng import as_generator
 from ..._internal.validation import check_choice, check_int, check_positive, check_switch_states
 from ...config import LIMITS, PLACEMENTS, WorldSettings, check_n_unsafe, placement_span, unsafe_capacity
-from .layout import PLACEMENT_ATTEMPTS, GridLayout, moved, nearest
+from .layout import PLACEMENT_ATTEMPTS, GridLayout, goal_reward, moved, nearest
 from .rendering import Rendering
 
 
@@ -363,7 +363,7 @@ class SafeGridWorld(Rendering, gym.Env):
         self._steps += 1
         observation = self._observation()
         distance = float(observation[7])
-        reward = -math.hypot(x - self._goal[0], y - self._goal[1])
+        reward = goal_reward((x, y), self._goal)
         terminated = self._agent == self._goal
         truncated = not terminated and self._steps >= self.max_steps
         self._done = terminated or truncated

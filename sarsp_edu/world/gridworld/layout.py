@@ -34,6 +34,20 @@ def moved(position, action: int, size: int) -> tuple[int, int]:
     return (min(max(int(position[0]) + int(dx), 0), size - 1), min(max(int(position[1]) + int(dy), 0), size - 1))
 
 
+def goal_reward(position, goal) -> float:
+    """The reward of arriving at ``position``: minus its Euclidean distance to ``goal``.
+
+    The world's step (:meth:`SafeGridWorld.step`) pays it; the audit and the reward ranking
+    (:mod:`sarsp_edu.experiments.audit`, :mod:`sarsp_edu.experiments.ranking`) hold predictions to it.
+
+    Parameters
+    ----------
+    position, goal : (int, int)
+        Cells ``(x, y)``.
+    """
+    return -math.hypot(position[0] - goal[0], position[1] - goal[1])
+
+
 def nearest(position, unsafe) -> tuple[int, float]:
     """The index of the unsafe state nearest to ``position`` (ties: the first listed) and its Euclidean distance.
 
