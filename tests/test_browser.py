@@ -108,17 +108,36 @@ def voila(notebook: Path, port: int):
 
 
 def kernels(server: subprocess.Popen) -> list[int]:
-    """The process ids of the kernels a server runs."""
+    """The process ids of the kernels a server runs.
+
+    A kernel's own children are not counted: a child the kernel starts (the
+    live dashboard's fitting workers) carries the kernel's command line from
+    its fork until its exec, and the check could catch one in that moment.
+    """
     import psutil
 
-    found = []
+    found = {}
     for child in psutil.Process(server.pid).children(recursive=True):
         try:
             if any("ipykernel" in part for part in child.cmdline()):
-                found.append(child.pid)
+                found[child.pid] = child.ppid()
         except psutil.Error:  # ended meanwhile
             pass
-    return found
+    return [pid for pid, parent in found.items() if parent not in found]
+
+
+def processes(pids: list[int]) -> list[str]:
+    """Each process's id, parent and command line, for an assertion's message."""
+    import psutil
+
+    described = []
+    for pid in pids:
+        try:
+            process = psutil.Process(pid)
+            described.append(f"{pid} (parent {process.ppid()}): {' '.join(process.cmdline())}")
+        except psutil.Error:
+            described.append(f"{pid} (ended)")
+    return described
 
 
 def image_settled(page, selector: str, timeout: float = 30.0, changed_from: str | None = None) -> str:
@@ -631,7 +650,8 @@ def test_the_live_dashboard_page_is_interactive_within_10_s_in_voila(tmp_path, b
         page.wait_for_function("() => document.body.innerText.includes('nss = 3')", timeout=60_000)
         answered = time.time() - started
         page.screenshot(path=str(shots / "voila-live-dashboard-interactive.png"))
-        assert len(kernels(server)) == 1  # the page's, and no other
+        running = kernels(server)
+        assert len(running) == 1, f"the page's kernel and no other, but: {processes(running)}"
         top = page.evaluate("() => document.querySelector('.widget-slider').getBoundingClientRect().top")
         (shots / "voila-live-dashboard-interactive.json").write_text(json.dumps(
             {"request_to_dashboard_s": shown, "request_to_slider_answered_s": answered, "first_slider_top_px": top},
