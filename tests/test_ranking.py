@@ -7,7 +7,13 @@ import pandas as pd
 import pytest
 
 from sarsp_edu import ExperimentConfig, GaussianProcess, StudentTLikelihoodGP, StudentTProcess, run_experiment
-from sarsp_edu.experiments.ranking import mixed_experiment, ranking_study, ranking_summary, reward_ranking
+from sarsp_edu.experiments.ranking import (
+    mixed_experiment,
+    paired_episodes,
+    ranking_study,
+    ranking_summary,
+    reward_ranking,
+)
 from sarsp_edu.world.preparation import prepare
 
 SMALL = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
@@ -49,17 +55,18 @@ def test_each_step_holds_the_predicted_rewards_against_the_worlds():
 
     def step():  # what the step saw, to recompute the ranking independently
         record = original()
-        seen.append((record, experiment.env.goal))
+        seen.append((record, experiment.env.goal, np.array(experiment.env.unsafe_states)))
         return record
 
     experiment.step = step
     steps = reward_ranking(experiment)
     assert len(steps) == len(seen)
     moves = {0: (1, 0), 1: (0, 1), 2: (-1, 0), 3: (0, -1)}  # RIGHT, DOWN, LEFT, UP
-    for (record, goal), row in zip(seen, steps.itertuples(index=False)):
+    for (record, goal, unsafe), row, named in zip(seen, steps.itertuples(index=False), steps.to_dict("records")):
         x, y = record.position
-        true = [-np.hypot(min(max(x + dx, 0), env.size - 1) - goal[0], min(max(y + dy, 0), env.size - 1) - goal[1])
-                for dx, dy in moves.values()]
+        cells = [(min(max(x + dx, 0), env.size - 1), min(max(y + dy, 0), env.size - 1)) for dx, dy in moves.values()]
+        true = [-np.hypot(cx - goal[0], cy - goal[1]) for cx, cy in cells]
+        violates = np.array([np.min(np.hypot(*(unsafe - cell).T)) < env.d for cell in cells])
         predicted = record.decision.mu_reward
         best = np.isclose(true, max(true))
         allowed = ~record.decision.known_unsafe if record.decision.backup else record.decision.safe
@@ -70,6 +77,13 @@ def test_each_step_holds_the_predicted_rewards_against_the_worlds():
         assert row[8] == (true[record.action] > -np.hypot(x - goal[0], y - goal[1]))  # closer
         assert row[9] == pytest.approx(np.ptp(predicted)) and row[10] == pytest.approx(np.ptp(true))
         assert row[11] == pytest.approx(np.corrcoef(predicted, true)[0, 1])
+        assert named["moves allowed"] == allowed.sum()
+        assert named["safe moves excluded"] == np.sum(~violates & ~allowed)
+        assert named["unsafe moves allowed"] == np.sum(violates & allowed)
+        assert named["safe best excluded"] == (any(best & ~violates) and not any(best & allowed))
+        assert named["progress"] == pytest.approx(true[record.action] + np.hypot(x - goal[0], y - goal[1]))
+        assert (named["goal x"], named["goal y"]) == tuple(goal)
+    assert steps["unsafe moves allowed"].sum() < steps["moves allowed"].sum()  # a world with safe moves in it
 
 
 def test_the_summary_counts_episodes_once_and_steps_by_their_share():
@@ -79,12 +93,18 @@ def test_the_summary_counts_episodes_once_and_steps_by_their_share():
                           "predicted best is best": [True, True, False, False], "chosen is best": [False] * 4,
                           "closer": [True, False, False, False],
                           "predicted spread": [1.0, 2.0, 3.0, 4.0], "true spread": [2.0] * 4,
-                          "correlation": [0.5, np.nan, 0.5, 0.2], "completed": [True, True, True, False]})
+                          "correlation": [0.5, np.nan, 0.5, 0.2], "moves allowed": [4, 2, 3, 1],
+                          "safe moves excluded": [0, 1, 1, 2], "unsafe moves allowed": [1, 0, 0, 0],
+                          "safe best excluded": [False, False, False, True], "progress": [1.0, -1.0, 0.5, 0.0],
+                          "goal x": [3] * 4, "goal y": [3] * 4, "completed": [True, True, True, False]})
     summary = ranking_summary(steps)
     assert summary["TSR %"] == 50 and summary["steps"] == 2 and summary["backup %"] == 25
     assert summary["best move allowed %"] == 75 and summary["closer %"] == 25
     assert summary["predicted best is best %"] == 50 and summary["predicted spread"] == 2.5
     assert summary["correlation"] == pytest.approx(0.4)  # NaN (all predictions equal) left out
+    assert summary["moves allowed"] == 2.5 and summary["safe moves excluded"] == 1
+    assert summary["unsafe moves allowed"] == 0.25 and summary["safe best excluded %"] == 25
+    assert summary["progress"] == 0.125
     assert summary["same move on a return %"] == 100  # episode 1 returns to (0, 0) once and moves right again;
     # episode 2's (1, 0) is its first visit
     steps.loc[2, "action"] = 1
@@ -97,3 +117,32 @@ def test_the_study_runs_every_pair_on_one_world():
     alone = ranking_summary(reward_ranking(mixed_experiment(SMALL.replace(episodes=2), "gp", "tp",
                                                             prepared=prepare(SMALL.replace(episodes=2)))))
     pd.testing.assert_series_equal(study.loc[("gp", "tp")], alone, check_names=False)
+
+
+def _episodes(completed, starts=None):
+    """A ranking frame of one step per episode, with the episodes' outcomes."""
+    n = len(completed)
+    starts = [(0, 0)] * n if starts is None else starts
+    return pd.DataFrame({"episode": range(1, n + 1), "x": [x for x, _ in starts], "y": [y for _, y in starts],
+                         "goal x": [4] * n, "goal y": [5] * n, "completed": completed})
+
+
+def test_paired_episodes_counts_each_outcome_and_tests_the_discordant_ones():
+    first = _episodes([True] * 9 + [False, True, False])
+    second = _episodes([False] * 9 + [True, True, False])
+    paired = paired_episodes(first, second)
+    assert (paired["both"], paired["first only"], paired["second only"], paired["neither"]) == (1, 9, 1, 1)
+    assert paired["sign test p"] == pytest.approx(2 * 11 / 2**10)  # P(9 or more of 10, or 1 or fewer), halves at 1/2
+    assert paired_episodes(first, first)["sign test p"] == 1.0  # no discordant episode
+    with pytest.raises(ValueError, match="same starts and goals"):
+        paired_episodes(first, _episodes(second["completed"], starts=[(1, 0)] * 12))
+    with pytest.raises(ValueError, match="same starts and goals"):
+        paired_episodes(first, second.iloc[:-1])
+
+
+def test_runs_of_one_config_with_different_models_pair_episode_by_episode():
+    config = SMALL.replace(episodes=3)
+    prepared = prepare(config)
+    runs = [reward_ranking(mixed_experiment(config, kind, kind, prepared=prepared)) for kind in ("tp", "gp")]
+    paired = paired_episodes(*runs)
+    assert paired[["both", "first only", "second only", "neither"]].sum() == 3

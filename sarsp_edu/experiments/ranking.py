@@ -27,11 +27,12 @@ from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import MODELS, ExperimentConfig, config_or_default
 from ..models.processes.settings import make_model
-from ..world.gridworld.layout import goal_reward, moved
+from ..world.gridworld.layout import goal_reward, moved, nearest
 from ..world.preparation import prepare
 from .experiment import Experiment
 
-__all__ = ["RANKING_PAIRS", "mixed_experiment", "ranking_study", "ranking_summary", "reward_ranking"]
+__all__ = ["RANKING_PAIRS", "mixed_experiment", "paired_episodes", "ranking_study", "ranking_summary",
+           "reward_ranking"]
 
 #: (cost model, reward model): each model alone, and the third model's two models each beside the TP's
 RANKING_PAIRS = (("tp", "tp"), ("t-likelihood", "t-likelihood"), ("t-likelihood", "tp"), ("tp", "t-likelihood"))
@@ -82,7 +83,12 @@ def reward_ranking(experiment: Experiment) -> pd.DataFrame:
         the highest predicted reward is a move of the highest true reward), ``chosen is best`` (the move taken
         is), ``closer`` (the move taken ends nearer the goal than it began), ``predicted spread`` and ``true
         spread`` (the largest minus the smallest of the four), their ``correlation`` (NaN where the
-        predictions are all equal) and the episode's ``completed``.
+        predictions are all equal); what the cost model let through, against the world's own rule (a move
+        violates when it ends closer than ``d`` to an unsafe state): ``moves allowed`` (how many the rule
+        chooses from), ``safe moves excluded`` and ``unsafe moves allowed`` (how many), ``safe best excluded``
+        (a best move is truly safe, yet no best move is allowed); ``progress`` (the true reward of the move
+        taken minus the reward of staying: the distance it gains on the goal); the ``goal x, goal y`` of the
+        step's episode, and the episode's ``completed``.
     """
     rows = []
     with one_blas_thread():
@@ -97,7 +103,9 @@ def _ranked_step(experiment: Experiment) -> dict:
     """One step of ``experiment``, and its reward model's ranking of the four moves (:func:`reward_ranking`)."""
     record = experiment.step()
     env = experiment.env  # its goal is the step's: an episode's end leaves it, the next step's reset draws anew
-    true = np.array([goal_reward(moved(record.position, action, env.size), env.goal) for action in range(4)])
+    after = [moved(record.position, action, env.size) for action in range(4)]
+    true = np.array([goal_reward(cell, env.goal) for cell in after])
+    safe = np.array([nearest(cell, env.unsafe_states)[1] >= env.d for cell in after])  # the world's cost rule
     predicted = np.asarray(record.decision.mu_reward, dtype=float)
     best = np.isclose(true, true.max())
     here = goal_reward(record.position, env.goal)
@@ -109,7 +117,12 @@ def _ranked_step(experiment: Experiment) -> dict:
             "predicted best is best": bool(best[np.argmax(predicted)]), "chosen is best": bool(best[record.action]),
             "closer": bool(true[record.action] > here),
             "predicted spread": float(np.ptp(predicted)), "true spread": float(np.ptp(true)),
-            "correlation": float(np.corrcoef(predicted, true)[0, 1]) if np.ptp(predicted) > 0 else np.nan}
+            "correlation": float(np.corrcoef(predicted, true)[0, 1]) if np.ptp(predicted) > 0 else np.nan,
+            "moves allowed": int(allowed.sum()), "safe moves excluded": int(np.sum(safe & ~allowed)),
+            "unsafe moves allowed": int(np.sum(~safe & allowed)),
+            "safe best excluded": bool(np.any(best & safe) and not np.any(best & allowed)),
+            "progress": float(true[record.action] - here),
+            "goal x": int(env.goal[0]), "goal y": int(env.goal[1])}
 
 
 def ranking_summary(steps: pd.DataFrame) -> pd.Series:
@@ -121,8 +134,9 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
         ``TSR %`` and ``steps`` per episode; over steps, ``backup %``, ``best move allowed %``,
         ``predicted best is best %``, ``chosen is best %``, ``closer %``, ``same move on a return %`` (of the
         steps from a cell the episode has left before, those that take the move taken there last: an agent
-        circling repeats itself), the mean ``predicted spread`` and ``true spread``, and the mean
-        ``correlation``.
+        circling repeats itself), the mean ``predicted spread`` and ``true spread``, the mean
+        ``correlation``; the mean ``moves allowed``, ``safe moves excluded`` and ``unsafe moves allowed`` per
+        step, ``safe best excluded %`` and the mean ``progress`` per step.
     """
     episodes = steps.groupby("episode")
     return pd.Series({"TSR %": 100 * episodes["completed"].first().mean(), "steps": episodes.size().mean(),
@@ -133,7 +147,12 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
                       "closer %": 100 * steps["closer"].mean(),
                       "same move on a return %": 100 * _same_move_on_return(steps),
                       "predicted spread": steps["predicted spread"].mean(),
-                      "true spread": steps["true spread"].mean(), "correlation": steps["correlation"].mean()})
+                      "true spread": steps["true spread"].mean(), "correlation": steps["correlation"].mean(),
+                      "moves allowed": steps["moves allowed"].mean(),
+                      "safe moves excluded": steps["safe moves excluded"].mean(),
+                      "unsafe moves allowed": steps["unsafe moves allowed"].mean(),
+                      "safe best excluded %": 100 * steps["safe best excluded"].mean(),
+                      "progress": steps["progress"].mean()})
 
 
 def _same_move_on_return(steps: pd.DataFrame) -> float:
@@ -167,3 +186,40 @@ def ranking_study(config: ExperimentConfig | None = None, pairs=RANKING_PAIRS) -
     rows = {tuple(pair): ranking_summary(reward_ranking(mixed_experiment(config, *pair, prepared=prepared)))
             for pair in pairs}
     return pd.DataFrame(rows).T.rename_axis(["cost", "reward"])
+
+
+def paired_episodes(first: pd.DataFrame, second: pd.DataFrame) -> pd.Series:
+    """Two runs' episodes side by side: which reached the goal, episode by episode, and a sign test.
+
+    Runs of one config (:func:`mixed_experiment` with different kinds) start each episode at the same cell
+    with the same goal; their episodes pair one to one.
+
+    Parameters
+    ----------
+    first, second : pandas.DataFrame
+        Two :func:`reward_ranking` frames.
+
+    Returns
+    -------
+    pandas.Series
+        The counts of episodes that ``both``, ``first only``, ``second only`` and ``neither`` completed, and
+        ``sign test p``: the two-sided binomial test of the discordant episodes against an even split (1.0
+        when there are none).
+
+    Raises
+    ------
+    ValueError
+        If the runs' episodes do not start at the same cells with the same goals.
+    """
+    from scipy.stats import binomtest
+
+    ends = [steps.groupby("episode")[["x", "y", "goal x", "goal y", "completed"]].first() for steps in (first, second)]
+    places = ["x", "y", "goal x", "goal y"]
+    if not ends[0].index.equals(ends[1].index) or not ends[0][places].equals(ends[1][places]):
+        raise ValueError("first and second must be runs of the same episodes: the same starts and goals, episode "
+                         "by episode (two runs of one config)")
+    a, b = (end["completed"].to_numpy(dtype=bool) for end in ends)
+    only = (int(np.sum(a & ~b)), int(np.sum(~a & b)))
+    p = binomtest(only[0], sum(only)).pvalue if sum(only) else 1.0
+    return pd.Series({"both": int(np.sum(a & b)), "first only": only[0], "second only": only[1],
+                      "neither": int(np.sum(~a & ~b)), "sign test p": float(p)})
