@@ -9,8 +9,11 @@ config's own run: with both kinds the config's model it *is* that run, step
 for step.  :func:`reward_ranking` runs it and records, at every step, the four
 predicted rewards against the true ones (minus the distance from each move's
 cell to the goal): whether the move predicted best is truly a best move, the
-spread of the predictions against the truth's, and their correlation.
-:func:`ranking_study` sets several pairs of kinds side by side on one world.
+spread of the predictions against the truth's, and their correlation; and
+the moves the rule chose from against the world's own rule, which off the
+backup are the cost model's safe set.  :func:`ranking_study` sets several
+pairs of kinds side by side on one world, and :func:`paired_episodes` two
+runs' episodes, each started at the same cell with the same goal.
 
 Unlike :func:`~sarsp_edu.experiments.audit.safe_set_audit`, which predicts from
 every cell of the world once, these are the cells the agent visits, as often
@@ -30,6 +33,7 @@ from ..models.processes.settings import make_model
 from ..world.gridworld.layout import goal_reward, moved, nearest
 from ..world.preparation import prepare
 from .experiment import Experiment
+from .tables import sign_test
 
 __all__ = ["RANKING_PAIRS", "mixed_experiment", "paired_episodes", "ranking_study", "ranking_summary",
            "reward_ranking"]
@@ -83,12 +87,11 @@ def reward_ranking(experiment: Experiment) -> pd.DataFrame:
         the highest predicted reward is a move of the highest true reward), ``chosen is best`` (the move taken
         is), ``closer`` (the move taken ends nearer the goal than it began), ``predicted spread`` and ``true
         spread`` (the largest minus the smallest of the four), their ``correlation`` (NaN where the
-        predictions are all equal); what the cost model let through, against the world's own rule (a move
-        violates when it ends closer than ``d`` to an unsafe state): ``moves allowed`` (how many the rule
-        chooses from), ``safe moves excluded`` and ``unsafe moves allowed`` (how many), ``safe best excluded``
-        (a best move is truly safe, yet no best move is allowed); ``progress`` (the true reward of the move
-        taken minus the reward of staying: the distance it gains on the goal); the ``goal x, goal y`` of the
-        step's episode, and the episode's ``completed``.
+        predictions are all equal); the moves the rule chose from, against the world's own rule (a move
+        violates when it ends closer than ``d`` to an unsafe state): ``moves allowed`` (how many),
+        ``safe moves excluded`` and ``unsafe moves allowed`` (how many), ``safe best excluded`` (a best move is
+        truly safe, yet no best move is allowed), which on a step off the backup are the cost model's safe
+        set's; the ``goal x, goal y`` of the step's episode, and the episode's ``completed``.
     """
     rows = []
     with one_blas_thread():
@@ -121,7 +124,6 @@ def _ranked_step(experiment: Experiment) -> dict:
             "moves allowed": int(allowed.sum()), "safe moves excluded": int(np.sum(safe & ~allowed)),
             "unsafe moves allowed": int(np.sum(~safe & allowed)),
             "safe best excluded": bool(np.any(best & safe) and not np.any(best & allowed)),
-            "progress": float(true[record.action] - here),
             "goal x": int(env.goal[0]), "goal y": int(env.goal[1])}
 
 
@@ -135,10 +137,13 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
         ``predicted best is best %``, ``chosen is best %``, ``closer %``, ``same move on a return %`` (of the
         steps from a cell the episode has left before, those that take the move taken there last: an agent
         circling repeats itself), the mean ``predicted spread`` and ``true spread``, the mean
-        ``correlation``; the mean ``moves allowed``, ``safe moves excluded`` and ``unsafe moves allowed`` per
-        step, ``safe best excluded %`` and the mean ``progress`` per step.
+        ``correlation``; over the steps off the backup alone, where the moves allowed are the cost model's safe
+        set (on a backup they are every move not known unsafe, and no truly safe move is known unsafe): the
+        mean ``safe set: moves``, ``safe set: safe moves excluded`` and ``safe set: unsafe moves allowed``, and
+        ``safe set: safe best excluded %`` (NaN where every step took the backup).
     """
     episodes = steps.groupby("episode")
+    own = steps[~steps["backup"]]  # the cost model's safe set chose
     return pd.Series({"TSR %": 100 * episodes["completed"].first().mean(), "steps": episodes.size().mean(),
                       "backup %": 100 * steps["backup"].mean(),
                       "best move allowed %": 100 * steps["best move allowed"].mean(),
@@ -148,11 +153,10 @@ def ranking_summary(steps: pd.DataFrame) -> pd.Series:
                       "same move on a return %": 100 * _same_move_on_return(steps),
                       "predicted spread": steps["predicted spread"].mean(),
                       "true spread": steps["true spread"].mean(), "correlation": steps["correlation"].mean(),
-                      "moves allowed": steps["moves allowed"].mean(),
-                      "safe moves excluded": steps["safe moves excluded"].mean(),
-                      "unsafe moves allowed": steps["unsafe moves allowed"].mean(),
-                      "safe best excluded %": 100 * steps["safe best excluded"].mean(),
-                      "progress": steps["progress"].mean()})
+                      "safe set: moves": own["moves allowed"].mean(),
+                      "safe set: safe moves excluded": own["safe moves excluded"].mean(),
+                      "safe set: unsafe moves allowed": own["unsafe moves allowed"].mean(),
+                      "safe set: safe best excluded %": 100 * own["safe best excluded"].astype(float).mean()})
 
 
 def _same_move_on_return(steps: pd.DataFrame) -> float:
@@ -189,10 +193,12 @@ def ranking_study(config: ExperimentConfig | None = None, pairs=RANKING_PAIRS) -
 
 
 def paired_episodes(first: pd.DataFrame, second: pd.DataFrame) -> pd.Series:
-    """Two runs' episodes side by side: which reached the goal, episode by episode, and a sign test.
+    """How two runs' paired episodes ended: counts of which reached the goal, and a sign test.
 
     Runs of one config (:func:`mixed_experiment` with different kinds) start each episode at the same cell
-    with the same goal; their episodes pair one to one.
+    with the same goal; their episodes pair one to one.  The sign test treats the episodes that only one run
+    completed as independent coin flips; within a run they are not quite (the agent carries what it learnt,
+    and its random stream, from one episode to the next).
 
     Parameters
     ----------
@@ -203,23 +209,20 @@ def paired_episodes(first: pd.DataFrame, second: pd.DataFrame) -> pd.Series:
     -------
     pandas.Series
         The counts of episodes that ``both``, ``first only``, ``second only`` and ``neither`` completed, and
-        ``sign test p``: the two-sided binomial test of the discordant episodes against an even split (1.0
-        when there are none).
+        ``sign test p``: :func:`~sarsp_edu.experiments.tables.sign_test` of the episodes' outcomes (1.0 when
+        no episode ends differently).
 
     Raises
     ------
     ValueError
         If the runs' episodes do not start at the same cells with the same goals.
     """
-    from scipy.stats import binomtest
-
     ends = [steps.groupby("episode")[["x", "y", "goal x", "goal y", "completed"]].first() for steps in (first, second)]
     places = ["x", "y", "goal x", "goal y"]
     if not ends[0].index.equals(ends[1].index) or not ends[0][places].equals(ends[1][places]):
         raise ValueError("first and second must be runs of the same episodes: the same starts and goals, episode "
                          "by episode (two runs of one config)")
     a, b = (end["completed"].to_numpy(dtype=bool) for end in ends)
-    only = (int(np.sum(a & ~b)), int(np.sum(~a & b)))
-    p = binomtest(only[0], sum(only)).pvalue if sum(only) else 1.0
-    return pd.Series({"both": int(np.sum(a & b)), "first only": only[0], "second only": only[1],
-                      "neither": int(np.sum(~a & ~b)), "sign test p": float(p)})
+    return pd.Series({"both": int(np.sum(a & b)), "first only": int(np.sum(a & ~b)),
+                      "second only": int(np.sum(~a & b)), "neither": int(np.sum(~a & ~b)),
+                      "sign test p": sign_test(a.astype(float), b.astype(float))})
