@@ -155,3 +155,62 @@ def test_a_prior_whose_mode_search_is_slow_is_still_found():
     gradient = np.bincount(group, student_t_log_likelihood(y - mode.f[group], nu, scale)[1], len(K))
     # the log posterior's gradient, 0 at the mode: here the search ends where no step raises it beyond rounding
     assert np.max(np.abs(gradient - mode.a)) <= 1e-4 * (1 + np.max(np.abs(gradient)))
+
+
+def _log_posterior(K, y, nu, scale):
+    """The exact log posterior of the latent values (one row each), with scipy's own Student-t density."""
+    K_inv = np.linalg.inv(K)
+    return lambda f: stats.t(df=nu, loc=f, scale=scale).logpdf(y).sum() - 0.5 * f @ K_inv @ f
+
+
+def test_a_search_that_stops_on_a_saddle_leaves_it_for_a_maximum():
+    """Two outliers (40) on either side of a clean row (0), their inputs one step apart: from the prior mean the
+    search keeps the outer two latent values equal, and stops where both are halfway, which is no maximum."""
+    from sarsp_edu.models.processes.laplace import SADDLE_ESCAPES, laplace_mode, laplace_predict, laplace_predict_batch
+
+    kernel, nu, scale = RBF(12.0, 0.75), 3.0, 2.0
+    X, y, group = np.array([[-1.0], [0.0], [1.0]]), np.array([40.0, 0.0, 40.0]), np.arange(3)
+    K = kernel(X)
+    log_posterior = _log_posterior(K, y, nu, scale)
+    # where the search stops: the best point with the outer two equal; from there the log posterior rises
+    # either way along (1, 0, -1), one outlier explained and the other not, so it is no maximum
+    best = optimize.minimize(lambda v: -log_posterior(np.array([v[0], v[1], v[0]])), [20.0, 0.0], method="BFGS",
+                             options={"gtol": 1e-10})
+    saddle = np.array([best.x[0], best.x[1], best.x[0]])
+    across = np.array([1.0, 0.0, -1.0])
+    assert log_posterior(saddle + 10 * across) > log_posterior(saddle) + 0.05
+    assert log_posterior(saddle - 10 * across) > log_posterior(saddle) + 0.05
+    with pytest.raises(RuntimeError, match="no maximum here"):
+        laplace_mode(K, y, group, nu, scale)
+    mode = laplace_mode(K, y, group, nu, scale, escapes=1)
+    # a maximum, higher than the saddle: a generic optimiser started there stays there
+    polished = optimize.minimize(lambda f: -log_posterior(f), mode.f, method="BFGS", options={"gtol": 1e-9})
+    np.testing.assert_allclose(polished.x, mode.f, atol=1e-5)
+    assert log_posterior(mode.f) > log_posterior(saddle) + 0.1
+    assert abs(mode.f[0] - mode.f[2]) > 20  # one outlier explained, the other not
+    # the agent's path leaves it too, and predicts from that maximum
+    queries = np.array([[[-0.5], [0.5]]])
+    mean, var, _ = laplace_predict_batch(kernel, nu, scale, [X], [y], queries)
+    assert SADDLE_ESCAPES >= 1
+    expected = laplace_predict(mode, kernel(queries[0], X), kernel.diag(queries[0]))
+    np.testing.assert_allclose(mean[0], expected[0])
+    np.testing.assert_allclose(var[0], expected[1])
+
+
+def test_the_prior_that_stopped_the_three_model_sweep_on_a_saddle_is_predicted():
+    """The strategic prior of the agent's cost data recorded where (40, 0.3, 10) seed 0 of the three-model sweep
+    stopped: 91 distinct inputs, 109 rows; its search stopped on a saddle."""
+    from pathlib import Path
+
+    from sarsp_edu.models.processes.laplace import SADDLE_ESCAPES, laplace_mode, student_t_log_likelihood
+
+    case = np.load(Path(__file__).parent / "data" / "laplace_saddle_prior.npz")
+    K, y, group, nu, scale = case["K"], case["y"], case["group"], float(case["nu"]), float(case["scale"])
+    with pytest.raises(RuntimeError, match="no maximum here"):
+        laplace_mode(K, y, group, nu, scale)
+    mode = laplace_mode(K, y, group, nu, scale, escapes=SADDLE_ESCAPES)
+    gradient = np.bincount(group, student_t_log_likelihood(y - mode.f[group], nu, scale)[1], len(K))
+    assert np.max(np.abs(gradient - mode.a)) <= 1e-6 * (1 + np.max(np.abs(gradient)))
+    # K^-1 + W = L^-T B L^-1 is positive definite there: B's smallest eigenvalue, recomputed
+    B = np.eye(len(K)) + mode.L.T @ (mode.W[:, None] * mode.L)
+    assert np.linalg.eigvalsh(B)[0] > 0.1
