@@ -23,6 +23,10 @@ algorithm (which needs ``W >= 0``) is changed
 steps where the log posterior is concave and EM steps where it is not, each
 with a line search, and the covariance uses ``B = I + L^T W L``
 (``K = L L^T``), positive definite exactly when the mode is a maximum.
+Where the search stops on a point that is no maximum (a saddle: B has a
+negative eigenvalue), :meth:`StudentTLikelihoodGP.predict_batch` steps off
+it along that eigenvalue's direction and goes on to a maximum; the fit's
+hyperparameter search turns back from such a point instead.
 """
 
 from __future__ import annotations
@@ -247,7 +251,9 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     def predict_batch(self, X, y, X_query, include_noise: bool = False):
         """Predict from several training sets at once, each conditioned by its own Laplace approximation
-        with the fitted hyperparameters: what the SARSP agent asks for each strategic prior.
+        with the fitted hyperparameters: what the SARSP agent asks for each strategic prior.  A set whose
+        mode search stops on a saddle goes on from it to a maximum (up to
+        :data:`~sarsp_edu.models.processes.laplace.SADDLE_ESCAPES` times).
 
         Parameters
         ----------
