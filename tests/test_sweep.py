@@ -495,6 +495,43 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
     assert runs[key].records["start"].tolist() == paired.comparisons[key].gp.records["start"].tolist()
 
 
+def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, monkeypatch, capsys):
+    import sarsp_edu.experiments.experiment as experiment
+    from sarsp_edu.cli import main
+    from sarsp_edu.experiments.sweep.models import CellsFailed, run_model_sweep
+
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2, 3), seeds=(0,),
+              results_dir=tmp_path / "paired")
+    original = experiment.run_experiment
+
+    def failing(config, *args, **kwargs):  # the middle cell raises, as a saddle once stopped the sweep
+        if config.n_switch_states == 2:
+            raise RuntimeError("the Laplace approximation has no maximum here")
+        return original(config, *args, **kwargs)
+
+    monkeypatch.setattr(experiment, "run_experiment", failing)
+    said = []
+    with pytest.raises(CellsFailed, match=r"1 cell raised \(m40_p0.2_nss2_seed0: RuntimeError: the Laplace") as caught:
+        run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1, report=said.append)
+    assert list(caught.value.failures) == [(40.0, 0.2, 2, 0)]
+    assert "in failing" in caught.value.failures[(40.0, 0.2, 2, 0)]  # the whole traceback is kept
+    assert said == ["t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 3)",
+                    "t-likelihood: m40_p0.2_nss2_seed0 raised RuntimeError: the Laplace approximation has no maximum "
+                    "here (1 of 3)",
+                    "t-likelihood: m40_p0.2_nss3_seed0 stored (2 of 3)"]
+    cells = tmp_path / "tl" / "cells"
+    assert sorted(p.name for p in cells.iterdir()) == ["m40_p0.2_nss1_seed0", "m40_p0.2_nss3_seed0"]  # nothing half
+    # the command says so and fails; the rerun, once the cause is gone, runs the missing cell alone
+    command = ["model-sweep", "--paired", str(tmp_path / "paired"), "--out", str(tmp_path / "tl"), "--jobs", "1"]
+    assert main(command) == 1
+    err = capsys.readouterr().err
+    assert "m40_p0.2_nss2_seed0:\nTraceback" in err and "error: 1 cell raised" in err
+    monkeypatch.setattr(experiment, "run_experiment", original)
+    said.clear()
+    assert len(run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1, report=said.append)) == 3
+    assert said == ["t-likelihood: m40_p0.2_nss2_seed0 stored (3 of 3)"]
+
+
 def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_third_model(tmp_path, capsys):
     from sarsp_edu.cli import main
     from sarsp_edu.experiments.metrics import prefers

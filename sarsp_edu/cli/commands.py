@@ -401,7 +401,8 @@ def _prefit(args, parser) -> int:
 
 def _model_sweep(args, parser) -> int:
     from .._internal.io import StoredResultError
-    from ..experiments.sweep.models import run_model_sweep
+    from ..experiments.sweep.cells import _cell_name
+    from ..experiments.sweep.models import CellsFailed, run_model_sweep
     from ..experiments.sweep.stored import stored_sweep
 
     if args.jobs is not None and args.jobs < 1:
@@ -410,7 +411,13 @@ def _model_sweep(args, parser) -> int:
         requested = stored_sweep(args.paired)[1]
     except (FileNotFoundError, StoredResultError) as exc:
         parser.error(f"--paired: {exc}")
-    done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs,
-                           report=lambda line: print(line, flush=True))
+    try:
+        done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs,
+                               report=lambda line: print(line, flush=True))
+    except CellsFailed as exc:  # each cell's traceback, then what was stored
+        for key, text in exc.failures.items():
+            print(f"{_cell_name(*key)}:\n{text}", file=sys.stderr)
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
     print(f"{args.model}: {len(done)} of {len(requested)} cells stored in {args.out}")
     return 0

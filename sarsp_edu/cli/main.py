@@ -236,7 +236,8 @@ def build_parser() -> argparse.ArgumentParser:
         "model-sweep", help="run another model on every cell of a stored TP-vs-GP sweep (same worlds, resumable)",
         description="Runs MODEL on the settings of every cell of the paired sweep in --paired, on the very same "
                     "worlds, data and episodes, and stores each run in --out as it finishes; the TP and GP runs "
-                    "are reused as stored. A rerun skips the cells stored.")
+                    "are reused as stored. A rerun skips the cells stored. A cell whose run raises is named with "
+                    "its traceback and the other cells run on; the command then exits with status 1.")
     model_sweep.add_argument("--paired", required=True, metavar="DIR", help="a stored sweep ('sarsp-edu sweep')")
     model_sweep.add_argument("--model", default="t-likelihood", choices=["t-likelihood"], help="the model to run")
     model_sweep.add_argument("--out", required=True, metavar="DIR", help="where the model's runs go")

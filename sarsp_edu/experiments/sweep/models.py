@@ -5,7 +5,8 @@ on its settings and seed, never on the model (``PREPARATION_FIELDS``), so a
 run of a third model on a cell's settings is paired with the cell's TP and
 GP runs, which are reused as stored.  :func:`run_model_sweep` runs it for
 every cell of a paired sweep (in worker processes, each cell stored
-atomically as it finishes; a rerun skips the cells stored), and
+atomically as it finishes; a rerun skips the cells stored; a cell that
+raises is named and the others run on, :class:`CellsFailed`), and
 :func:`load_model_sweep` reads the three runs of each cell back, checking
 that they share their episodes.
 """
@@ -15,6 +16,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import traceback
 from pathlib import Path
 
 from ..._internal.io import StoredResultError, atomic_write_text, lock_folder, publish_folder, read_json
@@ -25,20 +27,43 @@ from ..results import ExperimentResult, check_paired
 from .cells import _as_key, _cell_name, _name_key, cell_config, finished_cells
 from .stored import SweepResults, stored_sweep
 
-__all__ = ["MODEL_SWEEP_FILE", "check_model_cell", "load_model_sweep", "run_model_sweep"]
+__all__ = ["MODEL_SWEEP_FILE", "CellsFailed", "check_model_cell", "load_model_sweep", "run_model_sweep"]
 
 #: the file that names the paired sweep and the model a model sweep's folder holds
 MODEL_SWEEP_FILE = "model_sweep.json"
 _LOCK = ".model-sweep.lock"
 
 
+class CellsFailed(RuntimeError):
+    """Cells of a model sweep whose run raised; the sweep ran every other cell and stored it.
+
+    Attributes
+    ----------
+    failures : dict
+        ``{(m, p, nss, seed): traceback text}`` of each cell that raised.
+    """
+
+    def __init__(self, failures: dict, results_dir):
+        self.failures = dict(sorted(failures.items()))
+        lines = "; ".join(f"{_cell_name(*key)}: {text.strip().splitlines()[-1]}" for key, text in self.failures.items())
+        super().__init__(f"{len(self.failures)} cell{'s' if len(self.failures) > 1 else ''} raised ({lines}); the "
+                         f"other cells ran and are stored in {results_dir}, and a rerun runs only the cells missing")
+
+
 def _run_cell(base, key, model: str, folder: str) -> tuple:
-    """Run ``model`` on one cell's settings and store it atomically in ``folder``'s cells."""
+    """Run ``model`` on one cell's settings and store it atomically in ``folder``'s cells.
+
+    Returns ``(key, None)``, or ``(key, the traceback's text)`` where the run raised: one cell's error does not
+    stop a sweep of hours (a KeyboardInterrupt does).
+    """
     from ..experiment import run_experiment
 
-    result = run_experiment(cell_config(base, *key).replace(model=model))
-    publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
-    return key
+    try:
+        result = run_experiment(cell_config(base, *key).replace(model=model))
+        publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
+    except Exception:  # named with its cell, and raised once the other cells have run
+        return key, traceback.format_exc()
+    return key, None
 
 
 def _stored(folder: Path, model: str) -> set:
@@ -71,6 +96,12 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
     -------
     set of (m, p, nss, seed)
         The cells whose run of ``model`` is stored in ``results_dir`` now.
+
+    Raises
+    ------
+    CellsFailed
+        If the run of some cell raised; each is named (``report`` says so as it happens), and every other
+        cell was run and stored.
     """
     check_choice("model", model, tuple(m for m in MODELS if m not in ("tp", "gp")))
     paired_dir, results_dir = Path(paired_dir), Path(results_dir)
@@ -108,18 +139,23 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
             from ..._internal.parallel import available_cores
 
             workers = max(1, min(n_jobs or available_cores(), len(todo), available_cores()))
-            done = len(keys) - len(todo)
+            done, failures = len(keys) - len(todo), {}
             try:
-                for key in Parallel(n_jobs=workers, return_as="generator_unordered")(
+                for key, failure in Parallel(n_jobs=workers, return_as="generator_unordered")(
                         delayed(_run_cell)(base, key, model, str(results_dir)) for key in todo):
-                    done += 1
+                    if failure is not None:
+                        failures[key] = failure
+                    done += failure is None
                     if report is not None:
-                        report(f"{model}: {_cell_name(*key)} stored ({done} of {len(keys)})")
+                        said = "stored" if failure is None else f"raised {failure.strip().splitlines()[-1]}"
+                        report(f"{model}: {_cell_name(*key)} {said} ({done} of {len(keys)})")
             except KeyboardInterrupt:  # the workers stop now (the cells stored stay; a rerun resumes)
                 from joblib.externals.loky import get_reusable_executor
 
                 get_reusable_executor().shutdown(wait=True, kill_workers=True)
                 raise
+            if failures:
+                raise CellsFailed(failures, results_dir)
         return _stored(results_dir, model)
     finally:
         if lock is not None:
