@@ -226,6 +226,27 @@ def test_ctrl_c_in_a_run_is_one_line(tmp_path, capsys, monkeypatch, command):
     assert not (tmp_path / "r").exists()
 
 
+def test_ctrl_c_in_a_model_sweep_says_how_many_of_its_runs_are_stored(tmp_path, capsys, monkeypatch):
+    import sarsp_edu.experiments.experiment as experiment
+
+    paired, out = tmp_path / "paired", tmp_path / "tl"
+    sweep = ["sweep", *TINY, "--m", "40", "--p", "0.2", "--nss", "1", "2", "--seeds", "0", "--jobs", "1"]
+    assert main([*sweep, "--out", str(paired)]) == 0
+    original, runs = experiment.run_experiment, []
+
+    def interrupted_at_the_second(config, *args, **kwargs):  # Ctrl-C while the second cell runs
+        runs.append(config)
+        if len(runs) == 2:
+            raise KeyboardInterrupt
+        return original(config, *args, **kwargs)
+
+    monkeypatch.setattr(experiment, "run_experiment", interrupted_at_the_second)
+    capsys.readouterr()
+    assert main(["model-sweep", "--paired", str(paired), "--out", str(out), "--jobs", "1"]) == 130
+    assert capsys.readouterr().err.strip().splitlines() == [
+        f"interrupted: 1 of 2 cells' t-likelihood runs are stored in {out}; rerun the same command to resume"]
+
+
 def _parallel_sweep_with_a_cell_stored(out):
     """A small sweep of 8 cells on 2 workers, started in a session of its own; returned once it has stored a
     cell (or ended, or 240 s passed)."""

@@ -322,6 +322,18 @@ def _interrupted(args, stopped: str = "interrupted") -> str:
         total = sum(len(keys) for _, keys in stored)
         return (f"{stopped}: {saved} of {total} cells are saved in {args.out}; "
                 "rerun the same command to resume")
+    if args.command == "model-sweep":
+        from pathlib import Path
+
+        from ..experiments.sweep import finished_cells
+        from ..experiments.sweep.models import _stored
+
+        try:
+            saved, total = len(_stored(Path(args.out), args.model)), len(finished_cells(args.paired))
+        except (OSError, ValueError):  # stopped before the folders were read
+            return stopped
+        return (f"{stopped}: {saved} of {total} cells' {args.model} runs are stored in {args.out}; "
+                "rerun the same command to resume")
     if args.command in ("sweep", "ablation"):
         return f"{stopped}: nothing was saved (with --out DIR finished cells are kept, and a rerun resumes)"
     if args.command in ("run", "compare"):
