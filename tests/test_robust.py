@@ -188,7 +188,10 @@ def test_a_search_that_stops_on_a_saddle_leaves_it_for_a_maximum():
     np.testing.assert_allclose(polished.x, mode.f, atol=1e-5)
     assert log_posterior(mode.f) > log_posterior(saddle) + 0.1
     assert abs(mode.f[0] - mode.f[2]) > 20  # one outlier explained, the other not
-    # the agent's path leaves it too, and predicts from that maximum
+    # the fitted model's mode leaves it too (the fit with these hyperparameters raised before) ...
+    fitted = StudentTLikelihoodGP(kernel, nu=nu, scale=scale, optimizer=None).fit(X, y)
+    np.testing.assert_array_equal(fitted.f_hat_, mode.f)
+    # ... and the agent's path, which predicts from that maximum
     queries = np.array([[[-0.5], [0.5]]])
     mean, var, _ = laplace_predict_batch(kernel, nu, scale, [X], [y], queries)
     assert SADDLE_ESCAPES >= 1

@@ -24,9 +24,10 @@ steps where the log posterior is concave and EM steps where it is not, each
 with a line search, and the covariance uses ``B = I + L^T W L``
 (``K = L L^T``), positive definite exactly when the mode is a maximum.
 Where the search stops on a point that is no maximum (a saddle: B has a
-negative eigenvalue), :meth:`StudentTLikelihoodGP.predict_batch` steps off
-it along that eigenvalue's direction and goes on to a maximum; the fit's
-hyperparameter search turns back from such a point instead.
+negative eigenvalue), the fitted model's mode and
+:meth:`StudentTLikelihoodGP.predict_batch` step off it along that
+eigenvalue's direction and go on to a maximum; the hyperparameter search
+turns back from such a point instead.
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ from ..linalg import distinct_rows
 from ..optimizers import adam
 from .laplace import (
     MAX_NEWTON,
+    SADDLE_ESCAPES,
     laplace_gradient,
     laplace_mode,
     laplace_predict,
@@ -131,9 +133,11 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     # -- the posterior mode and the approximation at it -------------------------------
     def _laplace(self, kernel: RBF, scale: float, U, y, group, a0=None):
-        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at these
-        hyperparameters, on the distinct inputs ``U`` (raises if it has no maximum)."""
-        return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton)
+        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at the fitted
+        hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, as a
+        prediction's is (raises if none is found)."""
+        return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton,
+                            escapes=SADDLE_ESCAPES)
 
     def _log_prior(self, theta):
         """LogNormal(0, 1) log density of the three hyperparameters and its gradient in their logs (0 without
