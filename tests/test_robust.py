@@ -187,7 +187,9 @@ def test_a_search_that_stops_on_a_saddle_leaves_it_for_a_maximum():
     polished = optimize.minimize(lambda f: -log_posterior(f), mode.f, method="BFGS", options={"gtol": 1e-9})
     np.testing.assert_allclose(polished.x, mode.f, atol=1e-5)
     assert log_posterior(mode.f) > log_posterior(saddle) + 0.1
-    assert abs(mode.f[0] - mode.f[2]) > 20  # one outlier explained, the other not
+    # one outlier explained, the other not; of the two mirror maxima, the convention's: the first input's
+    assert mode.f[0] - mode.f[2] > 20
+    np.testing.assert_allclose(log_posterior(mode.f[::-1]), log_posterior(mode.f))  # the other, as high
     # the fitted model's mode leaves it too (the fit with these hyperparameters raised before) ...
     fitted = StudentTLikelihoodGP(kernel, nu=nu, scale=scale, optimizer=None).fit(X, y)
     np.testing.assert_array_equal(fitted.f_hat_, mode.f)
@@ -211,9 +213,60 @@ def test_the_prior_that_stopped_the_three_model_sweep_on_a_saddle_is_predicted()
     K, y, group, nu, scale = case["K"], case["y"], case["group"], float(case["nu"]), float(case["scale"])
     with pytest.raises(RuntimeError, match="no maximum here"):
         laplace_mode(K, y, group, nu, scale)
-    mode = laplace_mode(K, y, group, nu, scale, escapes=SADDLE_ESCAPES)
+    assert SADDLE_ESCAPES >= 1
+    mode = laplace_mode(K, y, group, nu, scale, escapes=1)  # one escape takes it to a maximum
+    assert mode.f[0] > 30 > 10 > mode.f[66]  # the two outliers' inputs: the convention's side
     gradient = np.bincount(group, student_t_log_likelihood(y - mode.f[group], nu, scale)[1], len(K))
     assert np.max(np.abs(gradient - mode.a)) <= 1e-6 * (1 + np.max(np.abs(gradient)))
     # K^-1 + W = L^-T B L^-1 is positive definite there: B's smallest eigenvalue, recomputed
     B = np.eye(len(K)) + mode.L.T @ (mode.W[:, None] * mode.L)
     assert np.linalg.eigvalsh(B)[0] > 0.1
+
+
+def _three_point_saddle():
+    """The three-input case above, and the point where its search stops (a saddle)."""
+    from sarsp_edu.models.processes.laplace import MAX_NEWTON, _ascend, student_t_log_likelihood
+
+    kernel, nu, scale = RBF(12.0, 0.75), 3.0, 2.0
+    X, y, group = np.array([[-1.0], [0.0], [1.0]]), np.array([40.0, 0.0, 40.0]), np.arange(3)
+    K = kernel(X)
+    L = np.linalg.cholesky(K)
+
+    def at(f):
+        value, gradient, W = student_t_log_likelihood(y - f[group], nu, scale)
+        return value.sum(), np.bincount(group, gradient, 3), np.bincount(group, W, 3)
+
+    log_lik, g, W = at(np.zeros(3))
+    a, f, psi, log_lik, g, W, _ = _ascend(K, L, at, y, group, nu, scale, (np.zeros(3), np.zeros(3), log_lik, log_lik,
+                                                                          g, W), 0, MAX_NEWTON)
+    return kernel, X, y, group, nu, scale, K, L, at, (a, f, psi, g, W)
+
+
+def test_the_step_off_a_saddle_follows_the_upward_curvature_and_a_fixed_convention(monkeypatch):
+    from sarsp_edu.models.processes import laplace
+
+    kernel, X, y, group, nu, scale, K, L, at, (a, f, psi, g, W) = _three_point_saddle()
+    B = np.eye(3) + L.T @ (W[:, None] * L)
+    lam, vectors = np.linalg.eigh(B)
+    assert lam[0] < 0 and abs(f[0] - f[2]) < 1e-6  # a saddle, the outer two equal
+    a_new, f_new, psi_new = laplace._leave_saddle(K, L, at, a, psi, g, W)[:3]
+    step = f_new - f
+    assert psi_new > psi
+    along = L @ vectors[:, 0]
+    np.testing.assert_allclose(abs(step @ along), np.linalg.norm(step) * np.linalg.norm(along), rtol=1e-9)  # L u
+    assert step[0] > 0  # the convention: its lowest-indexed largest entry positive (entries 0 and 2 tie)
+    np.testing.assert_allclose(K @ a_new, f_new)
+    # the eigenvector's sign is LAPACK's to choose: with it flipped, the same step
+    eigh = np.linalg.eigh
+    monkeypatch.setattr(laplace.np.linalg, "eigh", lambda A: (lambda w, v: (w, -v))(*eigh(A)))
+    np.testing.assert_array_equal(laplace._leave_saddle(K, L, at, a, psi, g, W)[1], f_new)
+
+
+def test_the_hyperparameter_search_still_turns_back_from_a_saddle():
+    from sarsp_edu.models.processes.laplace import laplace_gradient, laplace_mode
+
+    kernel, X, y, group, nu, scale, K, *_ = _three_point_saddle()
+    with pytest.raises(RuntimeError, match="no maximum here"):
+        laplace_gradient(kernel, X, y, group, nu, scale)
+    with pytest.raises(ValueError, match="escapes must be >= 0.*escapes=-1"):
+        laplace_mode(K, y, group, nu, scale, escapes=-1)

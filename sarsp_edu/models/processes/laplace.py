@@ -38,7 +38,7 @@ MAX_NEWTON = 1000
 
 #: the saddles a prediction's mode search may leave (:func:`laplace_predict_batch`): a prior of the agent's cost
 #: data at (40, 0.3, 10) seed 0 stopped the three-model sweep on one (two outliers on either side of a clean row,
-#: both latent values halfway to their outliers); one escape took its search to the maximum
+#: both latent values halfway to their outliers); one escape took its search to a maximum
 SADDLE_ESCAPES = 10
 
 
@@ -132,7 +132,7 @@ class LaplaceMode:
     log_q : float
         The approximate log marginal likelihood ``-a^T f / 2 + log p(y | f) - log|B| / 2``.
     steps : int
-        Steps of the search (Newton and EM), the last one tried included.
+        Steps of the search (Newton and EM), the last one tried included; a step off a saddle is not one.
     """
 
     f: np.ndarray
@@ -164,10 +164,11 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
         Steps allowed (:data:`MAX_NEWTON`).
     escapes : int, default 0
         How many times the search may leave a point where it stopped that is no maximum.  The log posterior
-        is not concave where ``W`` is negative, and the EM steps can stop on a saddle (where ``K^-1 + W`` has
-        a negative eigenvalue): the search then steps along that eigenvalue's direction, the way that rises,
-        and goes on.  0 raises there instead, as the hyperparameter search wants: it turns back from such a
-        point, and its stored fits were made so.
+        is not concave where ``W`` is negative, and the EM steps can stop on a saddle (where ``K^-1 + W`` is
+        not positive definite): the search then steps off it where the log posterior curves upwards, to one
+        of the maxima on either side (:func:`_leave_saddle` says which), and goes on.  0 raises there
+        instead, as the hyperparameter search wants: it turns back from such a point, and its stored fits
+        were made so.
 
     Raises
     ------
@@ -175,6 +176,8 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
         If the mode is not found in ``max_newton`` steps, or the approximation has no maximum where the
         search stopped (after ``escapes`` escapes).
     """
+    if escapes < 0:
+        raise ValueError(f"escapes must be >= 0 (the saddles the search may leave), got escapes={escapes}")
     m = K.shape[0]
     L, jitter = cholesky_with_jitter(K)
     if jitter:  # the matrix whose factor is L, so that the two agree
@@ -197,16 +200,17 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
         a, f, psi, log_lik, g, W, step = _ascend(K, L, at, y, group, nu, scale, (a, f, psi, log_lik, g, W), step,
                                                  max_newton)
         C = _factor(L.T @ (W[:, None] * L))  # B = I + L^T W L: K^-1 + W = L^-T B L^-1
-        if C is not None or escaped == escapes:
+        if C is not None or escaped >= escapes:
             break
-        escaped += 1
         left = _leave_saddle(K, L, at, a, psi, g, W)
         if left is None:
             break
         a, f, psi, log_lik, g, W = left
+        escaped += 1
     if C is None:
         raise RuntimeError("the Laplace approximation has no maximum here (K^-1 + W is not positive definite "
-                           f"at the mode, after {escaped} escapes); try a larger scale")
+                           f"where the search stopped, {escaped} of escapes={escapes} saddles left before); try a "
+                           "larger scale")
     log_q = float(-0.5 * a @ f + log_lik - np.log(np.diag(C)).sum())
     return LaplaceMode(f, a, W, L, C, log_q, step)
 
@@ -252,16 +256,25 @@ def _ascend(K, L, at, y, group, nu, scale, state, step, max_newton):
 
 
 def _leave_saddle(K, L, at, a, psi, g, W):
-    """A step off a point that is no maximum, along the direction of ``K^-1 + W``'s lowest eigenvalue (negative
-    there), the way the gradient points and halved until the log posterior rises; None if it never does.
+    """A step off a point that is no maximum, along which the log posterior curves upwards most (relative to
+    the prior), halved until it rises; None if it never does.
 
-    With ``K^-1 + W = L^-T B L^-1``, B's eigenvector ``u`` of a negative eigenvalue gives the direction
-    ``L u`` in ``f`` (``L^-T u`` in ``a = K^-1 f``), along which the log posterior curves upwards.
+    With ``K^-1 + W = L^-T B L^-1``, the eigenvector ``u`` of B's lowest eigenvalue ``lam < 0`` gives the
+    direction ``L u`` in ``f`` (``L^-T u`` in ``a = K^-1 f``), where the log posterior's second-order term
+    is ``-lam t^2 / 2 > 0``: both ways rise, to maxima on either side.  The way is the gradient's (``g - a``
+    in ``f``) where its first-order term counts (over 1e-3 of that second-order term at ``t = 1``); at a
+    stationary point it does not, and a fixed convention chooses, so that rounding (or the arbitrary sign of
+    an eigenvector, which differs between LAPACK builds) never does: the lowest-indexed entry of ``L u``
+    whose size is within 1e-6 of the largest is made positive.
     """
-    u = np.linalg.eigh(np.eye(len(W)) + L.T @ (W[:, None] * L))[1][:, 0]
-    direction = sla.solve_triangular(L, u, lower=True, trans="T")  # L^-T u
-    if (g - a) @ (L @ u) < 0:  # the log posterior's gradient in f is g - a
-        direction = -direction
+    lam, vectors = np.linalg.eigh(np.eye(len(W)) + L.T @ (W[:, None] * L))
+    u = vectors[:, 0]
+    step_f = L @ u
+    size = np.abs(step_f)
+    first = int(np.flatnonzero(size >= (1 - 1e-6) * size.max())[0])
+    slope = (g - a) @ step_f  # the log posterior's gradient in f is g - a
+    sign = np.sign(slope) if abs(slope) > 1e-3 * 0.5 * abs(lam[0]) else np.sign(step_f[first])
+    direction = sign * sla.solve_triangular(L, u, lower=True, trans="T")  # L^-T u, the way chosen
     t = 1.0
     while t >= 1e-10:
         a_try = a + t * direction

@@ -133,7 +133,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     # -- the posterior mode and the approximation at it -------------------------------
     def _laplace(self, kernel: RBF, scale: float, U, y, group, a0=None):
-        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at the fitted
+        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at these
         hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, as a
         prediction's is (raises if none is found)."""
         return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton,
