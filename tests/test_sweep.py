@@ -496,6 +496,8 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
 
 
 def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, monkeypatch, capsys):
+    import pickle
+
     import sarsp_edu.experiments.experiment as experiment
     from sarsp_edu.cli import main
     from sarsp_edu.experiments.sweep.models import CellsFailed, run_model_sweep
@@ -514,10 +516,12 @@ def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, mon
     with pytest.raises(CellsFailed, match=r"1 cell raised \(m40_p0.2_nss2_seed0: RuntimeError: the Laplace") as caught:
         run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1, report=said.append)
     assert list(caught.value.failures) == [(40.0, 0.2, 2, 0)]
-    assert "in failing" in caught.value.failures[(40.0, 0.2, 2, 0)]  # the whole traceback is kept
+    line, text = caught.value.failures[(40.0, 0.2, 2, 0)]
+    assert line == "RuntimeError: the Laplace approximation has no maximum here" and "in failing" in text  # all kept
+    assert pickle.loads(pickle.dumps(caught.value)).failures == caught.value.failures  # as from a worker
     assert said == ["t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 3)",
                     "t-likelihood: m40_p0.2_nss2_seed0 raised RuntimeError: the Laplace approximation has no maximum "
-                    "here (1 of 3)",
+                    "here (1 of 3 stored)",
                     "t-likelihood: m40_p0.2_nss3_seed0 stored (2 of 3)"]
     cells = tmp_path / "tl" / "cells"
     assert sorted(p.name for p in cells.iterdir()) == ["m40_p0.2_nss1_seed0", "m40_p0.2_nss3_seed0"]  # nothing half
@@ -574,3 +578,21 @@ def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_t
     stored.write_text(json.dumps(payload))
     assert main(["tables", str(tmp_path / "tl")]) == 0
     assert "computed by 2 versions of the code" in capsys.readouterr().out
+
+
+def test_an_error_of_the_machine_stops_a_model_sweep_at_once(tmp_path, monkeypatch):
+    import sarsp_edu.experiments.experiment as experiment
+    from sarsp_edu.experiments.sweep.models import run_model_sweep
+
+    run_sweep(TINY, magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2), seeds=(0,),
+              results_dir=tmp_path / "paired")
+    runs = []
+
+    def full_disk(config, *args, **kwargs):
+        runs.append(config)
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(experiment, "run_experiment", full_disk)
+    with pytest.raises(OSError, match="No space left"):
+        run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1)
+    assert len(runs) == 1  # the second cell was never started

@@ -415,7 +415,7 @@ def _model_sweep(args, parser) -> int:
         done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs,
                                report=lambda line: print(line, flush=True))
     except CellsFailed as exc:  # each cell's traceback, then what was stored
-        for key, text in exc.failures.items():
+        for key, (_, text) in exc.failures.items():
             print(f"{_cell_name(*key)}:\n{text}", file=sys.stderr)
         print(f"error: {exc}", file=sys.stderr)
         return 1

@@ -329,7 +329,8 @@ def _interrupted(args, stopped: str = "interrupted") -> str:
         from ..experiments.sweep.models import _stored
 
         try:
-            saved, total = len(_stored(Path(args.out), args.model)), len(finished_cells(args.paired))
+            cells = finished_cells(args.paired)
+            saved, total = len(_stored(Path(args.out), args.model) & cells), len(cells)
         except (OSError, ValueError):  # stopped before the folders were read
             return stopped
         return (f"{stopped}: {saved} of {total} cells' {args.model} runs are stored in {args.out}; "

@@ -40,29 +40,37 @@ class CellsFailed(RuntimeError):
     Attributes
     ----------
     failures : dict
-        ``{(m, p, nss, seed): traceback text}`` of each cell that raised.
+        ``{(m, p, nss, seed): (the error in one line, the traceback's text)}`` of each cell that raised.
+    results_dir : str
+        Where the other cells are stored.
     """
 
     def __init__(self, failures: dict, results_dir):
-        self.failures = dict(sorted(failures.items()))
-        lines = "; ".join(f"{_cell_name(*key)}: {text.strip().splitlines()[-1]}" for key, text in self.failures.items())
+        self.failures, self.results_dir = dict(sorted(failures.items())), str(results_dir)
+        lines = "; ".join(f"{_cell_name(*key)}: {line}" for key, (line, _) in self.failures.items())
         super().__init__(f"{len(self.failures)} cell{'s' if len(self.failures) > 1 else ''} raised ({lines}); the "
                          f"other cells ran and are stored in {results_dir}, and a rerun runs only the cells missing")
+
+    def __reduce__(self):  # raised in a worker process too: rebuilt from what it was made of
+        return type(self), (self.failures, self.results_dir)
 
 
 def _run_cell(base, key, model: str, folder: str) -> tuple:
     """Run ``model`` on one cell's settings and store it atomically in ``folder``'s cells.
 
-    Returns ``(key, None)``, or ``(key, the traceback's text)`` where the run raised: one cell's error does not
-    stop a sweep of hours (a KeyboardInterrupt does).
+    Returns ``(key, None)``, or where the run raised ``(key, (the error in one line, the traceback's text))``:
+    one cell's error does not stop a sweep of hours.  An error of the machine (out of memory, or of the disk
+    when storing) raises at once, as a KeyboardInterrupt does: every other cell would meet it too.
     """
     from ..experiment import run_experiment
 
     try:
         result = run_experiment(cell_config(base, *key).replace(model=model))
-        publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
-    except Exception:  # named with its cell, and raised once the other cells have run
-        return key, traceback.format_exc()
+    except (MemoryError, OSError):
+        raise
+    except Exception as exc:  # named with its cell, and raised once the other cells have run
+        return key, (f"{type(exc).__name__}: {exc}".splitlines()[0], traceback.format_exc())
+    publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
     return key, None
 
 
@@ -147,8 +155,9 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
                         failures[key] = failure
                     done += failure is None
                     if report is not None:
-                        said = "stored" if failure is None else f"raised {failure.strip().splitlines()[-1]}"
-                        report(f"{model}: {_cell_name(*key)} {said} ({done} of {len(keys)})")
+                        said = (f"stored ({done} of {len(keys)})" if failure is None else
+                                f"raised {failure[0]} ({done} of {len(keys)} stored)")
+                        report(f"{model}: {_cell_name(*key)} {said}")
             except KeyboardInterrupt:  # the workers stop now (the cells stored stay; a rerun resumes)
                 from joblib.externals.loky import get_reusable_executor
 
