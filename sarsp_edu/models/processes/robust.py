@@ -45,6 +45,7 @@ from ..kernels import RBF
 from ..linalg import distinct_rows
 from ..optimizers import adam
 from .laplace import (
+    ANSWER_PATIENCE,
     MAX_NEWTON,
     SADDLE_ESCAPES,
     laplace_gradient,
@@ -91,8 +92,10 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         LogNormal(0, 1) priors on the amplitude, the length scale and ``scale``
         (MAP), as the agent's GP and TP have.
     max_newton : int, default 1000
-        Steps allowed to find the posterior mode (a prior of the agent's cost data took 182, its EM steps
-        slow where most rows start as outliers to a noise scale of 0.006).
+        Steps allowed to find the posterior mode in the hyperparameter search, which turns back where a
+        search needs more (a prior of the agent's cost data took 182, its EM steps slow where most rows start
+        as outliers to a noise scale of 0.006).  The fitted model's mode and a prediction's may take
+        :data:`~sarsp_edu.models.processes.laplace.ANSWER_PATIENCE` times as many.
 
     Notes
     -----
@@ -134,10 +137,10 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
     # -- the posterior mode and the approximation at it -------------------------------
     def _laplace(self, kernel: RBF, scale: float, U, y, group, a0=None):
         """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at these
-        hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, as a
-        prediction's is (raises if none is found)."""
-        return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton,
-                            escapes=SADDLE_ESCAPES)
+        hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, and
+        the search may take longer, as a prediction's (raises if no maximum is found)."""
+        return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0,
+                            max_newton=ANSWER_PATIENCE * self.max_newton, escapes=SADDLE_ESCAPES)
 
     def _log_prior(self, theta):
         """LogNormal(0, 1) log density of the three hyperparameters and its gradient in their logs (0 without
