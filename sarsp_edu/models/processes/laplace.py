@@ -197,20 +197,16 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
         return value.sum(), np.bincount(group, gradient, m), np.bincount(group, W, m)
 
     a = np.zeros(m) if a0 is None else np.array(a0, dtype=float)
-    f = K @ a
-    log_lik, g, W = at(f)
-    psi = log_lik - 0.5 * a @ f
+    state = _state(K, at, a)
     step, escaped = 0, 0
     while True:
-        a, f, psi, log_lik, g, W, step = _ascend(K, L, at, y, group, nu, scale, (a, f, psi, log_lik, g, W), step,
-                                                 max_newton)
+        a, f, psi, log_lik, g, W, step = _ascend(K, L, at, y, group, nu, scale, state, step, max_newton)
         C = _factor(L.T @ (W[:, None] * L))  # B = I + L^T W L: K^-1 + W = L^-T B L^-1
         if C is not None or escaped >= escapes:
             break
-        left = _leave_saddle(K, L, at, a, psi, g, W)
-        if left is None:
+        state = _leave_saddle(K, L, at, a, psi, g, W)
+        if state is None:
             break
-        a, f, psi, log_lik, g, W = left
         escaped += 1
     if C is None:
         raise RuntimeError("the Laplace approximation has no maximum here (K^-1 + W is not positive definite "
@@ -218,6 +214,14 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
                            "larger scale")
     log_q = float(-0.5 * a @ f + log_lik - np.log(np.diag(C)).sum())
     return LaplaceMode(f, a, W, L, C, log_q, step)
+
+
+def _state(K, at, a):
+    """The search's state at ``a = K^-1 f``: ``(a, f, psi, log_lik, g, W)``, psi the log posterior (up to a
+    constant) and ``g, W`` the likelihood's gradient and curvature per distinct input."""
+    f = K @ a
+    log_lik, g, W = at(f)
+    return a, f, log_lik - 0.5 * a @ f, log_lik, g, W
 
 
 def _ascend(K, L, at, y, group, nu, scale, state, step, max_newton):
@@ -239,17 +243,14 @@ def _ascend(K, L, at, y, group, nu, scale, state, step, max_newton):
             direction = target - w * _solve(C, w * (K @ target)) - a
         t = 1.0
         while True:  # halve the step until the log posterior rises (or the step is negligible)
-            a_try = a + t * direction
-            f_try = K @ a_try
-            log_lik_try, g_try, W_try = at(f_try)
-            psi_try = log_lik_try - 0.5 * a_try @ f_try
-            if psi_try >= psi or t < 1e-10:
+            tried = _state(K, at, a + t * direction)
+            if tried[2] >= psi or t < 1e-10:
                 break
             t *= 0.5
-        rise = psi_try - psi
+        rise = tried[2] - psi
         if rise < 0:  # no step along it raises the log posterior: the mode, to rounding
             break
-        a, f, psi, log_lik, g, W = a_try, f_try, psi_try, log_lik_try, g_try, W_try
+        a, f, psi, log_lik, g, W = tried
         # at the mode the log posterior's gradient g - K^-1 f = g - a vanishes; a step that raises it by
         # rounding only is there too
         if np.max(np.abs(g - a)) <= 1e-9 * (1.0 + np.max(np.abs(g))) or rise <= 1e-13 * max(1.0, abs(psi)):
@@ -282,12 +283,9 @@ def _leave_saddle(K, L, at, a, psi, g, W):
     direction = sign * sla.solve_triangular(L, u, lower=True, trans="T")  # L^-T u, the way chosen
     t = 1.0
     while t >= 1e-10:
-        a_try = a + t * direction
-        f_try = K @ a_try
-        log_lik, g_try, W_try = at(f_try)
-        psi_try = log_lik - 0.5 * a_try @ f_try
-        if psi_try > psi:
-            return a_try, f_try, psi_try, log_lik, g_try, W_try
+        tried = _state(K, at, a + t * direction)
+        if tried[2] > psi:
+            return tried
         t *= 0.5
     return None
 
