@@ -202,6 +202,20 @@ def test_a_search_that_stops_on_a_saddle_leaves_it_for_a_maximum():
     np.testing.assert_allclose(var[0], expected[1])
 
 
+def test_a_search_out_of_steps_after_leaving_a_saddle_says_so():
+    from sarsp_edu.models.processes.laplace import laplace_mode
+
+    kernel, X, y, group, nu, scale, K, *_ = _three_point_saddle()
+    steps = laplace_mode(K, y, group, nu, scale, escapes=1).steps  # to the maximum, the escape included
+    # one step short: out of steps on the way from the saddle to the maximum, and the message says it left one
+    with pytest.raises(RuntimeError, match=rf"not found in max_newton={steps - 1} steps.*left 1 saddle of the log "):
+        laplace_mode(K, y, group, nu, scale, max_newton=steps - 1, escapes=1)
+    # with no escape allowed it stops on the saddle itself, in fewer steps, and says that instead
+    with pytest.raises(RuntimeError, match="no maximum here") as raised:
+        laplace_mode(K, y, group, nu, scale, max_newton=steps - 1, escapes=0)
+    assert "left 1 saddle" not in str(raised.value)
+
+
 def test_the_prior_that_stopped_the_three_model_sweep_on_a_saddle_is_predicted():
     """The strategic prior of the agent's cost data recorded where (40, 0.3, 10) seed 0 of the three-model sweep
     stopped: 91 distinct inputs, 109 rows; its search stopped on a saddle."""

@@ -200,7 +200,13 @@ def laplace_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int 
     state = _state(K, at, a)
     step, escaped = 0, 0
     while True:
-        a, f, psi, log_lik, g, W, step = _ascend(K, L, at, y, group, nu, scale, state, step, max_newton)
+        try:
+            a, f, psi, log_lik, g, W, step = _ascend(K, L, at, y, group, nu, scale, state, step, max_newton)
+        except RuntimeError as exc:  # out of steps: say so, and where it had been
+            if not escaped:
+                raise
+            raise RuntimeError(f"{exc} (it left {escaped} saddle{'s' if escaped > 1 else ''} of the log posterior "
+                               "on the way)") from exc
         C = _factor(L.T @ (W[:, None] * L))  # B = I + L^T W L: K^-1 + W = L^-T B L^-1
         if C is not None or escaped >= escapes:
             break
