@@ -83,3 +83,34 @@ def test_500_random_rows_flatten_the_cost_model_because_of_the_outliers():
     assert table.loc["500 random rows", "correlation, 1 step"] > 0.99
     with pytest.raises(ValueError, match="rows must be a whole number in \\[1, 3767\\].*got rows=0"):
         cost_fit_length_scales(rows=0)
+
+
+def test_a_cell_that_raises_is_named_with_its_setting_and_the_other_settings_still_run(tmp_path, monkeypatch, capsys):
+    from sarsp_edu.cli import main
+    from sarsp_edu.experiments.sweep import run as sweep_module  # where the cells are run
+    from sarsp_edu.experiments.sweep.cells import CellsFailed
+
+    original = sweep_module.compare
+
+    def failing(config, *args, **kwargs):  # the per-action setting's cell raises
+        if config.prior_draw == "per_action":
+            raise RuntimeError("the posterior mode was not found")
+        return original(config, *args, **kwargs)
+
+    monkeypatch.setattr(sweep_module, "compare", failing)
+    named = r"1 cell raised \(per-action/m40_p0.2_nss1_seed0: RuntimeError: the posterior mode was not found\)"
+    with pytest.raises(CellsFailed, match=named + "; the other cells ran and are stored") as caught:
+        run_ablation(SETTINGS, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1, results_dir=tmp_path)
+    assert list(caught.value.failures) == [("per-action", 40.0, 0.2, 1, 0)]
+    assert len(caught.value.results.sweeps["per action"]) == 0 and len(caught.value.results.sweeps["per step"]) == 1
+    assert (tmp_path / "per-step" / "cells" / "m40_p0.2_nss1_seed0" / "cell.json").exists()  # the later setting ran
+    # the command prints each traceback, named with its setting, and fails
+    import sarsp_edu.experiments.ablation as ablation_module
+
+    def raising(*args, **kwargs):
+        raise caught.value
+
+    monkeypatch.setattr(ablation_module, "run_ablation", raising)
+    assert main(["ablation", "--out", str(tmp_path / "another"), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "per-action/m40_p0.2_nss1_seed0:\nTraceback" in err and "in failing" in err and "error: 1 cell raised" in err

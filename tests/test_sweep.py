@@ -536,6 +536,42 @@ def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, mon
     assert said == ["t-likelihood: m40_p0.2_nss2_seed0 stored (3 of 3)"]
 
 
+def test_a_paired_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, monkeypatch, capsys):
+    from sarsp_edu.cli import main
+    from sarsp_edu.experiments.sweep import run as sweep_module  # where the cells are run
+    from sarsp_edu.experiments.sweep.cells import CellsFailed
+
+    original = sweep_module.compare
+
+    def failing(config, *args, **kwargs):  # the middle cell raises
+        if config.n_switch_states == 2:
+            raise np.linalg.LinAlgError("Matrix is not positive definite")
+        return original(config, *args, **kwargs)
+
+    monkeypatch.setattr(sweep_module, "compare", failing)
+    grid = dict(magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2, 3))
+    named = r"1 cell raised \(m40_p0.2_nss2_seed0: LinAlgError: Matrix is not positive definite\); the other cells ran"
+    with pytest.raises(CellsFailed, match=named + " and are stored in .*a rerun runs only the cells missing") as caught:
+        run_sweep(TINY, **grid, results_dir=tmp_path / "s", progress=True)
+    assert "m40_p0.2_nss2_seed0 raised LinAlgError: Matrix is not positive definite" in capsys.readouterr().err
+    assert list(caught.value.failures) == [(40.0, 0.2, 2, 0)] and "in failing" in caught.value.failures[
+        (40.0, 0.2, 2, 0)][1]
+    assert sorted(caught.value.results.comparisons) == [(40.0, 0.2, 1, 0), (40.0, 0.2, 3, 0)]  # the cells that ran
+    assert sorted(p.name for p in (tmp_path / "s" / "cells").iterdir()) == ["m40_p0.2_nss1_seed0",
+                                                                           "m40_p0.2_nss3_seed0"]
+    with pytest.raises(CellsFailed, match=named.replace("seed0", "seed1") + "$") as caught:  # storing nothing
+        run_sweep(TINY, **grid, seeds=(1,))
+    assert sorted(caught.value.results.comparisons) == [(40.0, 0.2, 1, 1), (40.0, 0.2, 3, 1)]
+    # the command, resuming the stored sweep: says so with the traceback and fails; once the cause is gone the
+    # rerun runs the missing cell alone and prints the tables
+    assert main(["sweep", "--out", str(tmp_path / "s"), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "m40_p0.2_nss2_seed0:\nTraceback" in err and "error: 1 cell raised" in err
+    monkeypatch.setattr(sweep_module, "compare", original)
+    assert main(["sweep", "--out", str(tmp_path / "s"), "--quiet"]) == 0
+    assert "3 cells, each a paired TP-vs-GP run" in capsys.readouterr().out
+
+
 def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_third_model(tmp_path, capsys):
     from sarsp_edu.cli import main
     from sarsp_edu.experiments.metrics import prefers

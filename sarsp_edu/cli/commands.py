@@ -156,7 +156,7 @@ def _sweep(args, parser) -> int:
     import shlex
     from pathlib import Path
 
-    from ..experiments.sweep import SweepResults, run_sweep, stored_sweep
+    from ..experiments.sweep import CellsFailed, SweepResults, run_sweep, stored_sweep
     from ..experiments.tables import summary_tables
 
     grid = {"magnitudes": args.magnitudes, "proportions": args.proportions, "nss": args.nss, "seeds": args.seeds}
@@ -190,10 +190,16 @@ def _sweep(args, parser) -> int:
         args.stored = [(args.out, set(keys))]
     try:
         if resume_cells:
+            failures = {}
             for seed in sorted({key[3] for key in keys}):  # a stored sweep's cells, seed by seed
-                run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
-                          results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
-                          progress=not args.quiet, a=args.a)
+                try:
+                    run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
+                              results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
+                              progress=not args.quiet, a=args.a)
+                except CellsFailed as exc:  # the other seeds still run
+                    failures.update(exc.failures)
+            if failures:
+                raise CellsFailed(failures, args.out)
             results = SweepResults.load(args.out, a=args.a)
         else:
             results = run_sweep(
@@ -210,6 +216,8 @@ def _sweep(args, parser) -> int:
             )
     except ValueError as exc:
         parser.error(str(exc))
+    except CellsFailed as exc:
+        return _cells_failed(exc)
     tables = summary_tables(results)
     cells = f"{len(results)} cell{'' if len(results) == 1 else 's'}"
     print(f"{cells}, each a paired TP-vs-GP run of {config.episodes} episodes; preset {config.preset}")
@@ -217,6 +225,16 @@ def _sweep(args, parser) -> int:
     if args.out:
         print(f"cells stored in {args.out}; print every table with: sarsp-edu tables {shlex.quote(str(args.out))}")
     return 0
+
+
+def _cells_failed(exc) -> int:
+    """A sweep command's end where cells raised: each one's traceback, then the error (which says what ran)."""
+    from ..experiments.sweep.cells import failure_name
+
+    for key, (_, text) in exc.failures.items():
+        print(f"{failure_name(key)}:\n{text}", file=sys.stderr)
+    print(f"error: {exc}", file=sys.stderr)
+    return 1
 
 
 def _dask_installed() -> bool:
@@ -245,6 +263,7 @@ def _ablation(args, parser) -> int:
     import shlex
 
     from ..experiments.ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_folder
+    from ..experiments.sweep import CellsFailed
 
     if args.list:
         for name, setting in ABLATION_SETTINGS.items():
@@ -280,6 +299,8 @@ def _ablation(args, parser) -> int:
                                results_dir=args.out, n_jobs=args.jobs, progress=not args.quiet, command=command)
     except ValueError as exc:
         parser.error(str(exc))
+    except CellsFailed as exc:
+        return _cells_failed(exc)
     if args.out:
         results = AblationResults.load(args.out)
     print(_format_table(results.table()))
@@ -401,7 +422,6 @@ def _prefit(args, parser) -> int:
 
 def _model_sweep(args, parser) -> int:
     from .._internal.io import StoredResultError
-    from ..experiments.sweep.cells import _cell_name
     from ..experiments.sweep.models import CellsFailed, run_model_sweep
     from ..experiments.sweep.stored import stored_sweep
 
@@ -414,10 +434,7 @@ def _model_sweep(args, parser) -> int:
     try:
         done = run_model_sweep(args.paired, args.out, model=args.model, n_jobs=args.jobs,
                                report=lambda line: print(line, flush=True))
-    except CellsFailed as exc:  # each cell's traceback, then what was stored
-        for key, (_, text) in exc.failures.items():
-            print(f"{_cell_name(*key)}:\n{text}", file=sys.stderr)
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
+    except CellsFailed as exc:
+        return _cells_failed(exc)
     print(f"{args.model}: {len(done)} of {len(requested)} cells stored in {args.out}")
     return 0

@@ -31,7 +31,7 @@ from .._internal.io import StoredResultError, atomic_write_text, read_json
 from .._version import __version__
 from ..config import ABLATION_CELLS, ABLATION_SEEDS, PRESETS, ExperimentConfig
 from .metrics import backup_share, trapped_episodes
-from .sweep import SweepResults, run_sweep
+from .sweep import CellsFailed, SweepResults, run_sweep
 
 __all__ = [
     "ABLATION_CELLS",
@@ -317,6 +317,13 @@ def run_ablation(
     Returns
     -------
     AblationResults
+
+    Raises
+    ------
+    CellsFailed
+        If the run of some cell raised (:func:`~sarsp_edu.experiments.sweep.run_sweep`): every other cell of
+        every setting was run (and stored), the exception's ``results`` holds them, and its ``failures`` are
+        keyed ``(setting folder, m, p, nss, seed)``.
     """
     settings = dict(ABLATION_SETTINGS if settings is None else settings)
     if not settings:
@@ -331,9 +338,16 @@ def run_ablation(
     folder = None if results_dir is None else Path(results_dir)
     if folder is not None:
         _write_meta(folder, settings, cells, seeds, episodes, command)
+    failures = {}
     for name, config in configs.items():
-        results.sweeps[name] = run_sweep(
-            config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,
-            results_dir=None if folder is None else folder / setting_folder(name),
-        )
+        try:
+            results.sweeps[name] = run_sweep(
+                config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,
+                results_dir=None if folder is None else folder / setting_folder(name),
+            )
+        except CellsFailed as exc:  # the other settings still run; each failure named with its setting's folder
+            results.sweeps[name] = exc.results
+            failures.update({(setting_folder(name), *key): failure for key, failure in exc.failures.items()})
+    if failures:
+        raise CellsFailed(failures, folder, results)
     return results

@@ -16,7 +16,6 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import traceback
 from pathlib import Path
 
 from ..._internal.io import StoredResultError, atomic_write_text, lock_folder, publish_folder, read_json
@@ -24,7 +23,7 @@ from ..._internal.validation import check_choice
 from ..._version import __version__
 from ...config import MODELS
 from ..results import ExperimentResult, check_paired
-from .cells import _as_key, _cell_name, _name_key, cell_config, finished_cells
+from .cells import CellsFailed, _as_key, _cell_name, _name_key, cell_config, finished_cells, run_guarded
 from .stored import SweepResults, stored_sweep
 
 __all__ = ["MODEL_SWEEP_FILE", "CellsFailed", "check_model_cell", "load_model_sweep", "run_model_sweep"]
@@ -34,44 +33,20 @@ MODEL_SWEEP_FILE = "model_sweep.json"
 _LOCK = ".model-sweep.lock"
 
 
-class CellsFailed(RuntimeError):
-    """Cells of a model sweep whose run raised; the sweep ran every other cell and stored it.
-
-    Attributes
-    ----------
-    failures : dict
-        ``{(m, p, nss, seed): (the error in one line, the traceback's text)}`` of each cell that raised.
-    results_dir : str
-        Where the other cells are stored.
-    """
-
-    def __init__(self, failures: dict, results_dir):
-        self.failures, self.results_dir = dict(sorted(failures.items())), str(results_dir)
-        lines = "; ".join(f"{_cell_name(*key)}: {line}" for key, (line, _) in self.failures.items())
-        super().__init__(f"{len(self.failures)} cell{'s' if len(self.failures) > 1 else ''} raised ({lines}); the "
-                         f"other cells ran and are stored in {results_dir}, and a rerun runs only the cells missing")
-
-    def __reduce__(self):  # raised in a worker process too: rebuilt from what it was made of
-        return type(self), (self.failures, self.results_dir)
-
-
 def _run_cell(base, key, model: str, folder: str) -> tuple:
     """Run ``model`` on one cell's settings and store it atomically in ``folder``'s cells.
 
-    Returns ``(key, None)``, or where the run raised ``(key, (the error in one line, the traceback's text))``:
-    one cell's error does not stop a sweep of hours.  An error of the machine (out of memory, or of the disk
-    when storing) raises at once, as a KeyboardInterrupt does: every other cell would meet it too.
+    Returns ``(key, None)``, or where the run raised ``(key, (the error in one line, the traceback's text))``
+    (:func:`~sarsp_edu.experiments.sweep.cells.run_guarded`).
     """
     from ..experiment import run_experiment
 
-    try:
+    def run():
         result = run_experiment(cell_config(base, *key).replace(model=model))
-    except (MemoryError, OSError):
-        raise
-    except Exception as exc:  # named with its cell, and raised once the other cells have run
-        return key, (f"{type(exc).__name__}: {exc}".splitlines()[0], traceback.format_exc())
-    publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
-    return key, None
+        publish_folder(Path(folder) / "cells" / _cell_name(*key) / model, result.save, marker="result.json")
+
+    key, _, failure = run_guarded(key, run)
+    return key, failure
 
 
 def _stored(folder: Path, model: str) -> set:

@@ -2,7 +2,8 @@
 
 A cell is written to a staging folder and renamed into place, so a folder
 holds only whole cells; a lock keeps two sweeps out of one folder, and a
-rerun of the same command skips the cells already stored.
+rerun of the same command skips the cells already stored.  A cell whose run
+raises is named and the others run on (:class:`~sarsp_edu.experiments.sweep.cells.CellsFailed`).
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 import json
 import shutil
 import signal
+import sys
 import warnings
 from pathlib import Path
 
@@ -35,6 +37,7 @@ from ..experiment import compare
 from ..metrics import check_a
 from ..results import Comparison
 from .cells import (
+    CellsFailed,
     StoredResultWarning,
     _as_key,
     _cell_name,
@@ -44,6 +47,7 @@ from .cells import (
     cell_config,
     cell_seed,
     finished_cells,
+    run_guarded,
 )
 from .stored import SweepResults, load_cell, stored_sweep
 
@@ -54,12 +58,18 @@ LOCK_NAME = ".sweep.lock"
 # running
 # --------------------------------------------------------------------------
 def _run_cell(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tuple:
-    """Run one paired cell; store it atomically if a folder is given."""
-    m, p, nss, seed = key
-    comparison = compare(cell_config(base, m, p, nss, seed), n_jobs=1)  # a sweep: one process per cell
-    if results_dir is not None:
-        _store_cell(Path(results_dir), key, comparison)
-    return key, comparison
+    """Run one paired cell; store it atomically if a folder is given.
+
+    Returns ``(key, Comparison, None)``, or where it raised ``(key, None, (the error in one line, the
+    traceback's text))`` (:func:`~sarsp_edu.experiments.sweep.cells.run_guarded`).
+    """
+    def run():
+        comparison = compare(cell_config(base, *key), n_jobs=1)  # a sweep: one process per cell
+        if results_dir is not None:
+            _store_cell(Path(results_dir), key, comparison)
+        return comparison
+
+    return run_guarded(key, run)
 
 
 def _run_cell_in_worker(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tuple:
@@ -174,6 +184,12 @@ def run_sweep(
     -------
     SweepResults
         Every cell of the grid: those run now and those found in ``results_dir``.
+
+    Raises
+    ------
+    CellsFailed
+        If the run of some cell raised: each is named (under the progress bar as it happens), every other
+        cell was run (and stored), and the exception's ``results`` holds them.
     """
     base = config_or_default(config)
     seeds = _grid("seeds", seeds, lambda v: check_int("seeds", v, 0))
@@ -216,12 +232,21 @@ def run_sweep(
 
         from tqdm.auto import tqdm
 
+        failures = {}
         with tqdm(total=len(keys), initial=len(keys) - len(todo), desc="sweep cells", unit="cell",
                   disable=not progress) as bar:
-            for key, comparison in _execute(base, todo, None if folder is None else str(folder), n_jobs, scheduler):
+            for key, comparison, failure in _execute(base, todo, None if folder is None else str(folder), n_jobs,
+                                                     scheduler):
+                if failure is not None:
+                    failures[key] = failure
+                    if progress:
+                        bar.write(f"{_cell_name(*key)} raised {failure[0]}", file=sys.stderr)
+                    continue
                 comparison.a = a
                 results.comparisons[key] = comparison
                 bar.update(1)
+        if failures:
+            raise CellsFailed(failures, folder, results)
     finally:
         if lock is not None:
             lock.close()
@@ -256,7 +281,8 @@ def _workers(n_jobs: int, cells: int) -> int:
 
 
 def _execute(base, todo, folder, n_jobs, scheduler):
-    """Yield (key, Comparison) as cells finish, in any order."""
+    """Yield (key, Comparison, None), or (key, None, failure) for a cell that raised, as cells finish, in any
+    order."""
     if not todo:
         return
     if scheduler is not None:
