@@ -322,6 +322,25 @@ def test_check_cell_names_a_bad_cell():
 RESULTS = Path(__file__).resolve().parents[1] / "results"
 
 
+def test_reproduction_md_holds_the_three_model_tables_of_the_cells_stored(tmp_path, capsys):
+    """REPRODUCTION.md's "Beyond the paper" tables are what ``sarsp-edu tables --markdown`` writes from the
+    three-model sweep stored now, and every count of its cells is the count stored: a cell committed without
+    the section redone fails here."""
+    folder, markdown = RESULTS / "sweep-default-t-likelihood", tmp_path / "three.md"
+    assert main(["tables", str(folder), "--markdown", str(markdown)]) == 0
+    text = (RESULTS.parent / "REPRODUCTION.md").read_text()
+    tables = markdown.read_text().strip().split("\n\n")
+    assert len(tables) == 4  # Table 2 with a third column, the tests, Definition 4, each configuration
+    for table in tables:
+        assert table in text, f"REPRODUCTION.md lacks this table as the stored cells give it:\n{table}"
+    cells = len(list((folder / "cells").glob("m*/t-likelihood/result.json")))
+    configurations = len(tables[3].splitlines()) - 2
+    words = " ".join(text.split())
+    for said in (f"its sweep holds {cells} of 135 cells", f"{cells} of the 135 cells are stored",
+                 f"({configurations} of the 45 configurations", f"the mean over the {cells} cells"):
+        assert said in words, said
+
+
 @pytest.mark.parametrize("folder", sorted(p.name for p in RESULTS.iterdir() if p.is_dir()))
 def test_every_shipped_results_folder_loads_with_tables(folder, capsys):
     """Every folder under results/ loads: a sweep's tables (older formats read in today's terms), an ablation's

@@ -591,6 +591,10 @@ def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_t
     tp_2 = paired.comparisons[(40.0, 0.2, 2, 0)].tp.summary["total_cost"]
     assert tables["mean"].loc["total_cost", "TP"] == pytest.approx((tp_1 + tp_2) / 2)
     assert tables["mean"]["configurations"].iloc[0] == 2
+    configurations = tables["configurations"]  # each configuration over the seeds the third model has run
+    assert configurations["seeds"].tolist() == ["0, 1", "0"]
+    assert configurations.loc[(40.0, 0.2, 1), "total_cost: t-likelihood GP"] == pytest.approx(config_1)
+    assert configurations.loc[(40.0, 0.2, 2), "total_cost: TP"] == pytest.approx(tp_2)
     assert tables["definition4"].sum(axis=1).tolist() == [2, 2, 2]
     one = runs[(40.0, 0.2, 2, 0)].summary
     two = paired.comparisons[(40.0, 0.2, 2, 0)].gp.summary
@@ -605,6 +609,7 @@ def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_t
     figure, markdown = tmp_path / "curves.png", tmp_path / "three.md"
     assert main(["tables", str(tmp_path / "tl"), "--figure", str(figure), "--markdown", str(markdown)]) == 0
     assert figure.read_bytes()[:4] == b"\x89PNG" and "| t-likelihood GP vs TP |" in markdown.read_text()
+    assert "\n| 40 | 0.2 | 1 | 0, 1 | " in markdown.read_text()  # each configuration, m and p as written
     with pytest.raises(SystemExit):  # a paired sweep has no third model to draw
         main(["tables", str(tmp_path / "paired"), "--figure", str(figure)])
     assert "is neither" in capsys.readouterr().err

@@ -64,13 +64,18 @@ def _tables(args, parser) -> int:
     if args.markdown:
         markdown = tables_markdown(tables)
         for title, frame in sections:
-            flat = frame.reset_index()
-            for column in {"m", "p"} & set(flat.columns):  # 40 and 0.2, not 40.000 and 0.200
-                flat[column] = flat[column].map(lambda v: f"{v:g}")
-            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(flat)}\n"
+            markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(_flat(frame))}\n"
         atomic_write_text(args.markdown, markdown + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     return 0
+
+
+def _flat(frame, digits=None):
+    """A table for markdown: its index as columns, m and p as 40 and 0.2 (not 40.000 and 0.200)."""
+    flat = (frame if digits is None else frame.round(digits)).reset_index()
+    for column in {"m", "p"} & set(flat.columns):
+        flat[column] = flat[column].map(lambda v: f"{v:g}")
+    return flat
 
 
 def _check_cell(args, parser) -> int:
@@ -220,12 +225,14 @@ def _model_tables(args, parser) -> int:
           f"{_format_table(tables['mean'])}")
     print(f"\nThe third model against TP and GP over configurations\n{_format_table(tables['tests'])}")
     print(f"\nDefinition 4 in each configuration\n{_format_table(tables['definition4'])}")
+    print(f"\nEach configuration: the mean over its seeds run\n{_format_table(tables['configurations'])}")
     if args.markdown:
         from .._internal.io import atomic_write_text
         from ..experiments.tables import frame_to_markdown
 
-        atomic_write_text(args.markdown, "\n\n".join(frame_to_markdown(tables[key].round(3).reset_index())
-                                                      for key in ("mean", "tests", "definition4")) + "\n")
+        digits = {"mean": 3, "tests": 3, "definition4": 3, "configurations": 1}
+        atomic_write_text(args.markdown, "\n\n".join(frame_to_markdown(_flat(tables[key], places), places)
+                                                      for key, places in digits.items()) + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     if args.figure:
         from ..experiments.sweep.model_tables import model_sweep_curves

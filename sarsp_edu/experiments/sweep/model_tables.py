@@ -59,7 +59,9 @@ def model_sweep_tables(paired, runs: dict, a: float | None = None) -> dict:
         count; ``"tests"``: for the third model against TP and against GP and each metric, the median
         difference over configurations, the Wilcoxon signed-rank p-value and the sign test's (the share of
         configurations where the third model is lower, and its p-value); ``"definition4"``: for each ordered
-        pair, in how many configurations Definition 4 prefers the first, the second, or neither.
+        pair, in how many configurations Definition 4 prefers the first, the second, or neither;
+        ``"configurations"``: each configuration's seeds run and its total cost, TSR and steps per model (the
+        mean over those seeds), a row per (m, p, nss).
     """
     a = paired.a if a is None else a
     frame = model_sweep_frame(paired, runs)
@@ -85,8 +87,12 @@ def model_sweep_tables(paired, runs: dict, a: float | None = None) -> dict:
             counts["first preferred" if prefers(one, two, a) else
                    "second preferred" if prefers(two, one, a) else "neither"] += 1
         verdicts.append({"pair": f"{first} vs {second}", **counts})
+    shown = ("total_cost", "task_success_rate", "mean_steps")
+    configurations = pd.DataFrame({f"{metric}: {model}": wide[model][metric] for metric in shown for model in models})
+    seeds = frame[frame["model"] == third].groupby(["m", "p", "nss"])["seed"]
+    configurations.insert(0, "seeds", seeds.agg(lambda run: ", ".join(str(seed) for seed in sorted(run))))
     return {"mean": mean, "tests": pd.DataFrame(tests).set_index(["against", "metric"]),
-            "definition4": pd.DataFrame(verdicts).set_index("pair")}
+            "definition4": pd.DataFrame(verdicts).set_index("pair"), "configurations": configurations}
 
 
 def model_sweep_curves(paired, runs: dict, metric: str) -> pd.DataFrame:
