@@ -50,6 +50,17 @@ def test_bad_settings_are_named():
         run_ablation({})
 
 
+def test_two_settings_whose_names_give_one_folder_are_refused(tmp_path):
+    with pytest.raises(ValueError, match="settings 'per step' and 'Per-step' would share the folder 'per-step'"):
+        run_ablation({"per step": SETTINGS["per step"], "Per-step": SETTINGS["per action"]}, results_dir=tmp_path)
+    assert not (tmp_path / "ablation.json").exists()  # refused before anything was written
+    run_ablation({"per step": SETTINGS["per step"]}, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1,
+                 results_dir=tmp_path)
+    with pytest.raises(ValueError, match="settings 'per step' and 'PER STEP' would share the folder"):  # a later call
+        run_ablation({"PER STEP": SETTINGS["per action"]}, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1,
+                     results_dir=tmp_path)
+
+
 def test_a_later_call_adds_settings_and_refuses_another_design(tmp_path):
     first = {"per action": SETTINGS["per action"]}
     run_ablation(first, cells=[(40, 0.2, 1)], seeds=(0,), episodes=1, results_dir=tmp_path, command="one")
@@ -88,7 +99,7 @@ def test_500_random_rows_flatten_the_cost_model_because_of_the_outliers():
 def test_a_cell_that_raises_is_named_with_its_setting_and_the_other_settings_still_run(tmp_path, monkeypatch, capsys):
     from sarsp_edu.cli import main
     from sarsp_edu.experiments.sweep import run as sweep_module  # where the cells are run
-    from sarsp_edu.experiments.sweep.cells import CellsFailed
+    from sarsp_edu.experiments.sweep.failures import CellsFailed
 
     original = sweep_module.compare
 

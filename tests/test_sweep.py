@@ -539,37 +539,58 @@ def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, mon
 def test_a_paired_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, monkeypatch, capsys):
     from sarsp_edu.cli import main
     from sarsp_edu.experiments.sweep import run as sweep_module  # where the cells are run
-    from sarsp_edu.experiments.sweep.cells import CellsFailed
+    from sarsp_edu.experiments.sweep.failures import CellsFailed
 
     original = sweep_module.compare
 
-    def failing(config, *args, **kwargs):  # the middle cell raises
+    def failing(config, *args, **kwargs):  # the middle cell raises; Ctrl-C at m = 50
+        if config.outlier_magnitude == 50:
+            raise KeyboardInterrupt
         if config.n_switch_states == 2:
             raise np.linalg.LinAlgError("Matrix is not positive definite")
         return original(config, *args, **kwargs)
 
     monkeypatch.setattr(sweep_module, "compare", failing)
     grid = dict(magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2, 3))
-    named = r"1 cell raised \(m40_p0.2_nss2_seed0: LinAlgError: Matrix is not positive definite\); the other cells ran"
+    error = "LinAlgError: Matrix is not positive definite"
+    named = rf"2 cells raised \(m40_p0.2_nss2_seed0: {error}; m40_p0.2_nss2_seed1: {error}\); the other cells ran"
     with pytest.raises(CellsFailed, match=named + " and are stored in .*a rerun runs only the cells missing") as caught:
-        run_sweep(TINY, **grid, results_dir=tmp_path / "s", progress=True)
-    assert "m40_p0.2_nss2_seed0 raised LinAlgError: Matrix is not positive definite" in capsys.readouterr().err
-    assert list(caught.value.failures) == [(40.0, 0.2, 2, 0)] and "in failing" in caught.value.failures[
-        (40.0, 0.2, 2, 0)][1]
-    assert sorted(caught.value.results.comparisons) == [(40.0, 0.2, 1, 0), (40.0, 0.2, 3, 0)]  # the cells that ran
-    assert sorted(p.name for p in (tmp_path / "s" / "cells").iterdir()) == ["m40_p0.2_nss1_seed0",
-                                                                           "m40_p0.2_nss3_seed0"]
-    with pytest.raises(CellsFailed, match=named.replace("seed0", "seed1") + "$") as caught:  # storing nothing
-        run_sweep(TINY, **grid, seeds=(1,))
-    assert sorted(caught.value.results.comparisons) == [(40.0, 0.2, 1, 1), (40.0, 0.2, 3, 1)]
-    # the command, resuming the stored sweep: says so with the traceback and fails; once the cause is gone the
-    # rerun runs the missing cell alone and prints the tables
+        run_sweep(TINY, **grid, seeds=(0, 1), results_dir=tmp_path / "s", progress=True)
+    assert f"m40_p0.2_nss2_seed1 raised {error}" in capsys.readouterr().err  # as it happened
+    assert list(caught.value.failures) == [(40.0, 0.2, 2, 0), (40.0, 0.2, 2, 1)]
+    assert "in failing" in caught.value.failures[(40.0, 0.2, 2, 0)][1]  # the whole traceback
+    assert len(caught.value.results) == 4  # the cells that ran, returned
+    assert sorted(p.name for p in (tmp_path / "s" / "cells").iterdir()) == [
+        f"m40_p0.2_nss{nss}_seed{seed}" for nss in (1, 3) for seed in (0, 1)]
+    with pytest.raises(CellsFailed, match=r"1 cell raised \(m40_p0.2_nss2_seed2: .*\); the other cells ran$"):
+        run_sweep(TINY, **grid, seeds=(2,))  # storing nothing
+    # Ctrl-C in a cell is no cell's error: it stops the sweep, and says which cells had raised before
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(TINY, magnitudes=(40, 50), proportions=(0.2,), n_switch_states=(2,), seeds=(3,))
+    assert f"before the sweep stopped, 1 cell had raised: m40_p0.2_nss2_seed3: {error}" in capsys.readouterr().err
+    # the command, resuming the stored sweep seed by seed: each seed runs, the traceback is printed once for
+    # the cells that share it, and it fails; once the cause is gone the rerun runs the missing cells alone
     assert main(["sweep", "--out", str(tmp_path / "s"), "--quiet"]) == 1
     err = capsys.readouterr().err
-    assert "m40_p0.2_nss2_seed0:\nTraceback" in err and "error: 1 cell raised" in err
+    assert "m40_p0.2_nss2_seed0, m40_p0.2_nss2_seed1:\nTraceback" in err and err.count("Traceback") == 1
+    assert "error: 2 cells raised" in err
     monkeypatch.setattr(sweep_module, "compare", original)
     assert main(["sweep", "--out", str(tmp_path / "s"), "--quiet"]) == 0
-    assert "3 cells, each a paired TP-vs-GP run" in capsys.readouterr().out
+    assert "6 cells, each a paired TP-vs-GP run" in capsys.readouterr().out
+
+
+def test_a_sweep_where_every_cell_raises_names_a_few_and_counts_the_rest():
+    from sarsp_edu.experiments.sweep.failures import CellsFailed, tracebacks
+
+    failures = {(40.0, 0.2, nss, seed): ("MemoryError: no", "Traceback: the same") for nss in (2, 4, 6, 8, 10)
+                for seed in (0, 1)}
+    message = str(CellsFailed(failures, "out"))
+    assert message.startswith("10 cells raised (m40_p0.2_nss2_seed0: MemoryError: no; m40_p0.2_nss2_seed1: ")
+    assert message.count("MemoryError") == 5 and "; and 5 more); the other cells ran and are stored in out" in message
+    assert "m40_p0.2_nss4_seed0; " not in message  # named in the order of the cells: nss 2 before nss 10
+    assert tracebacks(failures).count("Traceback: the same") == 1
+    ablation = {("default", 40.0, 0.2, 2, 0): ("E", "t")}
+    assert str(CellsFailed(ablation)) == "1 cell raised (default/m40_p0.2_nss2_seed0: E); the other cells ran"
 
 
 def test_the_three_model_tables_average_seeds_then_configurations_and_test_the_third_model(tmp_path, capsys):

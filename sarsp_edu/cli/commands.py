@@ -157,6 +157,7 @@ def _sweep(args, parser) -> int:
     from pathlib import Path
 
     from ..experiments.sweep import CellsFailed, SweepResults, run_sweep, stored_sweep
+    from ..experiments.sweep.failures import collecting
     from ..experiments.tables import summary_tables
 
     grid = {"magnitudes": args.magnitudes, "proportions": args.proportions, "nss": args.nss, "seeds": args.seeds}
@@ -190,16 +191,14 @@ def _sweep(args, parser) -> int:
         args.stored = [(args.out, set(keys))]
     try:
         if resume_cells:
-            failures = {}
-            for seed in sorted({key[3] for key in keys}):  # a stored sweep's cells, seed by seed
-                try:
-                    run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
-                              results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
-                              progress=not args.quiet, a=args.a)
-                except CellsFailed as exc:  # the other seeds still run
-                    failures.update(exc.failures)
-            if failures:
-                raise CellsFailed(failures, args.out)
+            with collecting(args.out) as failures:
+                for seed in sorted({key[3] for key in keys}):  # a stored sweep's cells, seed by seed
+                    try:
+                        run_sweep(config, cells=[key[:3] for key in keys if key[3] == seed], seeds=[seed],
+                                  results_dir=args.out, n_jobs=args.jobs, scheduler=args.scheduler,
+                                  progress=not args.quiet, a=args.a)
+                    except CellsFailed as exc:  # the other seeds still run
+                        failures.update(exc.failures)
             results = SweepResults.load(args.out, a=args.a)
         else:
             results = run_sweep(
@@ -228,11 +227,10 @@ def _sweep(args, parser) -> int:
 
 
 def _cells_failed(exc) -> int:
-    """A sweep command's end where cells raised: each one's traceback, then the error (which says what ran)."""
-    from ..experiments.sweep.cells import failure_name
+    """A sweep command's end where cells raised: each traceback once, then the error (which says what ran)."""
+    from ..experiments.sweep.failures import tracebacks
 
-    for key, (_, text) in exc.failures.items():
-        print(f"{failure_name(key)}:\n{text}", file=sys.stderr)
+    print(tracebacks(exc.failures), file=sys.stderr)
     print(f"error: {exc}", file=sys.stderr)
     return 1
 

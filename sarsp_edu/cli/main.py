@@ -84,7 +84,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Run every (m, p, nss, seed) cell as a paired TP-vs-GP comparison, locally "
         "or on a Dask cluster. With --out each finished cell is stored at once, and a rerun "
         "skips the cells already there; 'sarsp-edu sweep --out DIR' alone resumes the sweep stored "
-        "in DIR with its own settings and cells.",
+        "in DIR with its own settings and cells. A cell whose run raises is named with its traceback and the "
+        "other cells run on; the command then exits with status 1.",
     )
     def listed(values):
         return " ".join(f"{v:g}" for v in values)
@@ -146,7 +147,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="run the paired comparison under a list of settings and tabulate what each changes",
         description="Run the TP-vs-GP comparison of a few configurations and seeds once per setting (a preset "
         "with some fields changed) and tabulate TSR, steps, total cost, cost rate, backup share and trapped "
-        "failures with 95% intervals. With --out every run is stored and a rerun resumes.",
+        "failures with 95% intervals. With --out every run is stored and a rerun resumes. A cell whose run "
+        "raises is named with its setting and traceback and the other runs go on; the command then exits with "
+        "status 1.",
     )
     ablation.add_argument("--settings", nargs="+", metavar="NAME", help="setting names [default: all; see --list]")
     ablation.add_argument("--list", action="store_true", help="list the settings and exit")

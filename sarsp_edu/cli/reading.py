@@ -197,14 +197,15 @@ def _say_versions(versions: dict, what: str) -> None:
 
 
 def _model_tables(args, parser) -> int:
-    """A model sweep's folder: Table 2 of three models over the cells run so far, the tests, Definition 4."""
+    """A model sweep's folder: Table 2 of three models over the cells run so far, the tests, Definition 4, and
+    each configuration's three models."""
     from .._internal.io import StoredResultError
     from ..experiments.provenance import code_versions
 
     unsupported = [flag for flag, given in (("--all", args.all), ("--seeds", args.seeds)) if given]
     if unsupported:
         parser.error(f"{', '.join(unsupported)}: not for a model sweep's folder, whose tables are Table 2 with a "
-                     "third column, its tests and Definition 4 over the cells run so far")
+                     "third column, its tests, Definition 4 and each configuration over the cells run so far")
     from ..experiments.sweep.model_tables import model_sweep_tables
     from ..experiments.sweep.models import load_model_sweep
 

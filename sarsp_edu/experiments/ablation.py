@@ -32,6 +32,7 @@ from .._version import __version__
 from ..config import ABLATION_CELLS, ABLATION_SEEDS, PRESETS, ExperimentConfig
 from .metrics import backup_share, trapped_episodes
 from .sweep import CellsFailed, SweepResults, run_sweep
+from .sweep.failures import collecting
 
 __all__ = [
     "ABLATION_CELLS",
@@ -252,6 +253,16 @@ class AblationResults:
         return results
 
 
+def _refuse_shared_folders(names) -> None:
+    """Refuse two settings whose names give one folder: one's runs would be read as the other's."""
+    held = {}
+    for name in names:
+        twin = held.setdefault(setting_folder(name), name)
+        if twin != name:
+            raise ValueError(f"settings {twin!r} and {name!r} would share the folder {setting_folder(name)!r}; give "
+                             "them names that differ in their letters or digits")
+
+
 def _write_meta(folder: Path, settings: dict, cells, seeds, episodes: int, command: str | None) -> None:
     """Write ``ablation.json``, or add these settings and this command to the one there.
 
@@ -276,6 +287,7 @@ def _write_meta(folder: Path, settings: dict, cells, seeds, episodes: int, comma
             if name in stored["settings"] and stored["settings"][name] != entry:
                 raise ValueError(f"{folder} holds setting {name!r} with other changes "
                                  f"{stored['settings'][name]['changes']!r}; use another results folder")
+        _refuse_shared_folders([*stored["settings"], *entries])
         payload["settings"], payload["commands"] = stored["settings"], stored.get("commands", [])
     payload["settings"].update(entries)
     if command:
@@ -328,6 +340,7 @@ def run_ablation(
     settings = dict(ABLATION_SETTINGS if settings is None else settings)
     if not settings:
         raise ValueError("settings must name at least one setting, got an empty dict")
+    _refuse_shared_folders(settings)
     configs = {}
     for name, setting in settings.items():
         preset = dict(setting).get("preset", "default")
@@ -338,16 +351,14 @@ def run_ablation(
     folder = None if results_dir is None else Path(results_dir)
     if folder is not None:
         _write_meta(folder, settings, cells, seeds, episodes, command)
-    failures = {}
-    for name, config in configs.items():
-        try:
-            results.sweeps[name] = run_sweep(
-                config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,
-                results_dir=None if folder is None else folder / setting_folder(name),
-            )
-        except CellsFailed as exc:  # the other settings still run; each failure named with its setting's folder
-            results.sweeps[name] = exc.results
-            failures.update({(setting_folder(name), *key): failure for key, failure in exc.failures.items()})
-    if failures:
-        raise CellsFailed(failures, folder, results)
+    with collecting(folder, results) as failures:
+        for name, config in configs.items():
+            try:
+                results.sweeps[name] = run_sweep(
+                    config, cells=cells, seeds=seeds, n_jobs=n_jobs, progress=progress,
+                    results_dir=None if folder is None else folder / setting_folder(name),
+                )
+            except CellsFailed as exc:  # the other settings still run; each failure named with its setting's folder
+                results.sweeps[name] = exc.results
+                failures.update({(setting_folder(name), *key): failure for key, failure in exc.failures.items()})
     return results

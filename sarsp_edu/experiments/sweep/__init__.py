@@ -14,8 +14,9 @@ The cells are in :mod:`~sarsp_edu.experiments.sweep.cells`, reading a stored swe
 in :mod:`~sarsp_edu.experiments.sweep.stored`, running one in :mod:`~sarsp_edu.experiments.sweep.run`.
 """
 
-from .cells import CellsFailed, StoredResultWarning, cell_config, cell_seed, describe_cells, finished_cells
+from .cells import StoredResultWarning, cell_config, cell_seed, describe_cells, finished_cells
 from .check import CellCheck, check_cell
+from .failures import CellsFailed
 from .run import LOCK_NAME, run_sweep
 from .stored import SweepResults, load_cell, stored_sweep
 

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 import re
-import traceback
 from pathlib import Path
 
 import numpy as np
@@ -21,57 +20,6 @@ from ...config import ExperimentConfig
 
 class StoredResultWarning(UserWarning):
     """A stored cell could not be used and is computed again."""
-
-
-class CellsFailed(RuntimeError):
-    """Cells of a sweep whose run raised; the sweep ran every other cell (and stored it, where it stores).
-
-    One cell's error does not stop a sweep of hours: :func:`~sarsp_edu.experiments.sweep.run_sweep`, the
-    ablation and the model sweep name a cell that raises, run the others on, and raise this at the end.
-
-    Attributes
-    ----------
-    failures : dict
-        ``{(m, p, nss, seed): (the error in one line, the traceback's text)}`` of each cell that raised; an
-        ablation's keys begin with the setting's folder, ``(folder, m, p, nss, seed)``.
-    results_dir : str or None
-        Where the other cells are stored (None where the sweep stores nothing).
-    results : object or None
-        What the sweep returns, holding the cells that ran (None where it returns only what is stored).
-    """
-
-    def __init__(self, failures: dict, results_dir=None, results=None):
-        self.failures = dict(sorted(failures.items()))
-        self.results_dir = None if results_dir is None else str(results_dir)
-        self.results = results
-        lines = "; ".join(f"{failure_name(key)}: {line}" for key, (line, _) in self.failures.items())
-        where = ("" if results_dir is None else
-                 f" and are stored in {results_dir}, and a rerun runs only the cells missing")
-        super().__init__(f"{len(self.failures)} cell{'s' if len(self.failures) > 1 else ''} raised ({lines}); the "
-                         f"other cells ran{where}")
-
-    def __reduce__(self):  # raised in a worker process too: rebuilt from what it was made of
-        return type(self), (self.failures, self.results_dir, self.results)
-
-
-def failure_name(key) -> str:
-    """A cell's name in :class:`CellsFailed`: its folder's, after its setting's folder where it has one."""
-    return "/".join([*map(str, key[:-4]), _cell_name(*key[-4:])])
-
-
-def run_guarded(key, run):
-    """``(key, run(), None)``, or where ``run`` raised ``(key, None, (the error in one line, its traceback))``.
-
-    A sweep's worker runs each cell so: the sweep names the cell and runs the others on.  An error of the
-    machine (out of memory, or of the disk when storing) raises at once, as a KeyboardInterrupt does: every
-    other cell would meet it too.
-    """
-    try:
-        return key, run(), None
-    except (MemoryError, OSError):
-        raise
-    except Exception as exc:  # named with its cell, and raised once the other cells have run
-        return key, None, (f"{type(exc).__name__}: {exc}".splitlines()[0], traceback.format_exc())
 
 
 #: the fields a sweep sets per cell; the rest of the base config is shared

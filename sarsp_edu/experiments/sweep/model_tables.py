@@ -1,4 +1,5 @@
-"""Tables of three models over a sweep's configurations: Table 2 with a third column, the paired tests, Definition 4.
+"""Tables of three models over a sweep's configurations: Table 2 with a third column, the paired tests, Definition 4,
+and each configuration's three models side by side.
 
 The cells a model sweep has run (:mod:`.models`) are set beside the same
 cells' TP and GP runs: each configuration (m, p, nss) is the mean over the
@@ -42,7 +43,8 @@ def model_sweep_frame(paired, runs: dict) -> pd.DataFrame:
 
 
 def model_sweep_tables(paired, runs: dict, a: float | None = None) -> dict:
-    """Table 2 of three models, the paired tests of the third against each other, and Definition 4 per pair.
+    """Table 2 of three models, the paired tests of the third against each other, Definition 4 per pair, and each
+    configuration.
 
     Parameters
     ----------

@@ -23,7 +23,8 @@ from ..._internal.validation import check_choice
 from ..._version import __version__
 from ...config import MODELS
 from ..results import ExperimentResult, check_paired
-from .cells import CellsFailed, _as_key, _cell_name, _name_key, cell_config, finished_cells, run_guarded
+from .cells import _as_key, _cell_name, _name_key, cell_config, finished_cells
+from .failures import CellsFailed, collecting, in_workers, run_guarded
 from .stored import SweepResults, stored_sweep
 
 __all__ = ["MODEL_SWEEP_FILE", "CellsFailed", "check_model_cell", "load_model_sweep", "run_model_sweep"]
@@ -37,7 +38,7 @@ def _run_cell(base, key, model: str, folder: str) -> tuple:
     """Run ``model`` on one cell's settings and store it atomically in ``folder``'s cells.
 
     Returns ``(key, None)``, or where the run raised ``(key, (the error in one line, the traceback's text))``
-    (:func:`~sarsp_edu.experiments.sweep.cells.run_guarded`).
+    (:func:`~sarsp_edu.experiments.sweep.failures.run_guarded`).
     """
     from ..experiment import run_experiment
 
@@ -117,15 +118,13 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
             shutil.rmtree(stale, ignore_errors=True)
         todo = [key for key in keys if key not in _stored(results_dir, model)]
         if todo:
-            from joblib import Parallel, delayed
-
             from ..._internal.parallel import available_cores
 
             workers = max(1, min(n_jobs or available_cores(), len(todo), available_cores()))
-            done, failures = len(keys) - len(todo), {}
-            try:
-                for key, failure in Parallel(n_jobs=workers, return_as="generator_unordered")(
-                        delayed(_run_cell)(base, key, model, str(results_dir)) for key in todo):
+            done = len(keys) - len(todo)
+            with collecting(results_dir) as failures:
+                for key, failure in in_workers(_run_cell, [(base, key, model, str(results_dir)) for key in todo],
+                                               workers):
                     if failure is not None:
                         failures[key] = failure
                     done += failure is None
@@ -133,13 +132,6 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
                         said = (f"stored ({done} of {len(keys)})" if failure is None else
                                 f"raised {failure[0]} ({done} of {len(keys)} stored)")
                         report(f"{model}: {_cell_name(*key)} {said}")
-            except KeyboardInterrupt:  # the workers stop now (the cells stored stay; a rerun resumes)
-                from joblib.externals.loky import get_reusable_executor
-
-                get_reusable_executor().shutdown(wait=True, kill_workers=True)
-                raise
-            if failures:
-                raise CellsFailed(failures, results_dir)
         return _stored(results_dir, model)
     finally:
         if lock is not None:

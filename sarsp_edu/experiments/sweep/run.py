@@ -3,7 +3,7 @@
 A cell is written to a staging folder and renamed into place, so a folder
 holds only whole cells; a lock keeps two sweeps out of one folder, and a
 rerun of the same command skips the cells already stored.  A cell whose run
-raises is named and the others run on (:class:`~sarsp_edu.experiments.sweep.cells.CellsFailed`).
+raises is named and the others run on (:mod:`~sarsp_edu.experiments.sweep.failures`).
 """
 
 from __future__ import annotations
@@ -37,7 +37,6 @@ from ..experiment import compare
 from ..metrics import check_a
 from ..results import Comparison
 from .cells import (
-    CellsFailed,
     StoredResultWarning,
     _as_key,
     _cell_name,
@@ -47,8 +46,8 @@ from .cells import (
     cell_config,
     cell_seed,
     finished_cells,
-    run_guarded,
 )
+from .failures import collecting, in_workers, run_guarded
 from .stored import SweepResults, load_cell, stored_sweep
 
 LOCK_NAME = ".sweep.lock"
@@ -61,7 +60,7 @@ def _run_cell(base: ExperimentConfig, key: tuple, results_dir: str | None) -> tu
     """Run one paired cell; store it atomically if a folder is given.
 
     Returns ``(key, Comparison, None)``, or where it raised ``(key, None, (the error in one line, the
-    traceback's text))`` (:func:`~sarsp_edu.experiments.sweep.cells.run_guarded`).
+    traceback's text))`` (:func:`~sarsp_edu.experiments.sweep.failures.run_guarded`).
     """
     def run():
         comparison = compare(cell_config(base, *key), n_jobs=1)  # a sweep: one process per cell
@@ -232,21 +231,19 @@ def run_sweep(
 
         from tqdm.auto import tqdm
 
-        failures = {}
         with tqdm(total=len(keys), initial=len(keys) - len(todo), desc="sweep cells", unit="cell",
-                  disable=not progress) as bar:
+                  disable=not progress) as bar, collecting(folder, results) as failures:
             for key, comparison, failure in _execute(base, todo, None if folder is None else str(folder), n_jobs,
                                                      scheduler):
+                bar.update(1)
                 if failure is not None:
                     failures[key] = failure
+                    bar.set_postfix_str(f"{len(failures)} raised")
                     if progress:
                         bar.write(f"{_cell_name(*key)} raised {failure[0]}", file=sys.stderr)
                     continue
                 comparison.a = a
                 results.comparisons[key] = comparison
-                bar.update(1)
-        if failures:
-            raise CellsFailed(failures, folder, results)
     finally:
         if lock is not None:
             lock.close()
@@ -293,17 +290,9 @@ def _execute(base, todo, folder, n_jobs, scheduler):
         for key in todo:
             yield _run_cell(base, key, folder)
     else:
-        from joblib import Parallel, delayed
-
-        parallel = Parallel(n_jobs=n_jobs, return_as="generator_unordered")
         try:
-            yield from parallel(delayed(_run_cell_in_worker)(base, key, folder) for key in todo)
-        except KeyboardInterrupt:
-            # stop the workers now, so that no process outlives the command or
-            # leaves its semaphores behind (the finished cells are stored)
-            from joblib.externals.loky import get_reusable_executor
-
-            get_reusable_executor().shutdown(wait=True, kill_workers=True)
+            yield from in_workers(_run_cell_in_worker, [(base, key, folder) for key in todo], n_jobs)
+        except KeyboardInterrupt:  # the workers have stopped (the finished cells are stored)
             if folder is not None:
                 _clear_staging(Path(folder))
             raise
