@@ -322,6 +322,16 @@ def test_check_cell_names_a_bad_cell():
 RESULTS = Path(__file__).resolve().parents[1] / "results"
 
 
+def test_constraints_pin_the_versions_the_stored_results_record():
+    """constraints.txt, which the test command, CI and Binder install with, names the numpy and scipy every stored
+    result records (results stored before the provenance was recorded say nothing)."""
+    lines = (RESULTS.parent / "constraints.txt").read_text().splitlines()
+    pins = dict(line.split("==") for line in lines if line.strip() and not line.startswith("#"))
+    recorded = {(code["numpy"], code["scipy"]) for code in (json.loads(path.read_text()).get("code")
+                                                            for path in RESULTS.rglob("result.json")) if code}
+    assert recorded == {(pins["numpy"], pins["scipy"])}, recorded
+
+
 def _committed(folder: Path, into: Path) -> Path:
     """A copy of a model sweep's folder with only the files git tracks (a sweep running here adds cells that
     are not committed yet, nor in REPRODUCTION.md); the folder itself where git is not there to ask."""
