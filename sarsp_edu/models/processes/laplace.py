@@ -28,8 +28,8 @@ from scipy.linalg import lapack
 
 from ..linalg import cholesky_with_jitter, distinct_rows
 
-__all__ = ["ANSWER_PATIENCE", "MAX_NEWTON", "SADDLE_ESCAPES", "LaplaceMode", "laplace_gradient", "laplace_mode",
-           "laplace_predict", "laplace_predict_batch", "noise_variance", "student_t_log_likelihood"]
+__all__ = ["ANSWER_PATIENCE", "MAX_NEWTON", "SADDLE_ESCAPES", "LaplaceMode", "answering_mode", "laplace_gradient",
+           "laplace_mode", "laplace_predict", "laplace_predict_batch", "noise_variance", "student_t_log_likelihood"]
 
 
 #: the steps a mode search may take: most take under 20; a prior of the agent's cost data, most of whose rows
@@ -381,18 +381,36 @@ def laplace_predict(mode: LaplaceMode, K_star, k_star_star):
     return mean, np.maximum(var, 0.0)
 
 
+def answering_mode(K, y, group, nu: float, scale: float, a0=None, max_newton: int = MAX_NEWTON) -> LaplaceMode:
+    """The mode of a search that must answer: a prediction's, or the fitted model's.
+
+    :func:`laplace_mode` as the hyperparameter search calls it, except that
+    a saddle of the log posterior the search stops on is left for a maximum
+    (up to :data:`SADDLE_ESCAPES` times) and a slow search may take
+    :data:`ANSWER_PATIENCE` times ``max_newton`` steps: a decision cannot
+    turn back from such a point, as the hyperparameter search does.  Raises
+    as :func:`laplace_mode` does if no maximum is found even so.
+
+    Parameters
+    ----------
+    K, y, group, nu, scale, a0
+        As :func:`laplace_mode`'s.
+    max_newton : int, default 1000
+        The steps the hyperparameter search allows; this search may take
+        :data:`ANSWER_PATIENCE` times as many.
+    """
+    return laplace_mode(K, y, group, nu, scale, a0=a0, max_newton=ANSWER_PATIENCE * max_newton,
+                        escapes=SADDLE_ESCAPES)
+
+
 def laplace_predict_batch(kernel, nu: float, scale: float, X, y, X_query, include_noise: bool = False,
                           max_newton: int = MAX_NEWTON):
     """Predict from several training sets at once, each by its own Laplace approximation.
 
     What the agent asks of the model for each strategic prior: condition on
     the prior's rows (repeated inputs folded: one latent value each), then
-    predict the queries.  A search that stops on a saddle of the log
-    posterior leaves it and goes on to a maximum (up to
-    :data:`SADDLE_ESCAPES` times; :func:`laplace_mode`'s ``escapes``), and
-    a slow one may take :data:`ANSWER_PATIENCE` times ``max_newton`` steps:
-    a decision is not lost to a point the approximation cannot be taken at,
-    nor to a search that needs more steps than most.
+    predict the queries.  Each mode is a search that must answer
+    (:func:`answering_mode`).
 
     Parameters
     ----------
@@ -421,7 +439,6 @@ def laplace_predict_batch(kernel, nu: float, scale: float, X, y, X_query, includ
     for b in range(B):
         first, group = distinct_rows(X[b])
         U = X[b][first]
-        mode = laplace_mode(kernel(U), np.asarray(y[b], dtype=float), group, nu, scale,
-                            max_newton=ANSWER_PATIENCE * max_newton, escapes=SADDLE_ESCAPES)
+        mode = answering_mode(kernel(U), np.asarray(y[b], dtype=float), group, nu, scale, max_newton=max_newton)
         mean[b], var[b] = laplace_predict(mode, kernel(X_query[b], U), kernel.diag(X_query[b]))
     return mean, var + noise, np.full(B, np.inf)

@@ -45,11 +45,9 @@ from ..kernels import RBF
 from ..linalg import distinct_rows
 from ..optimizers import adam
 from .laplace import (
-    ANSWER_PATIENCE,
     MAX_NEWTON,
-    SADDLE_ESCAPES,
+    answering_mode,
     laplace_gradient,
-    laplace_mode,
     laplace_predict,
     laplace_predict_batch,
     noise_variance,
@@ -136,11 +134,10 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     # -- the posterior mode and the approximation at it -------------------------------
     def _laplace(self, kernel: RBF, scale: float, U, y, group, a0=None):
-        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.laplace_mode`) at these
+        """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.answering_mode`) at these
         hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, and
         the search may take longer, as a prediction's (raises if no maximum is found)."""
-        return laplace_mode(kernel(U), y, group, self.nu, scale, a0=a0,
-                            max_newton=ANSWER_PATIENCE * self.max_newton, escapes=SADDLE_ESCAPES)
+        return answering_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton)
 
     def _log_prior(self, theta):
         """LogNormal(0, 1) log density of the three hyperparameters and its gradient in their logs (0 without
