@@ -473,9 +473,14 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
         run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(60.0, 0.2, 1, 0)])
     with pytest.raises(ValueError, match="holds a paired sweep"):  # never into the paired sweep's own folder
         run_model_sweep(tmp_path / "paired", tmp_path / "paired")
+    for n_jobs in (0, -2, 1.5, True, "2"):
+        with pytest.raises(ValueError, match=rf"positive integer or -1 \(one per core\), got n_jobs={n_jobs!r}"):
+            run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=n_jobs)
+    assert not (tmp_path / "tl").exists()  # refused before anything is written
     said = []
-    first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=1,
-                            report=said.append)
+    with pytest.warns(UserWarning, match=r"n_jobs=3: running 1 worker process, for 1 cell to run on"):
+        first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=3,
+                                report=said.append)
     assert first == {(40.0, 0.2, 1, 0)} and said == ["t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 1)"]
     interrupted = tmp_path / "tl" / "cells" / "m40_p0.2_nss2_seed0" / ".t-likelihood.x1"
     interrupted.mkdir(parents=True)  # a run whose storing was cut short: cleared, and the run made again

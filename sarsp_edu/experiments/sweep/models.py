@@ -25,6 +25,7 @@ from ...config import MODELS
 from ..results import ExperimentResult, check_paired
 from .cells import _as_key, _cell_name, _name_key, cell_config, finished_cells
 from .failures import CellsFailed, collecting, in_workers, run_guarded
+from .run import _check_jobs, _workers
 from .stored import SweepResults, stored_sweep
 
 __all__ = ["MODEL_SWEEP_FILE", "CellsFailed", "check_model_cell", "load_model_sweep", "run_model_sweep"]
@@ -70,7 +71,7 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
     model : str, default "t-likelihood"
         A model of ``MODELS`` other than "tp" and "gp".
     n_jobs : int, optional
-        Worker processes (one cell each at a time); default one per core.
+        Worker processes (one cell each at a time); default (or -1) one per core.
     cells : iterable of (m, p, nss, seed), optional
         Only these cells (each must be a cell of the paired sweep); default every one.
     report : callable, optional
@@ -88,6 +89,8 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         cell was run and stored.
     """
     check_choice("model", model, tuple(m for m in MODELS if m not in ("tp", "gp")))
+    if n_jobs is not None:
+        _check_jobs(n_jobs)
     paired_dir, results_dir = Path(paired_dir), Path(results_dir)
     if results_dir.resolve() == paired_dir.resolve() or (results_dir / "sweep.json").exists():
         raise ValueError(f"results_dir={str(results_dir)!r} holds a paired sweep; the model's runs go into a "
@@ -118,9 +121,7 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
             shutil.rmtree(stale, ignore_errors=True)
         todo = [key for key in keys if key not in _stored(results_dir, model)]
         if todo:
-            from ..._internal.parallel import available_cores
-
-            workers = max(1, min(n_jobs or available_cores(), len(todo), available_cores()))
+            workers = _workers(-1 if n_jobs is None else n_jobs, len(todo), stacklevel=3)
             done = len(keys) - len(todo)
             with collecting(results_dir) as failures:
                 for key, failure in in_workers(_run_cell, [(base, key, model, str(results_dir)) for key in todo],

@@ -9,6 +9,7 @@ raises is named and the others run on (:mod:`~sarsp_edu.experiments.sweep.failur
 from __future__ import annotations
 
 import json
+import numbers
 import shutil
 import signal
 import sys
@@ -201,9 +202,7 @@ def run_sweep(
     else:
         cells = _grid("cells", [tuple(cell) for cell in cells], lambda cell: _check_cell(base, cell))
     if scheduler is None:
-        check_int("n_jobs", n_jobs, -1)
-        if n_jobs == 0:
-            raise ValueError("n_jobs must be a positive integer or -1 (one per core), got n_jobs=0")
+        _check_jobs(n_jobs)
     check_a(a)
     keys = [(float(m), float(p), int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
     _refuse_twins(keys)
@@ -264,7 +263,13 @@ def _refuse_twins(keys) -> None:
                     "magnitudes that differ in their first three decimals and proportions in their first six")
 
 
-def _workers(n_jobs: int, cells: int) -> int:
+def _check_jobs(n_jobs: int) -> None:
+    """Refuse a worker count other than a positive whole number or -1 (one per core)."""
+    if isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral) or not (n_jobs == -1 or n_jobs >= 1):
+        raise ValueError(f"n_jobs must be a positive integer or -1 (one per core), got n_jobs={n_jobs!r}")
+
+
+def _workers(n_jobs: int, cells: int, stacklevel: int = 4) -> int:
     """Worker processes for ``cells`` cells: at most one per cell and per core (said when fewer than asked)."""
     from ..._internal.parallel import available_cores
 
@@ -273,7 +278,7 @@ def _workers(n_jobs: int, cells: int) -> int:
     if n_jobs != -1 and workers < n_jobs:
         warnings.warn(f"n_jobs={n_jobs}: running {workers} worker process{'es' if workers > 1 else ''}, for "
                       f"{cells} cell{'s' if cells > 1 else ''} to run on {cores} core{'s' if cores > 1 else ''} "
-                      "(more would only wait)", UserWarning, stacklevel=4)
+                      "(more would only wait)", UserWarning, stacklevel=stacklevel)
     return workers
 
 
