@@ -135,6 +135,27 @@ def test_dask_scheduler_gives_the_same_numbers(sweep_dir):
     pd.testing.assert_frame_equal(summaries(serial), summaries(on_dask))
 
 
+
+def test_a_dask_sweep_stopped_leaves_nothing_running_on_the_users_cluster(monkeypatch):
+    """Ctrl-C after the first cell: the cells still queued or running on a client the user gave are cancelled
+    as the sweep stops, not left to run on (they held the cluster until their futures were collected)."""
+    pytest.importorskip("dask.distributed")
+    import tqdm.auto
+    from dask.distributed import Client, LocalCluster
+
+    class StoppedAtTheFirstCell(tqdm.auto.tqdm):
+        def update(self, n=1):
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(tqdm.auto, "tqdm", StoppedAtTheFirstCell)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            with pytest.raises(KeyboardInterrupt):
+                run_sweep(TINY, magnitudes=(40, 60, 80), proportions=(0.2,), n_switch_states=(1, 2), seeds=(0,),
+                          scheduler=client)
+            states = client.run_on_scheduler(lambda dask_scheduler: [t.state for t in dask_scheduler.tasks.values()])
+    assert set(states) <= {"memory", "released", "forgotten"}, states  # the first cell's result, at most
+
 @pytest.mark.parametrize(
     "kwargs, match",
     [

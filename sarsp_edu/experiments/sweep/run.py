@@ -174,7 +174,9 @@ def run_sweep(
         Local worker processes (joblib); -1 for one per core.
     scheduler : str or dask.distributed.Client, optional
         Run the cells on a Dask cluster instead (needs the ``dask`` extra);
-        with ``results_dir`` the workers must see the same file system.
+        with ``results_dir`` the workers must see the same file system.  A
+        sweep that stops early (Ctrl-C, an error) cancels its cells still
+        queued or running there; the client is closed only if the sweep made it.
     progress : bool, default False
         A progress bar over cells.
     a : float, default 100.0
@@ -316,10 +318,14 @@ def _execute_dask(base, todo, folder, scheduler):
     distributed = _dask()
     Client, as_completed = distributed.Client, distributed.as_completed
     client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    futures = []
     try:
         futures = [client.submit(_run_cell, base, key, folder, pure=False) for key in todo]
         for future in as_completed(futures):
             yield future.result()
     finally:
+        pending = [future for future in futures if not future.done()]
+        if pending:  # a sweep stopped (Ctrl-C, an error): nothing of it goes on running on the cluster
+            client.cancel(pending)
         if client is not scheduler:
             client.close()
