@@ -92,6 +92,13 @@ def test_bad_values(argv, named, capsys, tmp_path):
     assert not list(tmp_path.rglob("*"))  # nothing written
 
 
+def test_model_sweep_jobs(capsys, tmp_path):
+    """As the library's: a positive number or -1 (one per core); -1 passes on to the next check."""
+    argv = ["model-sweep", "--paired", str(tmp_path / "paired"), "--out", str(tmp_path / "out"), "--jobs"]
+    _one_error_line(argv + ["0"], capsys, "--jobs takes a whole number >= 1, or -1 (one per core), got 0")
+    _one_error_line(argv + ["-1"], capsys, str(tmp_path / "paired"))
+    assert not list(tmp_path.rglob("*"))
+
 @pytest.mark.parametrize("command", ["run", "compare", "sweep", "ablation"])
 def test_out_paths(command, capsys, tmp_path):
     afile = tmp_path / "afile"

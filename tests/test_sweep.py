@@ -135,11 +135,12 @@ def test_dask_scheduler_gives_the_same_numbers(sweep_dir):
     pd.testing.assert_frame_equal(summaries(serial), summaries(on_dask))
 
 
-
 def test_a_dask_sweep_stopped_leaves_nothing_running_on_the_users_cluster(monkeypatch):
     """Ctrl-C after the first cell: the cells still queued or running on a client the user gave are cancelled
-    as the sweep stops, not left to run on (they held the cluster until their futures were collected)."""
+    as the sweep stops, not left until their futures happen to be collected."""
     pytest.importorskip("dask.distributed")
+    import time
+
     import tqdm.auto
     from dask.distributed import Client, LocalCluster
 
@@ -150,11 +151,33 @@ def test_a_dask_sweep_stopped_leaves_nothing_running_on_the_users_cluster(monkey
     monkeypatch.setattr(tqdm.auto, "tqdm", StoppedAtTheFirstCell)
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
         with Client(cluster) as client:
+            cancelled = []
+            monkeypatch.setattr(client, "cancel", lambda futures, _cancel=client.cancel, **kwargs: (
+                cancelled.extend(futures), _cancel(futures, **kwargs))[1])
             with pytest.raises(KeyboardInterrupt):
                 run_sweep(TINY, magnitudes=(40, 60, 80), proportions=(0.2,), n_switch_states=(1, 2), seeds=(0,),
                           scheduler=client)
-            states = client.run_on_scheduler(lambda dask_scheduler: [t.state for t in dask_scheduler.tasks.values()])
+            assert 4 <= len(cancelled) <= 5  # the cells after the first (one may have finished meanwhile)
+            stopped = time.monotonic()  # the cancel travels on the client's batched stream: let it arrive
+            while True:
+                states = client.run_on_scheduler(lambda dask_scheduler: [t.state for t in
+                                                                         dask_scheduler.tasks.values()])
+                if set(states) <= {"memory", "released", "forgotten"} or time.monotonic() - stopped > 5.0:
+                    break
+                time.sleep(0.02)
     assert set(states) <= {"memory", "released", "forgotten"}, states  # the first cell's result, at most
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with Client(cluster) as client:  # a client lost as the sweep stops: its error is not the one raised
+
+            def lost(futures, **kwargs):
+                raise RuntimeError("client lost")
+
+            monkeypatch.setattr(client, "cancel", lost)
+            with pytest.raises(KeyboardInterrupt), pytest.warns(UserWarning, match=r"could not be cancelled "
+                                                                                     r"\(client lost\)"):
+                run_sweep(TINY, magnitudes=(40, 60), proportions=(0.2,), n_switch_states=(1,), seeds=(0,),
+                          scheduler=client)
+
 
 @pytest.mark.parametrize(
     "kwargs, match",

@@ -423,8 +423,8 @@ def _model_sweep(args, parser) -> int:
     from ..experiments.sweep.models import CellsFailed, run_model_sweep
     from ..experiments.sweep.stored import stored_sweep
 
-    if args.jobs is not None and args.jobs < 1:
-        parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
+    if args.jobs is not None and args.jobs < 1 and args.jobs != -1:
+        parser.error(f"--jobs takes a whole number >= 1, or -1 (one per core), got {args.jobs}")
     try:
         requested = stored_sweep(args.paired)[1]
     except (FileNotFoundError, StoredResultError) as exc:

@@ -244,7 +244,8 @@ def build_parser() -> argparse.ArgumentParser:
     model_sweep.add_argument("--paired", required=True, metavar="DIR", help="a stored sweep ('sarsp-edu sweep')")
     model_sweep.add_argument("--model", default="t-likelihood", choices=["t-likelihood"], help="the model to run")
     model_sweep.add_argument("--out", required=True, metavar="DIR", help="where the model's runs go")
-    model_sweep.add_argument("--jobs", type=int, default=None, help="worker processes (default: one per core)")
+    model_sweep.add_argument("--jobs", type=int, default=None,
+                             help="worker processes; -1: one per core [default: one per core]")
     model_sweep.set_defaults(func=_model_sweep, parser=model_sweep)
     return parser
 

@@ -324,8 +324,13 @@ def _execute_dask(base, todo, folder, scheduler):
         for future in as_completed(futures):
             yield future.result()
     finally:
-        pending = [future for future in futures if not future.done()]
-        if pending:  # a sweep stopped (Ctrl-C, an error): nothing of it goes on running on the cluster
-            client.cancel(pending)
-        if client is not scheduler:
-            client.close()
+        try:
+            pending = [future for future in futures if not future.done()]
+            if pending:  # a sweep stopped (Ctrl-C, an error): nothing of it goes on running on the cluster
+                client.cancel(pending)
+        except Exception as exc:  # a lost client: the error that stopped the sweep is the one to see
+            warnings.warn(f"the sweep's cells left on the cluster could not be cancelled ({exc})", UserWarning,
+                          stacklevel=2)
+        finally:
+            if client is not scheduler:
+                client.close()

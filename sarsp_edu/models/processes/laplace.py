@@ -41,7 +41,7 @@ MAX_NEWTON = 1000
 #: (40, 0.3, 10) seed 0, 32 of its 101 rows outliers, took 1,068 EM steps (0.3 s)
 ANSWER_PATIENCE = 20
 
-#: the saddles a prediction's mode search may leave (:func:`laplace_predict_batch`): a prior of the agent's cost
+#: the saddles a search that must answer may leave (:func:`answering_mode`): a prior of the agent's cost
 #: data at (40, 0.3, 10) seed 0 stopped the three-model sweep on one (two outliers on either side of a clean row,
 #: both latent values halfway to their outliers); one escape took its search to a maximum
 SADDLE_ESCAPES = 10
