@@ -819,14 +819,31 @@ def test_every_case_gives_the_signatures_arguments_in_its_order(name):
 
 @pytest.mark.parametrize("name", sorted(CODING))
 def test_every_listed_mistake_applies_to_the_exercises_inputs_and_differs_from_the_key(name):
-    """A mistake that raises on the inputs, or gives the key's answer on every one, could never be diagnosed."""
+    """A mistake that raises on the inputs, or gives the key's answer on every one, could never be diagnosed.
+
+    One exception: a mistake that solves with K alone (no noise) may meet a K that is singular to the last digit.
+    Whether LAPACK's pivot is then exactly zero depends on the processor's BLAS kernels (the seed-2 problem of 30
+    points in 2.3 raises with OpenBLAS's Haswell kernels, not with its SkylakeX ones). A student's code that raises
+    so gets the exercise's ``on_linalg_error`` advice, and the grader skips a mistake on an input it raises on; so
+    such a mistake may raise LinAlgError on some inputs, where the exercise has that advice, and must apply to at
+    least one input of every draw."""
     from sarsp_edu.teaching.exercises.grading import same
     from sarsp_edu.teaching.exercises.running import call_copies
 
     exercise = CODING[name]
-    cases = [case for seed in (0, 1, 2) for case in exercise.cases(np.random.default_rng(seed))]
-    keys = [call_copies(exercise.reference, case)[0] for case in cases]
+    draws = [exercise.cases(np.random.default_rng(seed)) for seed in (0, 1, 2)]
     for mistake in exercise.mistakes:
-        answers = [call_copies(mistake.wrong, case)[0] for case in cases]  # raises if it does not apply
-        assert not all(same(answer, key) for answer, key in zip(answers, keys)), \
-            f"{name}: the mistake {mistake.diagnosis[:60]!r}... gives the key's answers"
+        differs = False
+        for cases in draws:
+            applied = 0
+            for case in cases:
+                try:
+                    answer = call_copies(mistake.wrong, case)[0]
+                except np.linalg.LinAlgError:
+                    if not exercise.on_linalg_error:
+                        raise
+                    continue
+                applied += 1
+                differs = differs or not same(answer, call_copies(exercise.reference, case)[0])
+            assert applied, f"{name}: the mistake {mistake.diagnosis[:60]!r}... applies to no input of a draw"
+        assert differs, f"{name}: the mistake {mistake.diagnosis[:60]!r}... gives the key's answers"

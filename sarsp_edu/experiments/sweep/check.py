@@ -19,7 +19,10 @@ from .cells import _name_key, cell_config, describe_cells
 from .stored import load_cell, stored_sweep
 
 #: record columns computed from predictions through matrix products (BLAS): their last digits depend on
-#: the processor's kernels, so they are compared to a relative tolerance, every other column exactly
+#: the processor's kernels, so they are compared to a relative tolerance, every other column exactly.
+#: The tolerance is relative to the column's largest value over the run, not to each episode's: an episode
+#: whose predictions all but hit the costs has an error of 3e-6 made of terms of 1, and holds the rounding of
+#: those terms (1e-10), not six more digits of its own.
 PREDICTION_DIAGNOSTICS = ("reward_mse", "cost_prediction_error", "safe_action_variance")
 
 
@@ -31,7 +34,7 @@ class SideCheck:
     #: the exact columns that differ anywhere, and the first episode (0-based) at which any of them does
     differing_columns: tuple = ()
     first_differing_episode: int | None = None
-    #: the largest relative difference of each prediction diagnostic
+    #: the largest difference of each prediction diagnostic, relative to its largest value over the run
     diagnostics: dict = field(default_factory=dict)
 
 
@@ -57,7 +60,7 @@ class CellCheck:
 
     def __str__(self) -> str:
         lines = [f"{self.cell}: {'identical' if self.identical else 'NOT identical'} "
-                 f"(exact columns equal, prediction diagnostics within a relative {self.rtol:g})"]
+                 f"(exact columns equal, prediction diagnostics within a relative {self.rtol:g} of their scale)"]
         for name, side in (("TP", self.tp), ("GP", self.gp)):
             if side.differing_columns:
                 where = (f"first at episode {side.first_differing_episode + 1} of {side.episodes}: "
@@ -65,7 +68,7 @@ class CellCheck:
             else:
                 where = f"all {side.episodes} episodes equal"
             largest = ", ".join(f"{c} {v:.1e}" for c, v in side.diagnostics.items())
-            lines.append(f"  {name}: {where}; largest relative difference: {largest}")
+            lines.append(f"  {name}: {where}; largest difference relative to scale: {largest}")
         lines.append(f"  Definition 4's verdict: {'the same' if self.same_verdict else 'differs'}")
         return "\n".join(lines)
 
@@ -85,8 +88,8 @@ def _side(old, new) -> SideCheck:
         if column in old.columns:
             a, b = old[column].to_numpy(float), new[column].to_numpy(float)
             both = np.isfinite(a) & np.isfinite(b)
-            scale = np.maximum(np.abs(a[both]), np.finfo(float).tiny)
-            diagnostics[column] = float(np.max(np.abs(a[both] - b[both]) / scale, initial=0.0))
+            scale = max(float(np.max(np.abs(a[both]), initial=0.0)), np.finfo(float).tiny)
+            diagnostics[column] = float(np.max(np.abs(a[both] - b[both]), initial=0.0)) / scale
     return SideCheck(len(old), tuple(differing), first, diagnostics)
 
 
@@ -102,7 +105,7 @@ def check_cell(results_dir, cell: str, n_jobs: int | None = None, rtol: float = 
     n_jobs : {None, 1, 2}
         As for :func:`sarsp_edu.compare` (the records do not depend on it).
     rtol : float, default 1e-7
-        The relative tolerance of the prediction diagnostics.
+        The tolerance of the prediction diagnostics, relative to each one's largest value over the run.
 
     Returns
     -------
