@@ -57,7 +57,8 @@ def pytest_runtest_setup(item):
     if IPyNbFile is None:
         yield
         return
-    if isinstance(item.parent, IPyNbFile) and getattr(item.config, "_binder_test_last", False):
+    if (isinstance(item.parent, IPyNbFile) and getattr(item.config, "_binder_test_last", False)
+            and not os.environ.get("PYTEST_XDIST_WORKER")):  # under xdist the test builds it (binder_build.py)
         binder_build.start()  # once: in a thread, while nbval runs the tutorials
     yield  # the notebook's kernel is started by the first cell's setup
     notebook = item.parent
@@ -80,7 +81,7 @@ def pytest_itemcollected(item):
     if path.suffix == ".ipynb":
         kinds = ["notebook", "slow"]
     elif path.stem in ("test_browser", "test_browser_live"):
-        kinds = ["browser", "slow"]
+        kinds = ["browser", "slow", "serial"]
     elif path.stem == "test_binder":
         kinds = ["binder", "slow"]
     elif path.stem in SLOW_MODULES:

@@ -6,7 +6,8 @@ core, most of it spent by pip unpacking wheels.  The root ``conftest.py`` starts
 when nbval begins the tutorials (a kernel running one notebook leaves the second core
 mostly idle, and no browser test runs then, whose timings a busy core would disturb) and
 runs the test that uses it last.  The build only waits on subprocesses, so the thread
-holds no lock the tests need.  Run alone, the test builds it itself.
+holds no lock the tests need.  Run alone, or under pytest-xdist (whose workers do not know
+which of them will run the test, and would each build it), the test builds it itself.
 """
 
 from __future__ import annotations
