@@ -506,7 +506,9 @@ WATCH = """(seconds) => new Promise(resolve => {
   const poll = () => {
     const now = performance.now();
     worlds.forEach((w, i) => { if (w.innerHTML !== last[i]) { last[i] = w.innerHTML; times[i].push(now - start); } });
-    headers.forEach((h, i) => { if (h.innerText.includes('retraining its cost model')) retraining[i].push(now - start); });
+    headers.forEach((h, i) => {
+      if (h.innerText.includes('retraining its cost model')) retraining[i].push(now - start);
+    });
     retrainingShown = retrainingShown || document.body.innerText.includes('retraining its cost model');
     if (now - start < seconds * 1000) { requestAnimationFrame(poll); return; }
     resolve({times: times, retraining: retraining, retraining_shown: retrainingShown, headers: headers.length});
