@@ -263,7 +263,11 @@ def _parallel_sweep_with_a_cell_stored(out):
     cell (or ended, or 240 s passed)."""
     import time
 
-    argv = [sys.executable, "-m", "sarsp_edu.cli", "sweep", "--jobs", "2", "--out", str(out), "--quiet",
+    # started as a terminal starts it, with Ctrl-C's SIGINT handled: a test run started in the background of a
+    # script (nohup ... &) ignores SIGINT, and its children inherit that, so the sweep would run to its end
+    terminal = ("import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+                "sys.argv[0] = 'sarsp-edu'; runpy.run_module('sarsp_edu.cli', run_name='__main__')")
+    argv = [sys.executable, "-c", terminal, "sweep", "--jobs", "2", "--out", str(out), "--quiet",
             "--grid-size", "5", "--n-unsafe", "3", "--offline-episodes", "5", "--k-prior", "20",
             "--cost-fit-points", "50", "--reward-fit-points", "50",
             "--m", "40", "80", "--p", "0.2", "--nss", "1", "2", "--seeds", "0", "1", "--episodes", "60"]
@@ -274,7 +278,6 @@ def _parallel_sweep_with_a_cell_stored(out):
     return proc
 
 
-@pytest.mark.serial  # beside a busy xdist worker its sweep twice ended before its first cell was seen
 def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
     # a terminal's Ctrl-C: SIGINT to the command's whole process group
     import os
@@ -298,7 +301,6 @@ def test_ctrl_c_in_a_parallel_sweep_keeps_finished_cells(tmp_path):
     assert not list(out.glob("cells/.*"))  # no staging folder left behind
 
 
-@pytest.mark.serial  # as the Ctrl-C test: its signal must reach the sweep mid-run
 def test_a_sigterm_to_a_parallel_sweep_stops_its_workers_and_keeps_finished_cells(tmp_path):
     # 'kill PID' or a batch system's stop: SIGTERM to the command alone, not to its workers
     import re
