@@ -133,7 +133,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="recompute one stored cell of a sweep on this machine and compare its records",
         description="Run one stored cell of a sweep's results folder again with this code on this machine and "
         "compare the records: every column exactly, the three prediction diagnostics (whose last digits come "
-        "from the processor's BLAS kernels) to a relative 1e-7. Prints the first differing episode, if any; "
+        "from the processor's BLAS kernels) to 1e-7 of each one's largest value over the run. Prints the first "
+        "differing episode, if any; "
         "exits 0 when the cell is what this machine computes, 1 when it is not.",
     )
     check.add_argument("results_dir", metavar="RESULTS_DIR")
