@@ -832,11 +832,12 @@ def test_every_listed_mistake_applies_to_the_exercises_inputs_and_differs_from_t
 
     exercise = CODING[name]
     draws = [exercise.cases(np.random.default_rng(seed)) for seed in (0, 1, 2)]
+    keys = [[call_copies(exercise.reference, case)[0] for case in cases] for cases in draws]
     for mistake in exercise.mistakes:
         differs = False
-        for cases in draws:
+        for cases, draw_keys in zip(draws, keys):
             applied = 0
-            for case in cases:
+            for case, key in zip(cases, draw_keys):
                 try:
                     answer = call_copies(mistake.wrong, case)[0]
                 except np.linalg.LinAlgError:
@@ -844,6 +845,6 @@ def test_every_listed_mistake_applies_to_the_exercises_inputs_and_differs_from_t
                         raise
                     continue
                 applied += 1
-                differs = differs or not same(answer, call_copies(exercise.reference, case)[0])
+                differs = differs or not same(answer, key)
             assert applied, f"{name}: the mistake {mistake.diagnosis[:60]!r}... applies to no input of a draw"
         assert differs, f"{name}: the mistake {mistake.diagnosis[:60]!r}... gives the key's answers"
