@@ -13,9 +13,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import sarsp_edu
 from sarsp_edu import ExperimentConfig, run_experiment, run_sweep
 from sarsp_edu.cli import main
-from sarsp_edu.experiments.provenance import code_provenance
+from sarsp_edu.experiments.provenance import _source_files, code_provenance
 from sarsp_edu.experiments.results import Comparison, ExperimentResult, StoredResultError
 from sarsp_edu.experiments.sweep import LOCK_NAME, StoredResultWarning, SweepResults
 from sarsp_edu.experiments.tables import summary_tables
@@ -145,6 +146,16 @@ def refuse_work(monkeypatch):
 
     for name in ("run_experiment", "compare"):
         monkeypatch.setattr(sarsp_edu.experiments.experiment, name, no_work)
+
+
+def test_the_source_hash_covers_every_python_file_of_the_package():
+    """The hash a result records is of the whole package, not of the folder the provenance module lives in
+    (from the move to layer folders until this test, it hashed sarsp_edu/experiments alone, so a change to
+    the models or the agent left a run's recorded source the same)."""
+    package = Path(sarsp_edu.__file__).resolve().parent
+    hashed = {path.relative_to(package).as_posix() for path in _source_files()}
+    assert hashed == {path.relative_to(package).as_posix() for path in package.rglob("*.py")}
+    assert {"models/processes/laplace.py", "agent/sarsp.py", "world/preparation.py", "__init__.py"} <= hashed
 
 
 def test_a_compare_of_other_settings_is_not_overwritten(tmp_path, capsys):

@@ -18,13 +18,19 @@ from .._version import __version__
 
 __all__ = ["code_label", "code_provenance", "code_versions"]
 
-_PACKAGE = Path(__file__).resolve().parent
+#: the sarsp_edu package's folder (this module lives in its experiments folder)
+_PACKAGE = Path(__file__).resolve().parent.parent
+
+
+def _source_files() -> list:
+    """Every Python file of the package, sorted: what :func:`_source_sha256` hashes."""
+    return sorted(_PACKAGE.rglob("*.py"))
 
 
 def _source_sha256() -> str:
     """A hash of every Python file of the package (its path and bytes): the same code, the same hash."""
     digest = hashlib.sha256()
-    for path in sorted(_PACKAGE.rglob("*.py")):
+    for path in _source_files():
         digest.update(path.relative_to(_PACKAGE).as_posix().encode() + b"\0")
         digest.update(path.read_bytes() + b"\0")
     return digest.hexdigest()
