@@ -380,8 +380,8 @@ def test_reproduction_md_holds_the_three_model_tables_of_the_cells_stored(tmp_pa
     words = " ".join(text.split())
     if cells == 135:  # complete: said so, with no count of a partial sweep left
         counts = ("its sweep holds all 135 cells", "All 135 cells are stored", "third column (the 45 configurations)")
-        assert configurations == 45 and " of 135 cells" not in words and "so far" not in words.split(
-            "## Beyond the paper")[1].split("## Reproduce")[0]
+        section = words.split("## Beyond the paper")[1].split("## Reproduce")[0]
+        assert configurations == 45 and " of 135 cells" not in words and "so far" not in section
     else:
         counts = (f"its sweep holds {cells} of 135 cells", f"{cells} of the 135 cells are stored",
                   f"({configurations} of the 45 configurations")
