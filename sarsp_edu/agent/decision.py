@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..config import TAIL_DELTA
+
 __all__ = ["Decision", "LearnOutcome", "choose_action", "choose_with_backup", "corrects", "override_known_unsafe",
            "safe_actions"]
 
@@ -45,6 +47,9 @@ class Decision:
         Rows in each action's cost and reward prior, two arrays of shape (4,)
         (with ``prior_draw="per_step"`` the four entries are those of the
         one shared prior).
+    tail : ndarray of shape (4,) or None
+        With ``safe_rule="tail"``: the cost model's predictive probability of a
+        distance below ``d`` after each action (None under the variance rule).
     """
 
     position: tuple
@@ -57,6 +62,7 @@ class Decision:
     action: int
     backup: bool
     prior_size: tuple = (0, 0)
+    tail: np.ndarray | None = None
 
     @property
     def scores(self) -> dict:
@@ -97,7 +103,8 @@ def override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe):
             np.where(known_unsafe, -np.inf, mu_reward))
 
 
-def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
+def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float, tail=None,
+                  tail_delta: float = TAIL_DELTA):
     """The decision rule of Algorithm 1 on given predictions (a pure function).
 
     Parameters
@@ -106,6 +113,13 @@ def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance
     known_unsafe : ndarray of bool, shape (n_actions,)
         Pairs in ``S_u``: their cost becomes -inf, variance +inf, reward -inf.
     d, variance_threshold : float
+    tail : ndarray of shape (n_actions,), optional
+        The tail rule's input: each action's predictive probability of a
+        distance below ``d``.  Given, an action is safe when it is not known
+        unsafe and that probability is at most ``tail_delta`` (``var_cost``
+        and ``variance_threshold`` are then not read); None: the paper's
+        variance rule.
+    tail_delta : float, default 0.05
 
     Returns
     -------
@@ -120,7 +134,10 @@ def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance
     unsafe, every reward is -inf and the backup takes action 0.
     """
     mu_cost, var_cost, mu_reward = override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe)
-    safe = (var_cost <= variance_threshold) & (mu_cost >= d)
+    if tail is None:
+        safe = (var_cost <= variance_threshold) & (mu_cost >= d)
+    else:
+        safe = ~np.asarray(known_unsafe, dtype=bool) & (np.asarray(tail) <= tail_delta)
     if safe.any():
         return int(np.argmax(np.where(safe, mu_reward, -np.inf))), safe, False
     return int(np.argmax(mu_reward)), safe, True

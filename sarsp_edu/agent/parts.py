@@ -36,6 +36,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from ..config import TAIL_DELTA
 from ..models.kernels import squared_distances
 from ..models.linalg import cholesky_with_jitter, solve_cholesky, solve_lower
 from .decision import choose_action, choose_with_backup, corrects, safe_actions
@@ -47,6 +48,7 @@ __all__ = [
     "gp_posterior",
     "predict_from_parts",
     "rbf",
+    "tail_rule_refusal",
     "tp_factor",
 ]
 
@@ -279,11 +281,13 @@ def _copies(*values):
     return [np.array(v, copy=True) if isinstance(v, np.ndarray) else v for v in values]
 
 
-def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float):
+def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance_threshold: float,
+           tail=None, tail_delta: float = TAIL_DELTA):
     """``(action, safe, backup)`` of Algorithm 1's rule, from the parts' safe set and choice.
 
     With the package's two parts this is :func:`~sarsp_edu.agent.decision.choose_action`;
-    otherwise each part is called with copies of its inputs and its result checked.
+    otherwise each part is called with copies of its inputs and its result checked.  The tail rule
+    (``tail`` given) is the package's alone: a student's parts take the variance rule's arguments.
 
     Parameters
     ----------
@@ -297,6 +301,8 @@ def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: 
         Safety distance.
     variance_threshold : float
         sigma*^2, the largest cost variance a safe action may have.
+    tail : ndarray of shape (n_actions,), optional
+        Each action's predictive probability of a distance below ``d``: the tail rule, with ``tail_delta``.
 
     Returns
     -------
@@ -307,10 +313,13 @@ def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: 
     Raises
     ------
     ValueError
-        If a replaced part returns something of the wrong shape or an action out of range.
+        If a replaced part returns something of the wrong shape or an action out of range, or the tail rule is
+        asked of replaced parts.
     """
     if parts.safe_set is safe_actions and parts.choose is choose_with_backup:
-        return choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
+        return choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold, tail, tail_delta)
+    if tail is not None:
+        raise ValueError(tail_rule_refusal(parts))
     n = len(mu_cost)
     flags = np.asarray(parts.safe_set(*_copies(mu_cost, var_cost, known_unsafe, d, variance_threshold)))
     if flags.shape != (n,) or not (flags.dtype == bool or np.isin(flags, (0, 1)).all()):
@@ -326,6 +335,13 @@ def decide(parts: DecisionParts, mu_cost, var_cost, mu_reward, known_unsafe, d: 
     if isinstance(action, (bool, np.bool_)) or not number.is_integer() or not 0 <= number < n:
         raise ValueError(f"the choose part must return an action number from 0 to {n - 1}, got {action!r}")
     return int(action), flags.astype(bool), bool(backup)
+
+
+def tail_rule_refusal(parts: DecisionParts) -> str:
+    """The message that refuses the tail rule to an agent whose safe set or choice is a student's."""
+    mine = [name for name in ("safe_set", "choose") if name in parts.replaced()]
+    return (f"safe_rule='tail' cannot use the replaced parts {mine}: they take the variance rule's arguments "
+            "(var_cost, variance_threshold); use safe_rule='variance' with them, or the package's own parts")
 
 
 def corrective_applies(parts: DecisionParts, mu_cost, var_cost, action: int, d: float, was_backup: bool) -> bool:

@@ -52,7 +52,7 @@ class PriorPredictor:
         self._bounds = {}  # id(buffer) -> (buffer, its length, whole-number inputs?, per-column min, max)
         self._tables = {}  # id(buffer) -> (buffer, its length, the kernel's parameters, KernelTable or None)
 
-    def predict(self, model, buffer, prior_rows, query_sets, parts=None):
+    def predict(self, model, buffer, prior_rows, query_sets, parts=None, include_noise: bool = True):
         """Mean, variance and degrees of freedom of each query given its prior's rows.
 
         Parameters
@@ -70,21 +70,23 @@ class PriorPredictor:
         parts : DecisionParts, optional
             A student's functions (kernel, GP posterior, TP factor) where
             they replace the package's: assembled per prior.
+        include_noise : bool, default True
+            The variance of a new observation (the noise included), or of the latent function alone.
 
         Returns
         -------
         mean, var : ndarray of shape (len(prior_rows), q)
-            Predictive mean and variance, with the observation noise.
+            Predictive mean and variance (with the observation noise where ``include_noise``).
         df : ndarray of shape (len(prior_rows),)
             The predictive's degrees of freedom (inf for the GP).
         """
         X, y = buffer.X, buffer.y
         if isinstance(model, StudentTLikelihoodGP):  # a Student-t likelihood: a Laplace approximation per prior
             return model.predict_batch([X[r] for r in prior_rows], [y[r] for r in prior_rows], query_sets,
-                                       include_noise=True)
+                                       include_noise=include_noise)
         if parts is not None and not parts.package_models:
             return predict_from_parts(parts, model, [X[r] for r in prior_rows], [y[r] for r in prior_rows],
-                                      query_sets, include_noise=True)
+                                      query_sets, include_noise=include_noise)
         queries = query_sets.reshape(-1, query_sets.shape[-1])
         bound = self.whole_bound(buffer, queries)
         table = self.table(model, buffer, bound)
@@ -93,7 +95,7 @@ class PriorPredictor:
             cross = table.cross(queries, whole_bound=bound).reshape(*query_sets.shape[:2], -1)
             kernels = [table.gather(rows, cross[i]) for i, rows in enumerate(prior_rows)]
         return model.predict_batch([X[r] for r in prior_rows], [y[r] for r in prior_rows], query_sets,
-                                   include_noise=True, whole_bound=bound, kernels=kernels)
+                                   include_noise=include_noise, whole_bound=bound, kernels=kernels)
 
     def whole_bound(self, buffer, queries):
         """:func:`~sarsp_edu.models.kernels.whole_distance_bound` of a buffer's inputs and the queries.

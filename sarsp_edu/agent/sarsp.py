@@ -40,9 +40,12 @@ from .._internal.rng import as_generator, draw_row_mask, draw_subset
 from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import AgentSettings  # Algorithm 1's settings, defined once
+from ..models.processes.laplace import noise_variance
+from ..models.processes.predictive import probability_below
+from ..models.processes.robust import StudentTLikelihoodGP
 from ..world.offline import OfflineData, cost_inputs, reward_inputs
 from .decision import Decision, LearnOutcome, choose_action, override_known_unsafe
-from .parts import DecisionParts, corrective_applies, decide
+from .parts import DecisionParts, corrective_applies, decide, tail_rule_refusal
 from .priors import PriorPredictor
 
 #: Algorithm 1's settings, read through ``agent.settings`` (``agent.k_prior`` is ``agent.settings.k_prior``)
@@ -163,7 +166,7 @@ class SARSPAgent:
         #: the functions each decision is assembled from (:class:`~sarsp_edu.agent.parts.DecisionParts`); the
         #: fits do not use them, so a fitted agent may be given others (``agent.parts = DecisionParts.of(...)``)
         #: before it acts
-        self.parts = DecisionParts.of(parts)
+        self.parts = parts
         data = data.copy()
         self.cost_data = data.cost
         self.reward_data = data.reward
@@ -177,6 +180,19 @@ class SARSPAgent:
         #: the live run watches it to say that a side waits for a retrain
         self.refit_model = None
 
+    @property
+    def parts(self) -> DecisionParts:
+        """The functions each decision is assembled from; set to a DecisionParts, a mapping of some, or None
+        (checked against the settings: the tail rule takes the package's safe set and choice)."""
+        return self.__dict__["parts"]
+
+    @parts.setter
+    def parts(self, parts):
+        parts = DecisionParts.of(parts)
+        if self.safe_rule == "tail" and {"safe_set", "choose"} & set(parts.replaced()):
+            raise ValueError(tail_rule_refusal(parts))
+        self.__dict__["parts"] = parts
+
     def __getattr__(self, name):
         if name in _SETTINGS and "settings" in self.__dict__:
             return getattr(self.__dict__["settings"], name)
@@ -185,6 +201,9 @@ class SARSPAgent:
     def __setattr__(self, name, value):
         if name in _SETTINGS:  # one source: the settings, replaced (and checked) as a whole
             name, value = "settings", self.settings.replace(**{name: value})
+        if name == "settings" and "parts" in self.__dict__ and value.safe_rule == "tail":
+            if {"safe_set", "choose"} & set(self.parts.replaced()):
+                raise ValueError(tail_rule_refusal(self.parts))
         super().__setattr__(name, value)
 
     # -- training -------------------------------------------------------------
@@ -265,19 +284,40 @@ class SARSPAgent:
             return self._priors(self.cost_data, cost_inputs(observation))
         return self._priors(self.reward_data, reward_inputs(observation))
 
-    def _predict(self, model, buffer, queries):
-        """Mean, variance and prior sizes of each query, each from its own prior."""
+    def _predict(self, model, buffer, queries, include_noise: bool = True):
+        """Mean, variance, degrees of freedom and prior sizes of each query, each from its own prior."""
         priors = self._priors(buffer, queries)
         if self.prior_draw == "per_action":
             sets, query_sets = priors, queries[:, None, :]  # one query per prior
         else:
             sets, query_sets = priors[:1], queries[None, :, :]  # the four queries share one prior
-        mean, var, df = self.prior_predictor.predict(model, buffer, sets, query_sets, parts=self.parts)
+        mean, var, df = self.prior_predictor.predict(model, buffer, sets, query_sets, parts=self.parts,
+                                                     include_noise=include_noise)
         mean, var = mean.reshape(-1), var.reshape(-1)
         df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
         if self.predictive == "sample":
             mean, var = self._sample_moments(mean, var, df)
-        return mean, var, np.array([len(r) for r in priors])
+        return mean, var, df, np.array([len(r) for r in priors])
+
+    def _predict_cost(self, x_cost):
+        """The cost model's ``(mean, variance, tail, prior sizes)`` of each action, as the safety rule reads them.
+
+        The variance is a new observation's (``variance="noisy"``) or the latent function's (``"latent"``).
+        Under the tail rule, ``tail`` is each action's predictive probability of a distance below ``d``
+        (:func:`~sarsp_edu.models.processes.predictive.probability_below`), else None.  The GP with Student-t
+        noise has a Gaussian latent predictive; its noisy one under the tail rule adds the Student-t noise by
+        quadrature, and its variance the noise's ``s^2 nu / (nu - 2)``.
+        """
+        model, noisy = self.cost_model, self.variance == "noisy"
+        t_noise = noisy and self.safe_rule == "tail" and isinstance(model, StudentTLikelihoodGP)
+        mean, var, df, sizes = self._predict(model, self.cost_data, x_cost, include_noise=noisy and not t_noise)
+        tail = None
+        if self.safe_rule == "tail":
+            noise = (model.nu_, model.scale_) if t_noise else None
+            tail = probability_below(self.d, mean, var, df, noise)
+        if t_noise:
+            var = var + noise_variance(model.nu_, model.scale_)
+        return mean, var, tail, sizes
 
     def _sample_moments(self, mean, var, df):
         """Sample mean and variance of ``n_samples`` draws from each predictive distribution.
@@ -297,9 +337,10 @@ class SARSPAgent:
         return draws.mean(axis=1), draws.var(axis=1, ddof=1)
 
     def predict(self, observation):
-        """Per-action predictions ``(mu_cost, var_cost, mu_reward, var_reward)`` with fresh priors."""
-        mu_cost, var_cost, _ = self._predict(self.cost_model, self.cost_data, cost_inputs(observation))
-        mu_reward, var_reward, _ = self._predict(self.reward_model, self.reward_data, reward_inputs(observation))
+        """Per-action predictions ``(mu_cost, var_cost, mu_reward, var_reward)`` with fresh priors (the cost
+        variance of the kind ``variance`` says)."""
+        mu_cost, var_cost, _, _ = self._predict_cost(cost_inputs(observation))
+        mu_reward, var_reward, _, _ = self._predict(self.reward_model, self.reward_data, reward_inputs(observation))
         return mu_cost, var_cost, mu_reward, var_reward
 
     # -- Algorithm 1 ------------------------------------------------------------
@@ -315,11 +356,12 @@ class SARSPAgent:
         observation = np.asarray(observation, dtype=float)
         position = (int(observation[0]), int(observation[1]))
         x_cost, x_reward = cost_inputs(observation), reward_inputs(observation)
-        mu_cost, var_cost, n_cost = self._predict(self.cost_model, self.cost_data, x_cost)
-        mu_reward, var_reward, n_reward = self._predict(self.reward_model, self.reward_data, x_reward)
+        mu_cost, var_cost, tail, n_cost = self._predict_cost(x_cost)
+        mu_reward, var_reward, _, n_reward = self._predict(self.reward_model, self.reward_data, x_reward)
         known_unsafe = np.array([(position, a) in self.unsafe_pairs for a in range(len(mu_cost))])
         action, safe, backup = decide(
-            self.parts, mu_cost, var_cost, mu_reward, known_unsafe, self.d, self.variance_threshold
+            self.parts, mu_cost, var_cost, mu_reward, known_unsafe, self.d, self.variance_threshold, tail,
+            self.tail_delta,
         )
         decision = Decision(
             position=position,
@@ -332,6 +374,7 @@ class SARSPAgent:
             action=action,
             backup=backup,
             prior_size=(n_cost, n_reward),
+            tail=tail,
         )
         return action, decision
 
@@ -365,7 +408,7 @@ class SARSPAgent:
         self.unsafe_pairs.add(pair)
         # Re-predict from the same state (fresh priors), without the S_u override.
         x_cost = cost_inputs(observation)
-        mu_cost, var_cost, _ = self._predict(self.cost_model, self.cost_data, x_cost)
+        mu_cost, var_cost, _, _ = self._predict_cost(x_cost)
         was_backup = decision.backup if decision is not None else False
         if corrective_applies(self.parts, mu_cost, var_cost, int(action), self.d, was_backup):
             outcome.corrected = True

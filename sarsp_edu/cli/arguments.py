@@ -22,8 +22,19 @@ def _none_or(convert):
     return parse
 
 
+def _float_or_word(text: str):
+    """A number, or a word that a setting takes besides numbers (``likelihood_nu``'s "fitted")."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+_float_or_word.__name__ = "float"
+
 _TYPES = {
     "float": float,
+    "float | str": _float_or_word,
     "int": int,
     "str": str,
     "int | None": _none_or(int),

@@ -12,6 +12,7 @@ from .._version import __version__
 from .arguments import add_config_arguments
 from .commands import _ablation, _cache, _compare, _course, _info, _model_sweep, _prefit, _run, _sweep
 from .reading import _check_cell, _tables, _threshold_study
+from .study import add_rule_study
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -248,6 +249,7 @@ def build_parser() -> argparse.ArgumentParser:
     model_sweep.add_argument("--jobs", type=int, default=None,
                              help="worker processes; -1: one per core [default: one per core]")
     model_sweep.set_defaults(func=_model_sweep, parser=model_sweep)
+    add_rule_study(sub)
     return parser
 
 

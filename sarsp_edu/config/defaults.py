@@ -23,6 +23,12 @@ __all__ = [
     "LEARNING_RATE",
     "PRIORS",
     "NOISE_CONVENTIONS",
+    "FITTED_NU",
+    "NU_PRIOR",
+    "OUTLIER_MODELS",
+    "VARIANCES",
+    "SAFE_RULES",
+    "TAIL_DELTA",
     "PAPER_MAGNITUDES",
     "PAPER_PROPORTIONS",
     "PAPER_SWITCH_STATES",
@@ -161,9 +167,20 @@ NU = 3.0
 #: the regression models an experiment can run: the Student-t process, the GP, and a GP with Student-t noise
 #: (a heavy-tailed likelihood, by the Laplace approximation: a question the paper does not ask)
 MODELS = ("tp", "gp", "t-likelihood")
+#: ``likelihood_nu`` that fits the Student-t noise's degrees of freedom with the other hyperparameters, as
+#: nu = 2 + e^eta (so that the noise's variance stays finite) under :data:`NU_PRIOR`
+FITTED_NU = "fitted"
+#: the prior of a fitted nu: Gamma(shape 2, rate 0.1) on nu - 2 (Juarez and Steel 2010's weakly informative
+#: prior on a Student-t's degrees of freedom, moved to start at 2): mode 12, mean 22, density 0 at nu = 2
+NU_PRIOR = (2.0, 0.1)
 #: the degrees of freedom of model="t-likelihood"'s Student-t noise: the TP's value, so that the comparison
 #: moves the heavy tail from the process to the noise without making it heavier or lighter
 LIKELIHOOD_NU = 3.0
+
+#: how outliers are made (section 5.3): rows whose inputs and targets are multiplied by m (the paper's text
+#: and the reference code: far-away, high-leverage rows), or rows whose targets alone are, at their clean
+#: inputs (the outliers a Student-t likelihood is made for)
+OUTLIER_MODELS = ("inputs-and-targets", "targets")
 
 # -- hyperparameter fits (section 5.2) ---------------------------------------
 #: the optimisers a model may use (None: keep the constructor's hyperparameters)
@@ -199,6 +216,15 @@ PRIOR_DRAWS = ("per_action", "per_step")
 #: stored target or added a row (the reference code), after every corrective
 #: update (the printed Algorithm 1), or never
 RETRAIN_RULES = ("if_changed", "always", "never")
+
+#: the variance a safe set compares with sigma*^2 (and the tail rule's predictive): a new observation's, the
+#: noise included (the reference code's), or the latent function's alone (the paper's eqs. 5-6)
+VARIANCES = ("noisy", "latent")
+#: the safety rule: the predicted distance at least d with variance at most sigma*^2 (the paper's), or the
+#: model's own predictive probability of a distance below d at most delta ("tail")
+SAFE_RULES = ("variance", "tail")
+#: delta of the tail rule: the largest predictive probability of a violation that a safe action may have
+TAIL_DELTA = 0.05
 
 #: safety threshold on the predicted distance to danger (paper: 1)
 D = 1.0
@@ -238,6 +264,7 @@ LIMITS = {
     "n_matching": (1_000, "the paper adds at most 10 matching rows"),
     "max_steps": (100_000, "T_max is n^2 = 100 on the paper's grid"),
     "n_samples": (10_000, "every prediction draws this many samples of each prior; the reference code drew 150"),
+    "fit_restarts": (20, "each restart is one more whole search; 20 already multiply a fit's time by 21"),
     "optimizer_steps": (10_000, "the paper takes 50 Adam steps; L-BFGS-B converges in far fewer"),
     "learning_rate": (10.0, "Adam's steps are in log space: one step of 10 multiplies a hyperparameter by e^10"),
     "cost_fit_points": (100_000, "a fit factorises a matrix of this many rows; the buffers hold about 5,000"),

@@ -22,6 +22,7 @@ from .defaults import (
     NU,
     OFFLINE_EPISODES,
     OPTIMIZERS,
+    OUTLIER_MODELS,
     PLACEMENTS,
     PREDICTIVE,
     PRIOR_DRAWS,
@@ -29,7 +30,10 @@ from .defaults import (
     RETRAIN_RULES,
     REWARD_DUPLICATES,
     REWARD_FIT_POINTS,
+    SAFE_RULES,
+    TAIL_DELTA,
     VARIANCE_THRESHOLD,
+    VARIANCES,
     D,
 )
 from .settings import CHECKS, _field, _Settings, derive_group
@@ -53,10 +57,15 @@ class ExperimentConfig(_Settings):
                         "'gp' or 't-likelihood' (a GP with Student-t noise, by the Laplace approximation)",
                         choices=MODELS)
     nu: float = _field("model", NU, "TP degrees of freedom, > 2 (paper: fixed at 3)")
-    likelihood_nu: float = _field("model", LIKELIHOOD_NU, "degrees of freedom of model='t-likelihood''s Student-t "
-                                  "noise, > 2: unlike nu (the TP's, a heavy-tailed process), a heavy-tailed "
-                                  "likelihood, whose mean discounts a point beyond sqrt(nu) noise scales",
-                                  only_for="t-likelihood")
+    likelihood_nu: float | str = _field("model", LIKELIHOOD_NU, "degrees of freedom of model='t-likelihood''s "
+                                        "Student-t noise, > 2, or 'fitted' (fitted with the other hyperparameters "
+                                        "as 2 + e^eta, under a Gamma(2, 0.1) prior on nu - 2): unlike nu (the TP's, "
+                                        "a heavy-tailed process), a heavy-tailed likelihood, whose mean discounts a "
+                                        "point beyond sqrt(nu) noise scales", only_for="t-likelihood")
+    reward_model: str | None = _field("model", None, "the reward model's kind when it differs from the cost "
+                                      "model's ('tp', 'gp' or 't-likelihood'; None: model's), so that a model's "
+                                      "safety can be measured beside another's reward model", choices=(*MODELS, None),
+                                      since="0.3")
     outlier_magnitude: float = _field("data", 40.0, "outlier magnitude m: outlier rows are "
                                       "multiplied by m (paper: 40, 60, 80)", flag="m")
     outlier_proportion: float = _field("data", 0.2, "outlier proportion p in [0, 1] (paper: "
@@ -71,6 +80,15 @@ class ExperimentConfig(_Settings):
     d: float = _field(("world", "agent"), D, "safety threshold on the distance to the nearest unsafe state (paper: 1)")
     variance_threshold: float = _field("agent", VARIANCE_THRESHOLD,
                                        "sigma*^2: the largest cost variance of a safe action (reference code: 0.8)")
+    variance: str = _field("agent", "noisy", "the cost variance the safe set compares with sigma*^2 (and whose "
+                           "predictive the tail rule reads): 'noisy', a new observation's, the noise included (the "
+                           "reference code's), or 'latent', the function's alone (the paper's eqs. 5-6)",
+                           choices=VARIANCES, since="0.3")
+    safe_rule: str = _field("agent", "variance", "the safety rule: 'variance' (predicted distance >= d and variance "
+                            "<= sigma*^2, the paper's) or 'tail' (the model's own predictive probability of a "
+                            "distance below d at most tail_delta)", choices=SAFE_RULES, since="0.3")
+    tail_delta: float = _field("agent", TAIL_DELTA, "delta of safe_rule='tail': the largest predictive probability "
+                               "of a violation a safe action may have, in (0, 0.5]", since="0.3")
     k_prior: int = _field("agent", K_PRIOR, "random rows in each strategic prior (paper's text: 100; the "
                           "reference code, which produced the paper's figures: 400)")
     n_matching: int = _field("agent", N_MATCHING, "rows matching each query added to the prior, at most "
@@ -79,6 +97,10 @@ class ExperimentConfig(_Settings):
                              "prior for every action and model, as the reference code) or 'per_step' (one per "
                              "model and step, shared by the four actions, as the printed Algorithm 1)",
                              choices=PRIOR_DRAWS)
+    outliers: str = _field("data", "inputs-and-targets", "how outlier rows are made: 'inputs-and-targets' (the "
+                           "row's inputs and targets multiplied by m, as the paper's text and reference code) or "
+                           "'targets' (the targets alone, at the row's clean inputs)", choices=OUTLIER_MODELS,
+                           since="0.3")
     cost_outliers: bool = _field("data", True, "inject outliers into the cost model's data "
                                  "(paper: yes)")
     reward_outliers: bool = _field("data", True, "inject outliers into the reward model's data "
@@ -105,6 +127,9 @@ class ExperimentConfig(_Settings):
     learning_rate: float = _field("model", LEARNING_RATE, "Adam's learning rate (paper: 0.1)")
     optimizer_steps: int = _field("model", ADAM_STEPS, "Adam steps, or L-BFGS-B's iteration cap (paper: "
                                   "50 Adam steps)")
+    fit_restarts: int = _field("model", 0, "extra starts of each hyperparameter search, the best objective kept: "
+                               "the first from narrow noise (noise / e^4), then wide noise, short and long length "
+                               "scales, low and high amplitude (paper: none)", since="0.3")
     prior: str | None = _field("model", "lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), "
                                "reference code) or None (plain marginal likelihood)", choices=PRIORS)
     cost_fit_points: int | None = _field("agent", COST_FIT_POINTS, "rows of the cost model's data for each "
@@ -202,17 +227,31 @@ class ExperimentConfig(_Settings):
                                     "predictive='sample'")
         if self.optimizer != "adam":
             ignored["learning_rate"] = f"it is Adam's, and optimizer={self.optimizer!r}"
-        if self.model != "tp":
-            ignored["nu"] = f"it is the TP's degrees of freedom, and model={self.model!r}"
-            ignored["noise_convention"] = f"it says how the TP scales its noise, and model={self.model!r}"
-        if self.model != "t-likelihood":
-            ignored["likelihood_nu"] = f"it is the Student-t noise's of model='t-likelihood', and model={self.model!r}"
+        kinds = self.model_kinds
+        said = f"model={self.model!r}" + (f" and reward_model={self.reward_model!r}" if len(kinds) > 1 else "")
+        if "tp" not in kinds:
+            ignored["nu"] = f"it is the TP's degrees of freedom, and {said}"
+            ignored["noise_convention"] = f"it says how the TP scales its noise, and {said}"
+        if "t-likelihood" not in kinds:
+            ignored["likelihood_nu"] = f"it is the Student-t noise's of model='t-likelihood', and {said}"
+        if self.safe_rule != "tail":
+            ignored["tail_delta"] = f"it is the tail rule's, and safe_rule={self.safe_rule!r}"
+        if self.reward_model == self.model:
+            ignored["reward_model"] = f"it names the cost model's own kind, model={self.model!r}"
         return ignored
+
+    @property
+    def model_kinds(self) -> tuple:
+        """The kinds of the run's models: ``(model,)``, or ``(model, reward_model)`` where they differ."""
+        if self.reward_model is None or self.reward_model == self.model:
+            return (self.model,)
+        return (self.model, self.reward_model)
 
     def to_dict(self) -> dict:
         """Every setting by name, as a stored ``result.json`` holds them (``from_dict`` reads it back); a setting
-        of another model alone (``likelihood_nu`` of a TP run) is left out."""
-        return {f.name: getattr(self, f.name) for f in fields(self) if _stored(f, self.model)}
+        of another model alone (``likelihood_nu`` of a TP run) is left out, and so is a setting added since
+        results were first stored (``since``) while it holds its default."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if _stored(f, self)}
 
     @classmethod
     def from_dict(cls, values: dict) -> "ExperimentConfig":
@@ -220,9 +259,11 @@ class ExperimentConfig(_Settings):
 
         Every field must be there (a stored config holds them all: a gap
         means the file was cut or edited, and a default filled in would be
-        untrue).  Version 0.1 had one ``fit_points`` for both models, a
-        boolean ``retrain`` (True: after every corrective update) and always
-        one prior per step; such a config is read with exactly those settings.
+        untrue), but those added since (``since``), which a config leaves out
+        at their default: one read without them has their default.  Version
+        0.1 had one ``fit_points`` for both models, a boolean ``retrain``
+        (True: after every corrective update) and always one prior per step;
+        such a config is read with exactly those settings.
         """
         values = dict(values)
         if "fit_points" in values:  # written by sarsp_edu 0.1
@@ -239,8 +280,9 @@ class ExperimentConfig(_Settings):
         unknown = sorted(set(values) - known)
         if unknown:
             raise ValueError(f"unknown ExperimentConfig fields {unknown}; valid fields are {sorted(known)}")
-        model = values.get("model", ExperimentConfig.model)
-        lacking = sorted(f.name for f in fields(cls) if f.name not in values and _stored(f, model))
+        kinds = {values.get("model", ExperimentConfig.model), values.get("reward_model")}
+        lacking = sorted(f.name for f in fields(cls) if f.name not in values and "since" not in f.metadata
+                         and f.metadata.get("only_for", values.get("model")) in kinds)
         if lacking and not legacy:  # a stored config holds every field: a gap means it was cut or edited
             raise ValueError(f"the config lacks the fields {lacking}, which every stored config holds")
         return cls(**values)
@@ -309,9 +351,13 @@ AgentSettings = derive_group(ExperimentConfig, "agent", "AgentSettings", """Algo
     :class:`~sarsp_edu.agent.sarsp.SARSPAgent` takes.""")
 
 
-def _stored(field, model: str) -> bool:
-    """Whether a stored config of ``model`` holds ``field`` (one that another model alone reads, it does not)."""
-    return field.metadata.get("only_for", model) == model
+def _stored(field, config: "ExperimentConfig") -> bool:
+    """Whether ``config`` stored holds ``field``: not one that another model alone reads, nor one added since
+    results were first stored (``since``) while it holds its default, so that a run made as before stores the
+    same bytes as before."""
+    if "since" in field.metadata and getattr(config, field.name) == field.default:
+        return False
+    return field.metadata.get("only_for", config.model) in config.model_kinds
 
 
 def preset_of(config: "ExperimentConfig") -> str:

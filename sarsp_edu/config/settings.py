@@ -17,15 +17,19 @@ from dataclasses import field, fields
 
 from .._internal.validation import check_choice, check_fraction, check_int, check_nu, check_positive
 from .defaults import (
+    FITTED_NU,
     LIMITS,
     MODELS,
     NOISE_CONVENTIONS,
     OPTIMIZERS,
+    OUTLIER_MODELS,
     PLACEMENTS,
     PREDICTIVE,
     PRIOR_DRAWS,
     PRIORS,
     RETRAIN_RULES,
+    SAFE_RULES,
+    VARIANCES,
     check_n_unsafe,
 )
 
@@ -53,6 +57,9 @@ def _field(group, default, help: str, **metadata):
     ``only_for="t-likelihood"`` marks a setting that one model alone reads: a
     stored config of another model leaves it out (so that results stored
     before it existed are still the same bytes) and is read back without it.
+    ``since="0.3"`` marks a setting added after results were stored: a stored
+    config leaves it out while it holds its default (which is how every run
+    before it was made), and one read back without it gets that default.
     """
     groups = () if group is None else (group,) if isinstance(group, str) else tuple(group)
     unknown = sorted(set(groups) - set(GROUPS))
@@ -71,12 +78,29 @@ def _check_nu(nu):
 
 def _check_likelihood_nu(value):
     """The Student-t noise's degrees of freedom: > 2 (the noise's variance, which a safe action's predictive
-    variance includes, is infinite below) and at most its limit."""
+    variance includes, is infinite below) and at most its limit, or ``"fitted"``."""
+    if value == FITTED_NU:
+        return
     number = value if isinstance(value, numbers.Real) and not isinstance(value, bool) else float("nan")
     if not (2 < number <= LIMITS["likelihood_nu"][0]):
         raise ValueError(f"likelihood_nu must be a number above 2 (the noise's variance is infinite at or below "
-                         f"2) and at most {LIMITS['likelihood_nu'][0]:g} ({LIMITS['likelihood_nu'][1]}), got "
-                         f"likelihood_nu={value!r}")
+                         f"2) and at most {LIMITS['likelihood_nu'][0]:g} ({LIMITS['likelihood_nu'][1]}), or "
+                         f"{FITTED_NU!r} (fitted with the other hyperparameters), got likelihood_nu={value!r}")
+
+
+def _check_tail_delta(value):
+    """The tail rule's delta: a probability in (0, 0.5] (above 0.5 an action whose predicted distance is below
+    d could be called safe)."""
+    number = value if isinstance(value, numbers.Real) and not isinstance(value, bool) else float("nan")
+    if not (0 < number <= 0.5):
+        raise ValueError("tail_delta must be a probability in (0, 0.5] (the largest predictive probability of a "
+                         "violation a safe action may have; above 0.5 an action predicted closer than d to danger "
+                         f"could pass), got tail_delta={value!r}")
+
+
+def _check_reward_model(value):
+    if value is not None:
+        check_choice("reward_model", value, MODELS)
 
 
 def _check_bool(name):
@@ -96,6 +120,13 @@ CHECKS = {
     "model": lambda value: check_choice("model", value, MODELS),
     "nu": _check_nu,
     "likelihood_nu": _check_likelihood_nu,
+    "reward_model": _check_reward_model,
+    "fit_restarts": lambda value: check_int("fit_restarts", value, 0, LIMITS["fit_restarts"][0],
+                                            why=LIMITS["fit_restarts"][1]),
+    "outliers": lambda value: check_choice("outliers", value, OUTLIER_MODELS),
+    "variance": lambda value: check_choice("variance", value, VARIANCES),
+    "safe_rule": lambda value: check_choice("safe_rule", value, SAFE_RULES),
+    "tail_delta": _check_tail_delta,
     "noise_convention": lambda value: check_choice("noise_convention", value, NOISE_CONVENTIONS),
     "optimizer": lambda value: check_choice("optimizer", value, OPTIMIZERS),
     "learning_rate": lambda value: check_positive("learning_rate", value, *LIMITS["learning_rate"]),

@@ -25,6 +25,7 @@ from .._internal.threads import one_blas_thread
 from ..agent.sarsp import Decision, LearnOutcome, SARSPAgent
 from ..config import DEFINITION_4_A, ExperimentConfig, config_or_default
 from ..models.processes.settings import make_model
+from ..models.processes.summary import fit_summary
 from ..world.preparation import Prepared, prepare
 from .metrics import RECORD_COLUMNS, check_a, running_metrics
 from .results import Comparison, ExperimentResult
@@ -78,13 +79,16 @@ class Experiment:
         self.env = copy.deepcopy(prepared.env)
         self.data = prepared.data
         self._episode_seeds = prepared.episode_seeds
-        self.agent = SARSPAgent(make_model(config), make_model(config), prepared.data, config.agent_settings,
-                                parts=parts, rng=prepared.agent_seed)
+        self.agent = SARSPAgent(make_model(config), make_model(config, "reward"), prepared.data,
+                                config.agent_settings, parts=parts, rng=prepared.agent_seed)
         start = time.perf_counter()
         with one_blas_thread():  # fit: a function that gives the agent its fitted models (the fit cache's)
             self.agent.fit() if fit is None else fit(self.agent)
         self.timings = {"data_seconds": prepared.seconds, "offline_fit_seconds": time.perf_counter() - start,
                         "episode_seconds": 0.0, "retrain_seconds": 0.0}
+        #: the offline fits' hyperparameters (:func:`~sarsp_edu.models.processes.summary.fit_summary`)
+        self.fits = {"offline": {"cost": fit_summary(self.agent.cost_model),
+                                 "reward": fit_summary(self.agent.reward_model)}}
         #: True when loaded from the fit cache (:mod:`sarsp_edu.teaching.live.fitcache`): fitted before, same settings
         self.loaded_from_cache = False
         self.act_seconds: list[float] = []  # one decision (both models, 4 actions)
@@ -209,7 +213,8 @@ class Experiment:
             timings["median_act_seconds"] = float(np.median(self.act_seconds))
             timings["median_step_seconds"] = float(np.median(self.step_seconds))
         timings["steps"] = len(self.act_seconds)
-        return ExperimentResult(self.config, records, timings)
+        fits = {**self.fits, "final": {"cost": fit_summary(self.agent.cost_model)}}
+        return ExperimentResult(self.config, records, timings, fits=fits)
 
 
 class _NoProgress:

@@ -29,7 +29,6 @@ import pandas as pd
 from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import MODELS, ExperimentConfig, config_or_default
-from ..models.processes.settings import make_model
 from ..world.gridworld.layout import goal_reward, moved, nearest
 from ..world.preparation import prepare
 from .experiment import Experiment
@@ -51,8 +50,8 @@ def mixed_experiment(config: ExperimentConfig | None = None, cost: str | None = 
     config : ExperimentConfig, optional
         Everything else: the world, the data, the episodes, the settings.
     cost, reward : {"tp", "gp", "t-likelihood"}, optional
-        Each model's kind (default ``config.model``), with the config's settings of that kind (``nu``,
-        ``likelihood_nu``).
+        Each model's kind (default the config's ``model`` and ``reward_model``), with the config's settings of
+        that kind (``nu``, ``likelihood_nu``).
     prepared : Prepared, optional
         ``prepare(config)``, to share one world among several runs.
 
@@ -63,16 +62,12 @@ def mixed_experiment(config: ExperimentConfig | None = None, cost: str | None = 
         config.model`` its steps are :func:`~sarsp_edu.experiments.experiment.run_experiment`'s.
     """
     config = config_or_default(config)
-    cost, reward = (config.model if kind is None else kind for kind in (cost, reward))
+    cost = config.model if cost is None else cost
+    reward = config.model_kinds[-1] if reward is None else reward
     check_choice("cost", cost, MODELS)
     check_choice("reward", reward, MODELS)
 
-    def fit(agent):
-        agent.cost_model = make_model(config.replace(model=cost))
-        agent.reward_model = make_model(config.replace(model=reward))
-        agent.fit()
-
-    return Experiment(config.replace(model=cost), prepared=prepared, fit=fit)
+    return Experiment(config.replace(model=cost, reward_model=None if reward == cost else reward), prepared=prepared)
 
 
 def reward_ranking(experiment: Experiment) -> pd.DataFrame:

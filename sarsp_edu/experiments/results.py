@@ -52,12 +52,17 @@ class ExperimentResult:
     code : dict
         What computed it (:func:`~sarsp_edu.experiments.provenance.code_provenance`); empty
         for results stored before version 0.2.2, which did not record it.
+    fits : dict
+        The hyperparameters each model was fitted to: ``{"offline": {"cost": ..., "reward": ...}, "final":
+        {"cost": ...}}``, each :func:`~sarsp_edu.models.processes.summary.fit_summary`'s (the final cost fit is
+        the last retrain's); empty for results stored before version 0.3.
     """
 
     config: ExperimentConfig
     records: pd.DataFrame
     timings: dict = field(default_factory=dict)
     code: dict = field(default_factory=lambda: dict(code_provenance()))
+    fits: dict = field(default_factory=dict)
 
     @property
     def summary(self) -> dict:
@@ -84,6 +89,8 @@ class ExperimentResult:
             "sarsp_edu_version": __version__,
             "code": self.code,
         }
+        if self.fits:  # results stored before 0.3 have none: their files stay as they were
+            payload["fits"] = self.fits
         atomic_write_text(directory / "result.json", json.dumps(payload, indent=2, allow_nan=True) + "\n")
         return directory
 
@@ -100,11 +107,11 @@ class ExperimentResult:
         except (TypeError, ValueError) as exc:
             raise StoredResultError(f"{meta_path} holds an invalid config: {exc}") from None
         records = _read_records(csv_path, config.episodes)
-        for key in ("timings", "code"):
+        for key in ("timings", "code", "fits"):
             if not isinstance(payload.get(key, {}), dict):
                 raise StoredResultError(f"{meta_path} holds {key}={payload[key]!r}, where a result stores an object "
                                         "(names and values); it was edited")
-        result = cls(config, records, payload.get("timings", {}), payload.get("code") or {})
+        result = cls(config, records, payload.get("timings", {}), payload.get("code") or {}, payload.get("fits", {}))
         _check_summary(meta_path, payload.get("summary"), result.summary)
         _check_ranges(csv_path, records, config)
         return result

@@ -15,7 +15,8 @@ import warnings
 import numpy as np
 from scipy import optimize
 
-__all__ = ["adam", "lbfgs", "reporting_steps"]
+__all__ = ["RESTART_OFFSETS", "adam", "best_of_starts", "lbfgs", "projected_gradient_norm", "reporting_steps",
+           "restart_points"]
 
 #: called after each step of a search (a progress bar's update), where :func:`reporting_steps` sets one
 _STEP_HOOK: contextvars.ContextVar = contextvars.ContextVar("sarsp_edu_step_hook", default=None)
@@ -121,3 +122,75 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
             f"L-BFGS-B stopped before converging: {result.message}", RuntimeWarning, stacklevel=4
         )
     return result.x, [start, float(result.fun) * scale], int(result.nit)
+
+
+#: the extra starts of a search with restarts, in order: (index of the log hyperparameter, offset from the first
+#: start).  The indices are those every model shares, 0 the amplitude, 1 the length scale, 2 the noise (a GP's
+#: and TP's log noise variance, the Student-t likelihood's log scale).  Narrow noise comes first: a short search
+#: that starts at wide noise may never reach the regime where the outliers are discounted.  A second round
+#: doubles the offsets.
+RESTART_OFFSETS = ((2, -4.0), (2, 4.0), (1, -2.0), (1, 2.0), (0, -2.0), (0, 2.0))
+
+
+def restart_points(theta0, bounds, n_restarts: int) -> list:
+    """The starts of a search with ``n_restarts`` restarts: ``theta0``, then one per :data:`RESTART_OFFSETS`
+    (cycled, the offsets doubled on each new round), each clipped into ``bounds``.
+
+    Deterministic: a fit's restarts draw nothing from a random stream, so a run's random draws are the same with
+    or without them.
+
+    Parameters
+    ----------
+    theta0 : array-like of shape (k,)
+        The first start (the constructor's log hyperparameters).
+    bounds : ndarray of shape (k, 2)
+    n_restarts : int
+        Extra starts (0: ``theta0`` alone).
+    """
+    theta0 = np.asarray(theta0, dtype=float)
+    starts = [theta0]
+    for i in range(n_restarts):
+        index, offset = RESTART_OFFSETS[i % len(RESTART_OFFSETS)]
+        start = theta0.copy()
+        start[index] += offset * (1 + i // len(RESTART_OFFSETS))
+        starts.append(np.clip(start, bounds[:, 0], bounds[:, 1]))
+    return starts
+
+
+def best_of_starts(search, starts) -> tuple:
+    """Run ``search(theta0) -> (theta, trace, n_iter)`` from each start; keep the lowest final value.
+
+    Ties keep the earliest start, so that with one start the result is ``search(starts[0])``'s exactly.
+
+    Returns
+    -------
+    tuple
+        ``(theta, trace, n_iter, finals)``: the best search's result and the final value of every start's search.
+    """
+    best, finals = None, []
+    for start in starts:
+        theta, trace, n_iter = search(start)
+        finals.append(float(trace[-1]) if len(trace) else math.nan)
+        if best is None or finals[-1] < best[1][-1]:
+            best = (theta, trace, n_iter)
+    return (*best, finals)
+
+
+def projected_gradient_norm(gradient, theta, bounds, tolerance: float = 1e-3) -> float:
+    """The gradient's Euclidean norm, a component left out where its hyperparameter rests on a bound (within
+    ``tolerance`` in log space) and the gradient of the minimised objective points out of the box: what a search
+    that ended there still had to go.
+
+    Parameters
+    ----------
+    gradient : array-like of shape (k,)
+        The minimised objective's gradient at ``theta``.
+    theta : array-like of shape (k,)
+    bounds : ndarray of shape (k, 2)
+    """
+    gradient = np.asarray(gradient, dtype=float).copy()
+    theta = np.asarray(theta, dtype=float)
+    at_low = (theta - bounds[:, 0] <= tolerance) & (gradient > 0)  # descent would go below the bound
+    at_high = (bounds[:, 1] - theta <= tolerance) & (gradient < 0)
+    gradient[at_low | at_high] = 0.0
+    return float(np.linalg.norm(gradient))

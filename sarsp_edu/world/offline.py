@@ -21,8 +21,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .._internal.rng import as_generator
-from .._internal.validation import LARGEST, check_fraction, check_int, check_positive
-from ..config import COST_DUPLICATES, OFFLINE_EPISODES, REWARD_DUPLICATES
+from .._internal.validation import LARGEST, check_choice, check_fraction, check_int, check_positive
+from ..config import COST_DUPLICATES, OFFLINE_EPISODES, OUTLIER_MODELS, REWARD_DUPLICATES
 from .gridworld import ACTIONS, AGENT_XY, GOAL_XY, NEAREST_UNSAFE_XY
 
 __all__ = [
@@ -230,8 +230,8 @@ class ObservationBuffer:
         other._rows = {k: list(v) for k, v in self._rows.items()}
         return other
 
-    def scaled(self, rows, factor: float) -> "ObservationBuffer":
-        """A copy whose ``rows`` have inputs and targets multiplied by ``factor``.
+    def scaled(self, rows, factor: float, inputs: bool = True) -> "ObservationBuffer":
+        """A copy whose ``rows`` have inputs and targets (or the targets alone) multiplied by ``factor``.
 
         Parameters
         ----------
@@ -239,12 +239,15 @@ class ObservationBuffer:
             Row indices (as :func:`inject_outliers` draws them).
         factor : float
             The multiplier (the outliers' magnitude ``m``).
+        inputs : bool, default True
+            Scale the rows' inputs too (False: the targets alone, at their clean inputs).
         """
         other = self.copy()
         rows = np.asarray(rows, dtype=int)
-        other._X[rows] *= factor
         other._y[rows] *= factor
-        other._reindex()
+        if inputs:
+            other._X[rows] *= factor
+            other._reindex()
         return other
 
     def _reindex(self):
@@ -360,6 +363,7 @@ def inject_outliers(
     rng=None,
     cost: bool = True,
     reward: bool = True,
+    scaled: str = "inputs-and-targets",
 ) -> OfflineData:
     """Multiply the inputs and targets of ``round(p * N)`` random rows by ``m`` (paper section 5.3).
 
@@ -375,6 +379,11 @@ def inject_outliers(
     cost, reward : bool, default True
         Which buffers get the outliers (the paper: both).  The same row
         indices are used in each.
+    scaled : {"inputs-and-targets", "targets"}, default "inputs-and-targets"
+        What is multiplied: a row's inputs and targets (the paper's text and
+        the reference code: a far-away, high-leverage row), or its targets
+        alone, at its clean inputs (the outliers a Student-t likelihood is
+        made for).  The rows drawn are the same either way.
 
     Returns
     -------
@@ -390,6 +399,8 @@ def inject_outliers(
     p = check_fraction("proportion", proportion)
     if not (cost or reward):
         raise ValueError("at least one of cost and reward must be True, got cost=False, reward=False")
+    check_choice("scaled", scaled, OUTLIER_MODELS)
+    inputs = scaled == "inputs-and-targets"
     if len(data.outlier_indices):
         raise ValueError("data already holds outliers: inject them into the clean data once")
     largest = max(float(np.max(np.abs(buffer.X), initial=0.0)) + float(np.max(np.abs(buffer.y), initial=0.0))
@@ -405,8 +416,8 @@ def inject_outliers(
     rows = np.sort(rng.choice(N, size=k, replace=False))
     return replace(
         data,
-        cost=data.cost.scaled(rows, m) if cost else data.cost.copy(),
-        reward=data.reward.scaled(rows, m) if reward else data.reward.copy(),
+        cost=data.cost.scaled(rows, m, inputs) if cost else data.cost.copy(),
+        reward=data.reward.scaled(rows, m, inputs) if reward else data.reward.copy(),
         visits=data.visits.copy(),
         outlier_indices=rows,
         outlier_magnitude=m,

@@ -26,7 +26,7 @@ __all__ = ["PREPARATION_FIELDS", "Prepared", "offline_world", "prepare"]
 #: one shift, one offline data set and one sequence of episodes
 PREPARATION_FIELDS = (
     "seed", "grid_size", "n_unsafe", "d", "max_steps", "placement", "offline_episodes", "cost_duplicates",
-    "reward_duplicates", "outlier_magnitude", "outlier_proportion", "cost_outliers", "reward_outliers",
+    "reward_duplicates", "outlier_magnitude", "outlier_proportion", "outliers", "cost_outliers", "reward_outliers",
     "n_switch_states", "episodes",
 )
 
@@ -127,6 +127,7 @@ def prepare(config: ExperimentConfig, offline: tuple | None = None) -> Prepared:
             rng=rngs["outliers"],
             cost=config.cost_outliers,
             reward=config.reward_outliers,
+            scaled=config.outliers,
         )
     env.shift(config.n_switch_states, rng=rngs["shift"])
     episode_seeds = rngs["episodes"].integers(2**31 - 1, size=config.episodes)

@@ -51,6 +51,21 @@ def _run_cell(base, key, model: str, folder: str) -> tuple:
     return key, failure
 
 
+def _changed(base, changes):
+    """The paired sweep's settings ``base`` with a model sweep's ``changes`` (none of the world's)."""
+    from ...world.preparation import PREPARATION_FIELDS
+
+    if not changes:
+        return base
+    if not isinstance(changes, dict):
+        raise StoredResultError(f"a model sweep's changes are a mapping of settings, got changes={changes!r}")
+    shared = sorted(set(changes) & set(PREPARATION_FIELDS))
+    if shared:
+        raise ValueError(f"changes may change the model's and the agent's settings, not {shared}, which shape the "
+                         "world the runs are paired on")
+    return base.replace(**changes)
+
+
 def _stored(folder: Path, model: str) -> set:
     """The cells of ``folder`` whose run of ``model`` is stored whole."""
     keys = {_name_key(cell.name) for cell in (folder / "cells").glob("m*") if (cell / model / "result.json").exists()}
@@ -58,7 +73,7 @@ def _stored(folder: Path, model: str) -> set:
 
 
 def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs: int | None = None,
-                    cells=None, report=None) -> set:
+                    cells=None, report=None, changes: dict | None = None) -> set:
     """Run ``model`` on the cells of the paired sweep in ``paired_dir``, storing each run in ``results_dir``.
 
     Parameters
@@ -76,6 +91,10 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         Only these cells (each must be a cell of the paired sweep); default every one.
     report : callable, optional
         Called with a line as each cell is stored (``print`` in the command).
+    changes : dict, optional
+        ``ExperimentConfig`` fields the model's runs change from the paired sweep's settings (the model's own,
+        or the agent's: never those of ``PREPARATION_FIELDS``, which would change the world the runs are paired
+        on); stored in ``model_sweep.json``.
 
     Returns
     -------
@@ -96,6 +115,8 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         raise ValueError(f"results_dir={str(results_dir)!r} holds a paired sweep; the model's runs go into a "
                          "folder of their own")
     base, _ = stored_sweep(paired_dir)
+    changes = dict(changes or {})
+    base = _changed(base, changes)
     stored = finished_cells(paired_dir)  # the cells whose TP and GP runs are there to be paired with
     keys = sorted(stored if cells is None else {_as_key(key) for key in cells})
     unknown = sorted(set(keys) - stored)
@@ -108,10 +129,13 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         meta = results_dir / MODEL_SWEEP_FILE
         payload = {"paired": os.path.relpath(paired_dir, results_dir), "model": model,
                    "base_config": base.replace(model=model).to_dict(), "sarsp_edu_version": __version__}
+        if changes:  # a folder of the model's runs on the paired settings alone holds none: as before 0.3
+            payload["changes"] = changes
         if meta.exists():
             held = read_json(meta, keys=("paired", "model", "base_config"))
             same_paired = (results_dir / held["paired"]).resolve() == paired_dir.resolve()
-            if (held["model"], held["base_config"]) != (model, payload["base_config"]) or not same_paired:
+            if (held["model"], held["base_config"], held.get("changes", {})) != (model, payload["base_config"],
+                                                                                  changes) or not same_paired:
                 raise ValueError(f"{results_dir} holds runs of {held['model']!r} on the paired sweep "
                                  f"{(results_dir / held['paired']).resolve()}; use another folder for {model!r} on "
                                  f"{paired_dir.resolve()}")
@@ -162,7 +186,7 @@ def load_model_sweep(results_dir) -> tuple:
     results_dir = Path(results_dir)
     meta = read_json(results_dir / MODEL_SWEEP_FILE, keys=("paired", "model", "base_config"))
     paired = SweepResults.load(results_dir / meta["paired"], allow_partial=True)
-    model, base = meta["model"], paired.base
+    model, base = meta["model"], _changed(paired.base, meta.get("changes"))
     runs = {}
     for key in sorted(_stored(results_dir, model) & set(paired.comparisons)):
         folder = results_dir / "cells" / _cell_name(*key)
@@ -202,6 +226,6 @@ def check_model_cell(results_dir, cell: str):
         raise ValueError(f"cell={cell!r} is not a cell's name; expected one like 'm40_p0.2_nss2_seed1'")
     meta = read_json(results_dir / MODEL_SWEEP_FILE, keys=("paired", "model", "base_config"))
     stored = ExperimentResult.load(results_dir / "cells" / str(cell) / meta["model"])
-    base = stored_sweep(results_dir / meta["paired"])[0]
+    base = _changed(stored_sweep(results_dir / meta["paired"])[0], meta.get("changes"))
     again = run_experiment(cell_config(base, *key).replace(model=meta["model"]))
     return _side(stored.records, again.records)

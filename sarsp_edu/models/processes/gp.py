@@ -37,9 +37,20 @@ class GaussianProcess(ProcessRegressor):
         Box for every positive hyperparameter during the search.
     rng : None, int or numpy.random.Generator
         Source of the subset drawn when ``max_fit_points`` binds.
+    n_restarts : int, default 0
+        Extra starts of the hyperparameter search, the best log joint kept
+        (:func:`~sarsp_edu.models.optimizers.restart_points`: narrow noise
+        first, then wide noise, short and long length scales, low and high
+        amplitude); deterministic.
 
     Attributes
     ----------
+    gradient_norm_ : float
+        The log joint's gradient norm where the search ended (NaN without
+        one): near 0 at an optimum; a short Adam search may stop far from it.
+    start_objectives_ : ndarray
+        The final log joint of each start's search, the first from the
+        constructor's values.
     kernel_ : RBF
         The fitted kernel.
     noise_variance_ : float

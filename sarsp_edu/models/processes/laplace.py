@@ -308,14 +308,29 @@ def _scale_derivatives(residual, nu: float, scale: float):
     return d_log_p, d_g, d_W, W_f
 
 
-def laplace_gradient(kernel, U, y, group, nu: float, scale: float, a0=None, max_newton: int = MAX_NEWTON):
+def _nu_derivatives(residual, nu: float, scale: float):
+    """Per row: d log p / d nu, d g / d nu and d W / d nu of the Student-t noise."""
+    r2 = residual * residual
+    s2 = scale * scale
+    c = nu * s2
+    total = c + r2
+    d_log_p = (0.5 * (special.digamma(0.5 * (nu + 1)) - special.digamma(0.5 * nu)) - 0.5 / nu
+               - 0.5 * np.log1p(r2 / c) + 0.5 * (nu + 1) * r2 / (nu * total))
+    d_g = residual * (r2 - s2) / total**2
+    d_W = ((c - r2 + (nu + 1) * s2) * total - 2.0 * (nu + 1) * (c - r2) * s2) / total**3
+    return d_log_p, d_g, d_W
+
+
+def laplace_gradient(kernel, U, y, group, nu: float, scale: float, a0=None, max_newton: int = MAX_NEWTON,
+                     fit_nu: bool = False):
     """The approximate log marginal likelihood and its gradient in the log hyperparameters.
 
     The gradient of ``log q`` in ``(log amplitude, log length scale, log
-    scale)``: each has an explicit part (``f_hat`` held) and an implicit one
-    through ``f_hat``'s move (Rasmussen and Williams 2006, section 5.5.1 and
-    Algorithm 5.1, with ``(I + K W)^-1 = L B^-1 L^-1`` so that ``W`` may be
-    negative, and the likelihood's scale as one more parameter).
+    scale)``, and with ``fit_nu`` also ``log(nu - 2)``: each has an explicit
+    part (``f_hat`` held) and an implicit one through ``f_hat``'s move
+    (Rasmussen and Williams 2006, section 5.5.1 and Algorithm 5.1, with
+    ``(I + K W)^-1 = L B^-1 L^-1`` so that ``W`` may be negative, and the
+    likelihood's scale and degrees of freedom as further parameters).
 
     Parameters
     ----------
@@ -329,11 +344,13 @@ def laplace_gradient(kernel, U, y, group, nu: float, scale: float, a0=None, max_
     a0 : ndarray of shape (m,), optional
         Where the mode search starts (:func:`laplace_mode`).
     max_newton : int, default 1000
+    fit_nu : bool, default False
+        Also the derivative in ``log(nu - 2)``.
 
     Returns
     -------
     log_q : float
-    gradient : ndarray of shape (3,)
+    gradient : ndarray of shape (3,), or (4,) with ``fit_nu``
     mode : LaplaceMode
     """
     K, dK = kernel(U, eval_gradient=True)
@@ -349,12 +366,16 @@ def laplace_gradient(kernel, U, y, group, nu: float, scale: float, a0=None, max_
     back = s2 - W * (L @ sla.cho_solve((C, True), L.T @ s2, check_finite=False))  # (I + W K)^-1 s2
     R = -(W[:, None] * Sigma * W[None, :])  # W (I + K W)^-1 = W - W Sigma W: d log|B| = tr(R dK)
     R[np.diag_indices(m)] += W
-    gradient = np.empty(3)
+    gradient = np.empty(4 if fit_nu else 3)
     for j in range(2):
         D = dK[:, :, j]
         Da = D @ a
         gradient[j] = 0.5 * a @ Da - 0.5 * np.einsum("ij,ij->", R, D) + back @ Da
     gradient[2] = d_log_p - 0.5 * variance @ d_W + back @ (L @ (L.T @ d_g))
+    if fit_nu:  # the same three parts for nu, times d nu / d log(nu - 2) = nu - 2
+        d_log_p, d_g, d_W = (np.bincount(group, part, m) if i else part.sum()
+                             for i, part in enumerate(_nu_derivatives(y - mode.f[group], nu, scale)))
+        gradient[3] = (nu - 2.0) * (d_log_p - 0.5 * variance @ d_W + back @ (L @ (L.T @ d_g)))
     return mode.log_q, gradient, mode
 
 

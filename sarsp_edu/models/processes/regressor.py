@@ -21,7 +21,7 @@ from ..._internal.validation import check_choice, check_int, check_positive, che
 from ...config import ADAM_STEPS, LEARNING_RATE, OPTIMIZERS, PRIORS
 from ..kernels import RBF, DistanceLevels, squared_distances, whole_distance_bound
 from ..linalg import cholesky, cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
-from ..optimizers import adam, lbfgs
+from ..optimizers import adam, best_of_starts, lbfgs, projected_gradient_norm, restart_points
 from .objective import Objective
 
 __all__ = ["NotFittedError", "ProcessRegressor"]
@@ -48,6 +48,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         max_fit_points: int | None = 1000,
         bounds: tuple[float, float] = (1e-5, 1e5),
         rng=None,
+        n_restarts: int = 0,
     ):
         self.kernel = kernel
         self.noise_variance = noise_variance
@@ -58,6 +59,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         self.max_fit_points = max_fit_points
         self.bounds = bounds
         self.rng = rng
+        self.n_restarts = n_restarts
 
     def set_params(self, **params):
         """Set constructor arguments by name, ``kernel__length_scale`` too; checked at the next ``fit``.
@@ -79,6 +81,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         check_int("max_iter", self.max_iter, 1, allow_none=True)
         check_choice("prior", self.prior, PRIORS)
         check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
+        check_int("n_restarts", self.n_restarts, 0)
         try:
             low, high = (float(b) for b in self.bounds)
         except (TypeError, ValueError):
@@ -123,6 +126,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         if self.optimizer is None:
             theta, trace, n_iter = theta0, [], 0
             self.fit_indices_ = np.arange(X.shape[0])
+            self.start_objectives_, self.gradient_norm_ = np.array([]), math.nan
         else:
             bounds = self._theta_bounds()
             outside = (theta0 < bounds[:, 0]) | (theta0 > bounds[:, 1])
@@ -146,10 +150,18 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             if self.optimizer == "adam":
                 steps = ADAM_STEPS if self.max_iter is None else self.max_iter
                 self._warn_out_of_reach(y, steps)
-                theta, trace, n_iter = adam(negative, theta0, bounds, self.learning_rate, steps)
+
+                def search(start):
+                    return adam(negative, start, bounds, self.learning_rate, steps)
             else:
-                theta, trace, n_iter = lbfgs(negative, theta0, bounds, self.max_iter, len(idx))
+                def search(start):
+                    return lbfgs(negative, start, bounds, self.max_iter, len(idx))
+            theta, trace, n_iter, finals = best_of_starts(search, restart_points(theta0, bounds, self.n_restarts))
             trace = [-v for v in trace]
+            #: the final log joint of each start's search (the first the constructor's values), the best kept
+            self.start_objectives_ = -np.asarray(finals)
+            #: the log joint's gradient norm where the search ended (components at a bound, pointing out, left out)
+            self.gradient_norm_ = projected_gradient_norm(negative(theta)[1], theta, bounds)
             self._warn_on_bounds(theta, bounds)
         self.theta_ = np.asarray(theta, dtype=float)
         self.kernel_, self.noise_variance_, extra = self._unpack(self.theta_)

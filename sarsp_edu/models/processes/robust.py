@@ -40,10 +40,10 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import validate_data
 
 from ..._internal.validation import check_choice, check_int, check_positive, check_X
-from ...config import ADAM_STEPS, LEARNING_RATE, PRIORS
+from ...config import ADAM_STEPS, LEARNING_RATE, NU_PRIOR, PRIORS
 from ..kernels import RBF
 from ..linalg import distinct_rows
-from ..optimizers import adam
+from ..optimizers import adam, best_of_starts, projected_gradient_norm, restart_points
 from .laplace import (
     MAX_NEWTON,
     answering_mode,
@@ -54,10 +54,22 @@ from .laplace import (
     student_t_log_likelihood,
 )
 
-__all__ = ["StudentTLikelihoodGP", "student_t_log_likelihood"]
+__all__ = ["StudentTLikelihoodGP", "nu_log_prior", "student_t_log_likelihood"]
 
-#: the log hyperparameters' box in a fit: amplitude, length scale and noise scale each within [1e-3, 1e3]
+#: the log hyperparameters' box in a fit: amplitude, length scale and noise scale each within [1e-3, 1e3]; a
+#: fitted nu's log(nu - 2) within [log 0.01, log 1000]
 _LOG_BOUNDS = np.log([[1e-3, 1e3]] * 3)
+_NU_BOUNDS = np.log([[1e-2, 1e3]])
+
+
+def nu_log_prior(eta: float) -> tuple:
+    """The log density of :data:`~sarsp_edu.config.NU_PRIOR` (a Gamma on ``nu - 2``) in ``eta = log(nu - 2)``,
+    the Jacobian included, and its derivative in ``eta``: 0 density at nu = 2 and a tail that keeps nu off its
+    upper bound where the data cannot tell."""
+    shape, rate = NU_PRIOR
+    x = math.exp(eta)
+    value = shape * math.log(rate) - math.lgamma(shape) + shape * eta - rate * x
+    return value, shape - rate * x
 
 
 class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
@@ -68,9 +80,16 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
     kernel : RBF, optional
         The latent function's kernel; default ``RBF(1.0, 1.0)``.
     nu : float, default 3.0
-        The noise's degrees of freedom (> 0; kept fixed, as the TP's).  Large
-        ``nu`` gives Gaussian noise: the model becomes the GP with
+        The noise's degrees of freedom (> 0; kept fixed, as the TP's, unless
+        ``fit_nu``, when it is the search's start).  Large ``nu`` gives
+        Gaussian noise: the model becomes the GP with
         ``noise_variance = scale**2``.
+    fit_nu : bool, default False
+        Fit nu with the other hyperparameters, as ``nu = 2 + e^eta`` (the
+        noise's variance stays finite) under a Gamma(2, 0.1) prior on
+        ``nu - 2`` (:data:`~sarsp_edu.config.NU_PRIOR`, whatever ``prior``
+        says: without it a small data set can push nu to its bound); ``nu``
+        must then be above 2.
     scale : float, default 0.5
         The noise's scale ``s`` (> 0); its variance is ``s^2 nu / (nu - 2)``
         for ``nu > 2``.
@@ -89,6 +108,10 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
     prior : {"lognormal", None}, default None
         LogNormal(0, 1) priors on the amplitude, the length scale and ``scale``
         (MAP), as the agent's GP and TP have.
+    n_restarts : int, default 0
+        Extra starts of the hyperparameter search, the best objective kept
+        (:func:`~sarsp_edu.models.optimizers.restart_points`: narrow noise
+        first); deterministic.
     max_newton : int, default 1000
         Steps allowed to find the posterior mode in the hyperparameter search, which turns back where a
         search needs more (a prior of the agent's cost data took 182, its EM steps slow where most rows start
@@ -108,7 +131,12 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
     W_ : ndarray of shape (n,)
         ``-d^2 log p(y_i | f_i) / d f_i^2`` at the mode: negative where a
         point is treated as an outlier (residual beyond ``sqrt(nu) scale``).
-    kernel_, scale_ : the hyperparameters used (fitted unless ``optimizer=None``)
+    kernel_, scale_, nu_ : the hyperparameters used (fitted unless ``optimizer=None``; ``nu_`` only with
+        ``fit_nu``)
+    gradient_norm_ : float
+        The objective's gradient norm where the search ended (NaN without one).
+    start_objectives_ : ndarray
+        The final objective of each start's search, the first from the given values.
     log_marginal_likelihood_value_ : float
         The Laplace approximation ``-a^T f_hat / 2 + log p(y | f_hat) - log|B| / 2``.
     residual_ : ndarray of shape (n,)
@@ -122,9 +150,11 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     def __init__(self, kernel: RBF | None = None, *, nu: float = 3.0, scale: float = 0.5,
                  optimizer: str | None = "lbfgs", learning_rate: float = LEARNING_RATE, max_iter: int | None = None,
-                 prior: str | None = None, max_newton: int = MAX_NEWTON):
+                 prior: str | None = None, max_newton: int = MAX_NEWTON, fit_nu: bool = False, n_restarts: int = 0):
         self.kernel = kernel
         self.nu = nu
+        self.fit_nu = fit_nu
+        self.n_restarts = n_restarts
         self.scale = scale
         self.optimizer = optimizer
         self.learning_rate = learning_rate
@@ -137,7 +167,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.answering_mode`) at these
         hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, and
         the search may take longer, as a prediction's (raises if no maximum is found)."""
-        return answering_mode(kernel(U), y, group, self.nu, scale, a0=a0, max_newton=self.max_newton)
+        return answering_mode(kernel(U), y, group, self.nu_, scale, a0=a0, max_newton=self.max_newton)
 
     def _log_prior(self, theta):
         """LogNormal(0, 1) log density of the three hyperparameters and its gradient in their logs (0 without
@@ -168,21 +198,31 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         check_int("max_iter", self.max_iter, 1, allow_none=True)
         check_choice("prior", self.prior, PRIORS)
         check_int("max_newton", self.max_newton, 1)
+        if not isinstance(self.fit_nu, bool):
+            raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
+        if self.fit_nu and not self.nu > 2:
+            raise ValueError(f"nu must be above 2 with fit_nu=True (the search fits log(nu - 2) from it), got "
+                             f"nu={self.nu!r}")
+        check_int("n_restarts", self.n_restarts, 0)
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64)
         X = check_X(X)
         first, group = distinct_rows(X)  # repeated inputs share one latent value
         U = X[first]
         kernel = RBF() if self.kernel is None else self.kernel
-        scale = float(self.scale)
+        scale, self.nu_ = float(self.scale), float(self.nu)
         last = None
+        self.gradient_norm_, self.start_objectives_ = math.nan, np.array([])
         if self.optimizer is not None:
-            theta, last = self._search(np.log([kernel.amplitude, kernel.length_scale, scale]), U, y, group)
-            amplitude, length, scale = np.exp(theta)
+            theta0 = [kernel.amplitude, kernel.length_scale, scale] + ([self.nu - 2.0] if self.fit_nu else [])
+            theta, last = self._search(np.log(theta0), U, y, group)
+            amplitude, length, scale = np.exp(theta[:3])
             kernel = RBF(amplitude, length)
+            if self.fit_nu:
+                self.nu_ = 2.0 + math.exp(theta[3])
         self.kernel_, self.scale_ = kernel, float(scale)
         mode = self._laplace(kernel, self.scale_, U, y, group, a0=last)
         self.f_hat_ = mode.f[group]
-        self.W_ = student_t_log_likelihood(y - self.f_hat_, self.nu, self.scale_)[2]  # per row
+        self.W_ = student_t_log_likelihood(y - self.f_hat_, self.nu_, self.scale_)[2]  # per row
         self.log_marginal_likelihood_value_, self.n_newton_ = mode.log_q, mode.steps
         if self.optimizer is None:
             self.n_iter_ = mode.steps
@@ -195,25 +235,53 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         """The log hyperparameters that maximise the approximate log marginal likelihood (plus the log priors),
         and the last mode found (where the final one's search starts)."""
         start = {"a": None}  # the last mode, where the next evaluation's Newton search starts
+        bounds = np.vstack([_LOG_BOUNDS, _NU_BOUNDS]) if self.fit_nu else _LOG_BOUNDS
 
         def negative(theta):
+            nu = 2.0 + math.exp(theta[3]) if self.fit_nu else self.nu
             try:
-                value, gradient, mode = laplace_gradient(RBF(*np.exp(theta[:2])), U, y, group, self.nu,
-                                                         math.exp(theta[2]), a0=start["a"], max_newton=self.max_newton)
+                value, gradient, mode = laplace_gradient(RBF(*np.exp(theta[:2])), U, y, group, nu,
+                                                         math.exp(theta[2]), a0=start["a"], max_newton=self.max_newton,
+                                                         fit_nu=self.fit_nu)
             except (RuntimeError, np.linalg.LinAlgError):
-                return 1e25, np.zeros(3)  # no maximum there: the search turns back
+                return 1e25, np.zeros(len(theta))  # no maximum there: the search turns back
             start["a"] = mode.a
-            prior, prior_gradient = self._log_prior(theta)
-            return -(value + prior), -(gradient + prior_gradient)
+            prior, prior_gradient = self._log_prior(theta[:3])
+            value, gradient = value + prior, gradient + np.append(prior_gradient, [0.0] * (len(theta) - 3))
+            if self.fit_nu:
+                nu_prior, nu_gradient = nu_log_prior(theta[3])
+                value, gradient[3] = value + nu_prior, gradient[3] + nu_gradient
+            return -value, -gradient
 
-        if self.optimizer == "lbfgs":
-            result = optimize.minimize(negative, theta0, jac=True, method="L-BFGS-B", bounds=_LOG_BOUNDS,
-                                       options={} if self.max_iter is None else {"maxiter": self.max_iter})
-            theta, self.n_iter_ = result.x, int(result.nit)
-        else:
+        def search(theta):
+            start["a"] = None  # each start's mode searches begin at the prior mean, as the first's
+            if self.optimizer == "lbfgs":
+                result = optimize.minimize(negative, theta, jac=True, method="L-BFGS-B", bounds=bounds,
+                                           options={} if self.max_iter is None else {"maxiter": self.max_iter})
+                return result.x, [float(result.fun)], int(result.nit)
             steps = ADAM_STEPS if self.max_iter is None else self.max_iter
-            theta, _, self.n_iter_ = adam(negative, theta0, _LOG_BOUNDS, self.learning_rate, steps)
-        return theta, start["a"]
+            found, trace, n_iter = adam(negative, theta, bounds, self.learning_rate, steps)
+            return found, trace, n_iter
+
+        starts = restart_points(theta0, bounds, self.n_restarts)
+        if len(starts) == 1:
+            theta, _, self.n_iter_ = search(starts[0])
+            finals = None
+        else:
+            best_start = {}
+
+            def remembered(theta):  # the best start's last mode, where the fitted model's search starts
+                found = search(theta)
+                best_start[float(found[1][-1])] = start["a"]
+                return found
+
+            theta, trace, self.n_iter_, finals = best_of_starts(remembered, starts)
+            start["a"] = best_start[float(trace[-1])]
+        last = start["a"]  # the fitted model's mode search starts where the search's last one ended
+        value, gradient = negative(theta)
+        self.start_objectives_ = -np.asarray([value] if finals is None else finals, dtype=float)
+        self.gradient_norm_ = projected_gradient_norm(gradient, theta, bounds)
+        return theta, last
 
     def _check_fitted(self):
         if not hasattr(self, "f_hat_"):
@@ -247,7 +315,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         if not (return_std or return_var):
             return mean
         if include_noise:
-            var = var + noise_variance(self.nu, self.scale_)
+            var = var + noise_variance(self.nu_, self.scale_)
         out = [mean]
         out += [np.sqrt(var)] if return_std else []
         out += [var] if return_var else []
@@ -274,7 +342,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             ``inf`` (see :func:`~sarsp_edu.models.processes.laplace.laplace_predict_batch`).
         """
         self._check_fitted()
-        return laplace_predict_batch(self.kernel_, self.nu, self.scale_, X, y, X_query, include_noise,
+        return laplace_predict_batch(self.kernel_, self.nu_, self.scale_, X, y, X_query, include_noise,
                                      self.max_newton)
 
     def predictive_density(self, X, y_values):
@@ -294,7 +362,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         nodes, weights = np.polynomial.hermite_e.hermegauss(60)  # for the weight exp(-x^2 / 2)
         f = mean[:, None] + np.sqrt(var)[:, None] * nodes[None, :]  # (m, q)
         y_values = np.asarray(y_values, dtype=float)
-        noise = stats.t(df=self.nu, scale=self.scale_)
+        noise = stats.t(df=self.nu_, scale=self.scale_)
         dens = noise.pdf(y_values[None, :, None] - f[:, None, :])  # (m, k, q)
         return dens @ weights / math.sqrt(2.0 * math.pi)
 
@@ -308,7 +376,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         """
         self._check_fitted()
         s2 = self.scale_ ** 2
-        return (self.nu + 1) * s2 / (self.nu * s2 + self.residual_ ** 2)
+        return (self.nu_ + 1) * s2 / (self.nu_ * s2 + self.residual_ ** 2)
 
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()

@@ -47,6 +47,8 @@ class StudentTProcess(ProcessRegressor):
         ``StudentTProcessRegressionModel``, which the paper's reference code
         used).  The latent variance (``include_noise=False``) and the
         likelihood are the same in both.
+    n_restarts : int, default 0
+        Extra starts of the hyperparameter search (:class:`GaussianProcess`).
 
     Attributes
     ----------
@@ -88,6 +90,7 @@ class StudentTProcess(ProcessRegressor):
         max_fit_points: int | None = 1000,
         bounds: tuple[float, float] = (1e-5, 1e5),
         rng=None,
+        n_restarts: int = 0,
     ):
         self.nu = nu
         self.fit_nu = fit_nu
@@ -102,6 +105,7 @@ class StudentTProcess(ProcessRegressor):
             max_fit_points=max_fit_points,
             bounds=bounds,
             rng=rng,
+            n_restarts=n_restarts,
         )
 
     def _check_params(self):

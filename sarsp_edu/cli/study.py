@@ -1,0 +1,70 @@
+"""``sarsp-edu rule-study``: run the rule study's settings not stored yet, and print its tables."""
+
+from __future__ import annotations
+
+import argparse
+
+from .arguments import check_writable
+from .reading import _format_table
+
+HELP = "run and tabulate the rule study: the three models under other safety rules, nu, fits and outliers"
+DESCRIPTION = (
+    "The three-model comparison under the choices it was first measured at, each changed in turn, on the "
+    "ablation's six worlds (cells x seeds, 80 episodes): the safety rule (latent variance, tail rule), the "
+    "Student-t noise's nu, fits with a restart and more steps, thresholds up to 100, outliers in the targets only, "
+    "and the third model as cost model beside the TP's reward model. With --run, every setting not stored yet is "
+    "run first (resumable: each run is stored as it finishes; a rerun goes on). Then, per question, each "
+    "setting's and model's mean total cost, TSR and backup share with 95%% t-intervals over the runs, the cost "
+    "model's fitted noise, nu and gradient norm, and the models run by run.")
+
+
+def add_rule_study(sub) -> None:
+    """The ``rule-study`` subcommand's parser."""
+    from ..experiments.rules import QUESTIONS
+
+    parser = sub.add_parser("rule-study", help=HELP, description=DESCRIPTION)
+    parser.add_argument("--out", metavar="DIR", default="results/rule-study", help="the study's folder "
+                        "[default: results/rule-study]")
+    parser.add_argument("--ablation", metavar="DIR", default="results/ablation",
+                        help="the ablation's folder, with the stored TP and GP runs [default: results/ablation]")
+    parser.add_argument("--models", metavar="DIR", default="results/ablation-t-likelihood",
+                        help="the third model's stored runs on the ablation's settings "
+                             "[default: results/ablation-t-likelihood]")
+    parser.add_argument("--questions", nargs="+", choices=list(QUESTIONS), metavar="Q",
+                        help=f"only these questions, of {', '.join(repr(q) for q in QUESTIONS)} [default: all]")
+    parser.add_argument("--run", action="store_true", help="run the settings not stored yet before printing")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes for --run [default: 1]")
+    parser.set_defaults(func=_rule_study, parser=parser)
+
+
+def _rule_study(args, parser: argparse.ArgumentParser) -> int:
+    from .._internal.io import StoredResultError
+    from ..experiments.rules import RuleStudy, run_rule_study, study_settings
+
+    if args.jobs < 1:
+        parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
+    if args.run:
+        check_writable(parser, "--out", "the study's folder", args.out)
+        run_rule_study(args.out, args.ablation, questions=args.questions, n_jobs=args.jobs,
+                       report=lambda line: print(line, flush=True))
+    try:
+        study = RuleStudy.load(args.out, args.ablation, args.models, questions=args.questions)
+    except (StoredResultError, FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    questions = list(dict.fromkeys(setting.question for setting in study_settings(args.questions)))
+    for question in questions:
+        table = study.table(question)
+        print(f"\n== {question} ==")
+        if table.empty:
+            print("no run stored yet (--run runs them)")
+            continue
+        print("each measure's mean over the runs (configurations x seeds) and its 95% t-interval\n"
+              + _format_table(table.round(3)))
+        pairs = study.pairs(question)
+        if not pairs.empty:
+            print(f"\nthe models run by run\n{_format_table(pairs.round(3))}")
+    fairest = study.fairest_rule()
+    if "rule" in questions:
+        print("\nthe fairest rule (the lowest largest backup share of the three models, among the settings with "
+              f"every run stored): {fairest if fairest else 'none yet'}")
+    return 0

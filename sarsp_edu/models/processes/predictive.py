@@ -1,0 +1,60 @@
+"""The probability a predictive distribution gives to a value below a threshold: what the tail safety rule reads.
+
+Each model's own predictive: a Gaussian for the GP; for the TP a Student-t
+with the predictive's degrees of freedom and variance (as the reference
+code's sampler draws it, also where the ``"tfp"`` noise convention adds the
+noise unscaled); for the GP with Student-t noise, the Laplace approximation's
+Gaussian latent value plus the Student-t noise, integrated by Gauss-Hermite
+quadrature (its latent predictive alone is Gaussian).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import stats
+
+__all__ = ["HERMITE_NODES", "probability_below"]
+
+#: Gauss-Hermite nodes of the latent value's integral (as ``StudentTLikelihoodGP.predictive_density``)
+HERMITE_NODES = 60
+
+
+def probability_below(threshold: float, mean, var, df=math.inf, noise=None) -> np.ndarray:
+    """``P(Y < threshold)`` under each predictive distribution.
+
+    Parameters
+    ----------
+    threshold : float
+        The value (the safety distance ``d``).
+    mean, var : array-like
+        The predictive's mean and variance (the latent value's where ``noise`` is given).
+    df : float or array-like, default inf
+        Degrees of freedom: ``inf`` for a Gaussian; finite (> 2) for a Student-t of variance ``var``.
+    noise : (nu, scale), optional
+        Student-t noise added to a Gaussian latent value ``N(mean, var)`` (a GP with Student-t noise): the
+        probability is ``E_f[T_nu((threshold - f) / scale)]``.
+
+    Returns
+    -------
+    ndarray
+        Shaped as ``mean``.  Where ``var`` is 0 the predictive is a point: 1 below the threshold, else 0.
+    """
+    mean, var = np.asarray(mean, dtype=float), np.asarray(var, dtype=float)
+    sd = np.sqrt(np.maximum(var, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if noise is not None:
+            nu, scale = noise
+            nodes, weights = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)  # weight exp(-x^2 / 2)
+            f = mean[..., None] + sd[..., None] * nodes
+            return stats.t.cdf((threshold - f) / scale, nu) @ weights / math.sqrt(2.0 * math.pi)
+        df = np.broadcast_to(np.asarray(df, dtype=float), mean.shape)
+        z = np.where(sd > 0, (threshold - mean) / np.where(sd > 0, sd, 1.0), np.where(mean < threshold, np.inf,
+                                                                                    -np.inf))
+        heavy = np.isfinite(df)
+        out = stats.norm.cdf(z)
+        if heavy.any():  # a Student-t of variance var: scale sd sqrt((df - 2) / df)
+            out = np.where(heavy, stats.t.cdf(z * np.sqrt(np.where(heavy, df / (df - 2.0), 1.0)),
+                                              np.where(heavy, df, 3.0)), out)
+        return out
