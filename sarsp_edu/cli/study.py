@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from .arguments import check_writable
 from .reading import _format_table
@@ -44,7 +45,7 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
     if args.jobs < 1:
         parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
     if args.run:
-        check_writable(parser, "--out", "the study's folder", args.out)
+        check_writable(parser, "--out", "the study's folder", Path(args.out))
         run_rule_study(args.out, args.ablation, questions=args.questions, n_jobs=args.jobs,
                        report=lambda line: print(line, flush=True))
     try:

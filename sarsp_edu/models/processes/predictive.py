@@ -4,8 +4,11 @@ Each model's own predictive: a Gaussian for the GP; for the TP a Student-t
 with the predictive's degrees of freedom and variance (as the reference
 code's sampler draws it, also where the ``"tfp"`` noise convention adds the
 noise unscaled); for the GP with Student-t noise, the Laplace approximation's
-Gaussian latent value plus the Student-t noise, integrated by Gauss-Hermite
-quadrature (its latent predictive alone is Gaussian).
+Gaussian latent value plus the Student-t noise, integrated over the latent
+value (its latent predictive alone is Gaussian): by Gauss-Hermite quadrature
+where the noise is the wider (the integrand is smooth on the latent value's
+scale), else adaptively on either side of the threshold, where the noise
+makes a step of its own width.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats
+from scipy import integrate, special, stats
 
 __all__ = ["HERMITE_NODES", "probability_below"]
 
@@ -45,10 +48,7 @@ def probability_below(threshold: float, mean, var, df=math.inf, noise=None) -> n
     sd = np.sqrt(np.maximum(var, 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
         if noise is not None:
-            nu, scale = noise
-            nodes, weights = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)  # weight exp(-x^2 / 2)
-            f = mean[..., None] + sd[..., None] * nodes
-            return stats.t.cdf((threshold - f) / scale, nu) @ weights / math.sqrt(2.0 * math.pi)
+            return _with_student_t_noise(threshold, mean, sd, *noise)
         df = np.broadcast_to(np.asarray(df, dtype=float), mean.shape)
         z = np.where(sd > 0, (threshold - mean) / np.where(sd > 0, sd, 1.0), np.where(mean < threshold, np.inf,
                                                                                     -np.inf))
@@ -58,3 +58,19 @@ def probability_below(threshold: float, mean, var, df=math.inf, noise=None) -> n
             out = np.where(heavy, stats.t.cdf(z * np.sqrt(np.where(heavy, df / (df - 2.0), 1.0)),
                                               np.where(heavy, df, 3.0)), out)
         return out
+
+
+def _with_student_t_noise(threshold: float, mean, sd, nu: float, scale: float) -> np.ndarray:
+    """``P(f + e < threshold)`` for ``f ~ N(mean, sd^2)`` and ``e`` Student-t (``nu``, ``scale``), to about 1e-10."""
+    nodes, weights = np.polynomial.hermite_e.hermegauss(HERMITE_NODES)  # weight exp(-z^2 / 2)
+    norm = math.sqrt(2.0 * math.pi)
+    out = special.stdtr(nu, (threshold - (mean[..., None] + sd[..., None] * nodes)) / scale) @ weights / norm
+    for index in zip(*np.nonzero(sd > scale)):  # the latent value the wider: T_nu steps within its spread
+
+        def integrand(z, m=float(mean[index]), s=float(sd[index])):
+            return math.exp(-0.5 * z * z) / norm * special.stdtr(nu, (threshold - m - s * z) / scale)
+
+        step = (threshold - float(mean[index])) / float(sd[index])
+        out[index] = (integrate.quad(integrand, -np.inf, step, epsabs=1e-12)[0]
+                      + integrate.quad(integrand, step, np.inf, epsabs=1e-12)[0])
+    return out
