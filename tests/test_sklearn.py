@@ -25,6 +25,7 @@ def wave(n=40, seed=0):
     return X, np.sin(X[:, 0]) + 0.5 * np.cos(X[:, 1]) + 0.05 * rng.standard_normal(n)
 
 
+@pytest.mark.slow  # about ten minutes on a loaded machine: the fast tier's units run without it
 @pytest.mark.parametrize("model_cls", MODELS)
 def test_scikit_learns_estimator_checks_pass(model_cls):
     results = check_estimator(model_cls(), on_fail=None)

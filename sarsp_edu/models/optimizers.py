@@ -162,6 +162,13 @@ def best_of_starts(search, starts) -> tuple:
 
     Ties keep the earliest start, so that with one start the result is ``search(starts[0])``'s exactly.
 
+    Parameters
+    ----------
+    search : callable
+        ``search(theta0) -> (theta, trace, n_iter)``, ``trace[-1]`` the minimised objective's final value.
+    starts : sequence of ndarray
+        The starting points (:func:`restart_points`).
+
     Returns
     -------
     tuple
