@@ -327,7 +327,7 @@ def _course(args, parser) -> int:
     import importlib.util
     from pathlib import Path
 
-    from ..teaching.course import execute_sources, write_handout, write_pages, write_student_notebooks
+    from ..teaching.course import NotebookFailed, execute_sources, write_handout, write_pages, write_student_notebooks
 
     missing = [name for name in COURSE_MODULES if importlib.util.find_spec(name) is None]
     if missing:
@@ -339,7 +339,8 @@ def _course(args, parser) -> int:
             if args.action == "sources":
                 written = execute_sources(args.tutorials, only=args.only)
             elif args.action == "student":
-                written = write_student_notebooks(args.tutorials, run=not args.no_execute, only=args.only)
+                written = write_student_notebooks(args.tutorials, run=not args.no_execute, only=args.only,
+                                                  overwrite=args.overwrite, report=print)
             else:
                 if args.out is None:
                     parser.error("pages needs --out DIR")
@@ -347,10 +348,15 @@ def _course(args, parser) -> int:
                 written = [write_pages(args.tutorials, args.out)]
         except (FileNotFoundError, ValueError) as exc:
             parser.error(str(exc))
+        except NotebookFailed as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 1
         for path in written:
             print(f"wrote {path}")
         return 0
-    if (args.out is None) == (args.zip is None):
+    if args.out is not None and args.zip is not None:
+        parser.error("handout takes --out DIR or --zip FILE, not both")
+    if args.out is None and args.zip is None:
         parser.error("handout needs --out DIR or --zip FILE")
     if args.out is not None:
         if any(Path(args.out).glob("tutorials/[0-9][0-9]_*.ipynb")):

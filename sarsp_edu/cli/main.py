@@ -127,6 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="tabulate only these sweep seeds [default: every seed stored]")
     tables.add_argument("--figure", metavar="FILE",
                         help="a model sweep's folder: draw the three models' learning curves to FILE (png, svg, pdf)")
+    tables.add_argument("--overwrite", action="store_true", help="replace an existing --markdown or --figure file")
     tables.set_defaults(func=_tables, parser=tables)
 
     check = sub.add_parser(
@@ -181,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
                                  "results/ablation-t-likelihood)")
     thresholds.add_argument("--markdown", metavar="FILE", help="also write the tables as Markdown to FILE")
     thresholds.add_argument("--figure", metavar="FILE", help="draw the study to FILE (.png, .svg or .pdf)")
+    thresholds.add_argument("--overwrite", action="store_true", help="replace an existing --markdown or --figure file")
     thresholds.set_defaults(func=_threshold_study, parser=thresholds)
 
     course = sub.add_parser(
@@ -206,7 +208,9 @@ def build_parser() -> argparse.ArgumentParser:
     course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder; pages: the pages' folder")
     course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
     course.add_argument("--overwrite", action="store_true",
-                        help="pages: replace pages already in --out; handout: replace an existing --zip file")
+                        help="pages: replace pages already in --out; handout: replace an existing --zip file; "
+                             "student: replace student notebooks that hold a student's answers (each old one kept "
+                             "beside it as .bak)")
     course.set_defaults(func=_course, parser=course)
 
     info = sub.add_parser("info", help="print the versions of sarsp_edu and its dependencies, and the presets")

@@ -14,7 +14,7 @@ def _tables(args, parser) -> int:
     from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
     if args.markdown:
-        check_file(parser, "--markdown", args.markdown)
+        check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
         folder = Path(args.results_dir).resolve()
         if folder in Path(args.markdown).resolve().parents:
             parser.error(f"--markdown {args.markdown} lies inside the results folder {args.results_dir}, whose files "
@@ -25,7 +25,7 @@ def _tables(args, parser) -> int:
     if args.figure and not (model_sweep or ablation):
         parser.error("--figure draws the learning curves of a model sweep's three models, or the threshold study of "
                      f"a folder of model sweeps on an ablation's settings; {args.results_dir} is neither")
-    _check_figure(parser, args.figure)
+    _check_figure(parser, args.figure, args.overwrite)
     if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
         return _ablation_table(args, parser)
     if model_sweep:
@@ -259,12 +259,13 @@ def _ablation_of_model_sweeps(folder):
     return None
 
 
-def _check_figure(parser, path) -> None:
-    """Refuse a ``--figure`` file that cannot be written or whose suffix names no format matplotlib writes here."""
+def _check_figure(parser, path, overwrite: bool) -> None:
+    """Refuse a ``--figure`` file that cannot be written, exists (unless ``overwrite``), or whose suffix names no
+    format matplotlib writes here."""
     from pathlib import Path
 
     if path:
-        check_file(parser, "--figure", path)
+        check_file(parser, "--figure", path, overwrite=overwrite)
         if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
             parser.error(f"--figure {path}: name a .png, .svg or .pdf file")
 
@@ -297,13 +298,18 @@ def _save_figure(figure, path) -> None:
 
 def _threshold_study(args, parser) -> int:
     """``threshold-study``: the three models against sigma*^2, from an ablation's folder and the third model's."""
+    from pathlib import Path
+
     from .._internal.io import StoredResultError, atomic_write_text
+    from ..experiments.ablation import setting_folder
     from ..experiments.tables import frame_to_markdown
     from ..experiments.thresholds import ThresholdStudy, threshold_settings
 
     if args.markdown:
-        check_file(parser, "--markdown", args.markdown)
-    _check_figure(parser, args.figure)
+        check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
+    _check_figure(parser, args.figure, args.overwrite)
+    if args.models is not None:
+        _check_models_folder(parser, Path(args.models))
     try:
         study = ThresholdStudy.load(args.ablation, args.models)
     except (StoredResultError, FileNotFoundError, ValueError, TypeError) as exc:
@@ -312,6 +318,10 @@ def _threshold_study(args, parser) -> int:
         print(f"{args.ablation} holds none of the study's settings yet: run 'sarsp-edu ablation --settings "
               + " ".join(f'"{name}"' for name in threshold_settings()) + f" --out {args.ablation}'")
         return 0
+    if args.models is not None and "t-likelihood GP" not in set(study.runs["model"]):
+        folders = ", ".join(setting_folder(name) for name in threshold_settings())
+        print(f"note: {args.models} holds no run of the third model on the study's settings (a model sweep in "
+              f"{args.models}/<setting folder>, for the folders {folders}), so the study holds the TP and the GP only")
     missing = study.missing
     study = study.complete()  # each mean over the same runs: the thresholds and models still running left out
     if not len(study.runs):
@@ -342,3 +352,13 @@ def _threshold_study(args, parser) -> int:
         plot_threshold_study(axes, study.runs)
         _save_figure(figure, args.figure)
     return 0
+
+
+def _check_models_folder(parser, folder) -> None:
+    """Refuse a ``--models`` folder that is missing, or that is one model sweep rather than the folder of them."""
+    if not folder.is_dir():
+        parser.error(f"--models {folder} is not a folder; give the folder that holds the third model's sweeps, one "
+                     "per setting (results/ablation-t-likelihood)")
+    if (folder / "model_sweep.json").is_file():
+        parser.error(f"--models {folder} is one model sweep; give the folder that holds one per setting (its parent, "
+                     f"{folder.parent})")

@@ -219,7 +219,7 @@ class ExperimentConfig(_Settings):
         Examples
         --------
         >>> sorted(ExperimentConfig(model="gp").ignored_settings())
-        ['likelihood_nu', 'n_samples', 'noise_convention', 'nu']
+        ['likelihood_nu', 'n_samples', 'noise_convention', 'nu', 'tail_delta']
         """
         ignored = {}
         if self.predictive != "sample":

@@ -25,6 +25,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from .execution import NotebookFailed, execute, executed  # running a notebook: execution.py
 from .pages import write_pages  # the static pages are built in pages.py
 
 __all__ = [
@@ -38,6 +39,8 @@ __all__ = [
     "execute",
     "execute_sources",
     "write_student_notebooks",
+    "NotebookFailed",
+    "typed_answers",
     "clear_reveals",
     "write_pages",
     "write_handout",
@@ -211,48 +214,6 @@ def student_path(source: Path) -> Path:
     return source.parent.parent / source.name
 
 
-def execute(notebook, folder, timeout: int = 900):
-    """Run ``notebook`` in ``folder`` and keep what every reader can see.
-
-    The live widgets' state is not stored: a notebook viewed without a
-    kernel (GitHub, nbviewer, an HTML export offline) then shows each
-    dashboard's picture, the PNG its output carries beside the widget, where
-    a stored state would make an export load the widgets from the network.
-    Run times are not stored either: they change at every run.
-
-    Parameters
-    ----------
-    notebook : nbformat.NotebookNode
-        Executed and changed in place, and returned.
-    folder : path-like
-        The kernel's working folder.
-    timeout : int, default 900
-        Seconds each cell may run (nbclient's ``timeout``).
-    """
-    from nbclient import NotebookClient
-
-    from .live import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE
-
-    # the kernel inherits them: nobody watches a batch run, and a live dashboard's stored picture shows its
-    # agents after 10 episodes rather than the world before Run
-    settings = {AUTOPLAY_VARIABLE: "0", SNAPSHOT_VARIABLE: "10"}
-    before = {name: os.environ.get(name) for name in settings}
-    os.environ.update(settings)
-    try:
-        NotebookClient(notebook, timeout=timeout, kernel_name="python3", store_widget_state=False,
-                       resources={"metadata": {"path": str(folder)}}).execute()
-    finally:
-        for name, value in before.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
-    notebook.metadata.pop("widgets", None)
-    for cell in notebook.cells:
-        cell.metadata.pop("execution", None)
-    return notebook
-
-
 def execute_sources(tutorials="tutorials", timeout: int = 900, only=None) -> list[Path]:
     """Execute the source notebooks in place (their stored outputs are nbval's reference).
 
@@ -278,10 +239,27 @@ def execute_sources(tutorials="tutorials", timeout: int = 900, only=None) -> lis
 
     written = []
     for path in sources(Path(tutorials), only):
-        notebook = execute(nbformat.read(path, as_version=4), path.parent, timeout)
+        notebook = executed(nbformat.read(path, as_version=4), path.parent, timeout, path)
         atomic_write_text(path, nbformat.writes(notebook) + "\n")
         written.append(path)
     return written
+
+
+def _answers(notebook) -> dict:
+    """The sources of a notebook's answer cells (nbgrader's ``solution`` cells), by their grade id."""
+    return {_grading(cell).get("grade_id", index): cell.source for index, cell in enumerate(notebook.cells)
+            if _grading(cell).get("solution")}
+
+
+def typed_answers(path: Path, generated) -> list:
+    """The answer cells of the student notebook at ``path`` whose text differs from ``generated``'s (a student
+    typed in them); empty where the file does not exist or holds the generated stubs."""
+    import nbformat
+
+    if not path.exists():
+        return []
+    held, fresh = _answers(nbformat.read(path, as_version=4)), _answers(generated)
+    return sorted(str(key) for key, text in held.items() if fresh.get(key) != text)
 
 
 def _student_notebooks(tutorials: Path) -> list[Path]:
@@ -293,7 +271,8 @@ def _student_notebooks(tutorials: Path) -> list[Path]:
     return notebooks
 
 
-def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900, only=None) -> list[Path]:
+def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900, only=None,
+                            overwrite: bool = False, report=None) -> list[Path]:
     """Write (and run, so that their stored outputs are what a student first sees) the student notebooks.
 
     Each is written atomically beside its ``source/`` folder; a source that
@@ -311,15 +290,28 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
         Seconds each cell may run (nbclient's ``timeout``).
     only : iterable of int or str, optional
         As in :func:`sources`.
+    overwrite : bool, default False
+        Replace a student notebook whose answer cells hold a student's text (:func:`typed_answers`), keeping
+        the old file beside it as ``NAME.ipynb.bak``; without it such a notebook is refused, before anything
+        is written.
+    report : callable, optional
+        Called with a line for each old notebook kept as ``.bak``.
 
     Returns
     -------
     list of Path
         The notebooks written.
+
+    Raises
+    ------
+    ValueError
+        A source not in nbgrader's format, or a student notebook with typed answers and no ``overwrite``.
+    NotebookFailed
+        A cell raised while a notebook ran; the notebooks before it are written, it and those after are not.
     """
     import nbformat
 
-    from .._internal.io import atomic_write_text
+    from .._internal.io import atomic_write_bytes, atomic_write_text
 
     tutorials = Path(tutorials)
     notebooks = []
@@ -329,11 +321,23 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
         if problems:
             raise ValueError(f"{path} is not in nbgrader's format: " + "; ".join(problems))
         notebooks.append((path, student_notebook(source)))
+    typed = {student_path(path): typed_answers(student_path(path), notebook) for path, notebook in notebooks}
+    typed = {target: cells for target, cells in typed.items() if cells}
+    if typed and not overwrite:
+        said = "; ".join(f"{target} ({len(cells)} answer cell{'s' if len(cells) > 1 else ''}: {', '.join(cells)})"
+                         for target, cells in typed.items())
+        raise ValueError(f"a student typed answers in {said}; add --overwrite to replace them (each old file is kept "
+                         "beside it as .bak), or copy the notebooks elsewhere first")
     written = []
     for path, notebook in notebooks:
         if run:
-            clear_reveals(execute(notebook, tutorials, timeout))
+            clear_reveals(executed(notebook, tutorials, timeout, path))
         target = student_path(path)
+        if target in typed:
+            backup = target.with_name(target.name + ".bak")
+            atomic_write_bytes(backup, target.read_bytes())
+            if report is not None:
+                report(f"kept the student's answers of {target} in {backup}")
         atomic_write_text(target, nbformat.writes(notebook) + "\n")
         written.append(target)
     return written
