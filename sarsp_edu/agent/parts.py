@@ -216,13 +216,16 @@ class DecisionParts:
 
 
 def _array(value, shape: tuple, part: str, what: str) -> np.ndarray:
-    """A part's result as a float array of ``shape``; a ValueError naming the part otherwise."""
+    """A part's result as a float array of ``shape`` with finite entries; a ValueError naming the part otherwise."""
     try:
         array = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"the {part} part returned {what} that is not numbers ({exc})") from None
     if array.shape != shape:
         raise ValueError(f"the {part} part returned {what} of shape {array.shape}, where {shape} is expected")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"the {part} part returned {what} with entries that are not finite numbers ({array!r}); "
+                         "a decision cannot use them")
     return array
 
 
@@ -268,10 +271,18 @@ def predict_from_parts(parts: DecisionParts, model, X_sets, y_sets, query_sets, 
         if not isinstance(result, (tuple, list)) or len(result) != 2:
             raise ValueError("the posterior part must return two arrays, (mean, latent variance)")
         mean[b] = _array(result[0], (q,), "posterior", "a mean")
-        latent = np.maximum(_array(result[1], (q,), "posterior", "a variance"), 0.0)
+        latent = _array(result[1], (q,), "posterior", "a variance")
+        rounding = 1e-9 * np.maximum(np.abs(np.diagonal(K_query)), 1.0)  # k** - k*^T K_y^-1 k* may round below 0
+        if np.any(latent < -rounding):
+            raise ValueError(f"the posterior part returned a negative variance ({latent.min():.3g}); a variance is "
+                             "at least 0")
+        latent = np.maximum(latent, 0.0)
         factor = 1.0
         if heavy:
             factor = float(_array(parts.tp_factor(K.copy(), y.copy(), s2, model.nu_), (), "tp_factor", "a factor"))
+            if factor <= 0:
+                raise ValueError(f"the tp_factor part returned {factor:.6g}; the TP's factor (nu + beta - 2) / "
+                                 "(nu + n - 2) is positive")
         var[b] = model._predictive_variance(latent, factor, s2 if include_noise else 0.0)
         df[b] = model.nu_ + n if heavy else math.inf
     return mean, var, df

@@ -191,6 +191,14 @@ class SARSPAgent:
         parts = DecisionParts.of(parts)
         if self.safe_rule == "tail" and {"safe_set", "choose"} & set(parts.replaced()):
             raise ValueError(tail_rule_refusal(parts))
+        unusable = sorted({"kernel", "posterior", "tp_factor"} & set(parts.replaced()))
+        robust = [role for role, model in (("cost", self.cost_model), ("reward", self.reward_model))
+                  if isinstance(model, StudentTLikelihoodGP)]
+        if unusable and robust:
+            raise ValueError(f"the {' and the '.join(robust)} model {'is a' if len(robust) == 1 else 'are'} GP with "
+                             f"Student-t noise (model='t-likelihood'), which cannot use the replaced parts "
+                             f"{unusable}: its predictions come from its own Laplace approximation; use the "
+                             "package's kernel, posterior and tp_factor with it, or model='tp' or 'gp'")
         self.__dict__["parts"] = parts
 
     def __getattr__(self, name):

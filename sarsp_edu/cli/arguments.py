@@ -72,7 +72,7 @@ def add_config_arguments(parser: argparse.ArgumentParser, skip=()) -> None:
         if "flag" in f.metadata:
             names.insert(0, f"--{f.metadata['flag']}")
         bound = f"; at most {LIMITS[f.name][0]:,}" if f.name in LIMITS else ""
-        help_text = f"{f.metadata['help']} [default: {f.default}{bound}]"
+        help_text = f"{f.metadata['help']} [default: {f.metadata.get('shown_default', f.default)}{bound}]"
         if f.name in preset_fields:
             help_text = help_text[:-1] + ", or the preset's]"
         kwargs = dict(dest=f.name, default=argparse.SUPPRESS, help=help_text)

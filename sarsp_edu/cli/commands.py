@@ -397,7 +397,10 @@ def _info(args, parser) -> int:
 def _cache(args, parser) -> int:
     from ..teaching.live import fitcache
 
-    directory = fitcache.cache_directory()
+    try:
+        directory = fitcache.cache_directory()
+    except ValueError as exc:
+        parser.error(str(exc))
     if directory is None:
         print(f"the live dashboards' cache of fits is off ({fitcache.CACHE_VARIABLE}="
               f"{os.environ.get(fitcache.CACHE_VARIABLE)!r})")
@@ -412,14 +415,16 @@ def _cache(args, parser) -> int:
 
 
 def _prefit(args, parser) -> int:
+    from ..config import ExperimentConfig
     from ..teaching.live import prefit
 
-    if any(n < 0 for n in args.nss):
-        parser.error(f"--nss takes whole numbers from 0 to the world's unsafe states, got {args.nss}")
-    try:
+    try:  # the settings' own checks, as run and compare make them: one line naming the setting and its range
+        for nss in args.nss:
+            ExperimentConfig(nu=args.nu, outlier_magnitude=args.magnitude, outlier_proportion=args.proportion,
+                             seed=args.seed, episodes=args.episodes, n_switch_states=nss)
         prefit(args.nss, nu=args.nu, magnitude=args.magnitude, proportion=args.proportion, seed=args.seed,
                episodes=args.episodes)
-    except RuntimeError as exc:  # the cache is off
+    except (RuntimeError, ValueError) as exc:  # a setting out of range, or the cache off or unusable
         parser.error(str(exc))
     return 0
 
@@ -440,5 +445,7 @@ def _model_sweep(args, parser) -> int:
                                report=lambda line: print(line, flush=True))
     except CellsFailed as exc:
         return _cells_failed(exc)
+    except ValueError as exc:  # --out is the paired sweep, holds another sweep, or is locked by a running one
+        parser.error(str(exc))
     print(f"{args.model}: {len(done)} of {len(requested)} cells stored in {args.out}")
     return 0

@@ -14,11 +14,11 @@ def _tables(args, parser) -> int:
     from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
     if args.markdown:
-        check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
         folder = Path(args.results_dir).resolve()
         if folder in Path(args.markdown).resolve().parents:
             parser.error(f"--markdown {args.markdown} lies inside the results folder {args.results_dir}, whose files "
                          "it could replace; write the tables outside it")
+        check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
 
     model_sweep = (Path(args.results_dir) / "model_sweep.json").is_file()  # another model on a paired sweep's cells
     ablation = _ablation_of_model_sweeps(Path(args.results_dir))  # another model on each of an ablation's settings

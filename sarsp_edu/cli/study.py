@@ -15,13 +15,13 @@ DESCRIPTION = (
     "Student-t noise's nu, fits with a restart and more steps, thresholds up to 100, outliers in the targets only, "
     "and the third model as cost model beside the TP's reward model. With --run, every setting not stored yet is "
     "run first (resumable: each run is stored as it finishes; a rerun goes on). Then, per question, each "
-    "setting's and model's mean total cost, TSR and backup share with 95%% t-intervals over the runs, the cost "
+    "setting's and model's mean total cost, TSR and backup share with 95% t-intervals over the runs, the cost "
     "model's fitted noise, nu and gradient norm, and the models run by run.")
 
 
 def add_rule_study(sub) -> None:
     """The ``rule-study`` subcommand's parser."""
-    from ..experiments.rules import QUESTIONS
+    from ..config import RULE_QUESTIONS as QUESTIONS
 
     parser = sub.add_parser("rule-study", help=HELP, description=DESCRIPTION)
     parser.add_argument("--out", metavar="DIR", default="results/rule-study", help="the study's folder "

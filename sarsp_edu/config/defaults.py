@@ -29,6 +29,7 @@ __all__ = [
     "VARIANCES",
     "SAFE_RULES",
     "TAIL_DELTA",
+    "RULE_QUESTIONS",
     "PAPER_MAGNITUDES",
     "PAPER_PROPORTIONS",
     "PAPER_SWITCH_STATES",
@@ -225,6 +226,8 @@ VARIANCES = ("noisy", "latent")
 SAFE_RULES = ("variance", "tail")
 #: delta of the tail rule: the largest predictive probability of a violation that a safe action may have
 TAIL_DELTA = 0.05
+#: the rule study's questions, in the order they are run and printed (:mod:`sarsp_edu.experiments.rules`)
+RULE_QUESTIONS = ("rule", "nu", "fit", "threshold", "targets", "cost model")
 
 #: safety threshold on the predicted distance to danger (paper: 1)
 D = 1.0

@@ -65,7 +65,7 @@ class ExperimentConfig(_Settings):
     reward_model: str | None = _field("model", None, "the reward model's kind when it differs from the cost "
                                       "model's ('tp', 'gp' or 't-likelihood'; None: model's), so that a model's "
                                       "safety can be measured beside another's reward model", choices=(*MODELS, None),
-                                      since="0.3")
+                                      since="0.3", shown_default="the model's")
     outlier_magnitude: float = _field("data", 40.0, "outlier magnitude m: outlier rows are "
                                       "multiplied by m (paper: 40, 60, 80)", flag="m")
     outlier_proportion: float = _field("data", 0.2, "outlier proportion p in [0, 1] (paper: "

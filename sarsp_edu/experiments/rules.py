@@ -33,7 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..config import ABLATION_CELLS, ABLATION_SEEDS, FITTED_NU
+from ..config import ABLATION_CELLS, ABLATION_SEEDS, FITTED_NU, RULE_QUESTIONS
 from .ablation import run_ablation, setting_folder
 from .sweep import CellsFailed
 from .sweep.models import run_model_sweep
@@ -52,7 +52,7 @@ CONVERGED_FIT = dict(fit_restarts=1, optimizer_steps=200)
 FAIR_CANDIDATES = ("latent variance, threshold 0.8", "tail rule, delta 0.05")
 
 #: the questions, in the order they are run and printed
-QUESTIONS = ("rule", "nu", "fit", "threshold", "targets", "cost model")
+QUESTIONS = RULE_QUESTIONS
 
 
 @dataclass(frozen=True)

@@ -68,10 +68,17 @@ _OFF = {"off", "0", "false", "no", ""}
 
 
 def cache_directory() -> Path | None:
-    """The cache's folder, or None when ``SARSP_EDU_CACHE`` turns it off."""
+    """The cache's folder, or None when ``SARSP_EDU_CACHE`` turns it off (a ValueError where it names the home
+    folder of an unknown user)."""
     chosen = os.environ.get(CACHE_VARIABLE)
     if chosen is not None:
-        return None if chosen.strip().lower() in _OFF else Path(chosen).expanduser()
+        if chosen.strip().lower() in _OFF:
+            return None
+        try:
+            return Path(chosen).expanduser()
+        except RuntimeError:  # '~user/...' of a user this machine does not know
+            raise ValueError(f"{CACHE_VARIABLE}={chosen!r} names the home folder of a user this machine does not "
+                             f"know; give a folder path, or {CACHE_VARIABLE}=off to turn the cache off") from None
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(base) / "sarsp_edu" / "fits"
 

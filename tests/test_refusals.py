@@ -1,0 +1,85 @@
+"""One clear line, never a traceback or a silent wrong run: prefit's settings, the cache's folder, a model sweep's
+folder, a student's parts that return what no decision can use."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sarsp_edu import ExperimentConfig, StudentTLikelihoodGP
+from sarsp_edu.agent.parts import gp_posterior, tp_factor
+from sarsp_edu.agent.sarsp import SARSPAgent
+from sarsp_edu.models.processes.settings import make_model
+
+from .test_cli import _usage_error as usage_error
+from .test_sarsp import OBS, tiny_agent, tiny_data
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize("flags, message", [
+    (["--nss", "99"], "n_switch_states must be an integer from 0 to n_unsafe=15, got n_switch_states=99"),
+    (["--episodes", "0"], "episodes must be an integer from 1 to 100000"),
+    (["--p", "2"], "outlier_proportion must lie in [0, 1], got outlier_proportion=2.0"),
+    (["--nu", "1"], "nu must be a finite number > 2"),
+    (["--nu", "nan"], "got nu=nan"),
+    (["--seed", "-5"], "seed must be an integer >= 0, got seed=-5"),
+])
+def test_prefit_checks_its_settings_as_run_does(capsys, flags, message):
+    assert message in usage_error(["prefit", *flags], capsys)
+
+
+def test_a_cache_folder_of_an_unknown_users_home_is_one_line(capsys, monkeypatch):
+    monkeypatch.setenv("SARSP_EDU_CACHE", "~nouser-sarsp-edu/x")
+    assert usage_error(["cache"], capsys).endswith(
+        "SARSP_EDU_CACHE='~nouser-sarsp-edu/x' names the home folder of a user this machine does not know; give a "
+        "folder path, or SARSP_EDU_CACHE=off to turn the cache off")
+
+
+def test_a_model_sweep_into_a_paired_sweeps_folder_is_one_line(capsys, tmp_path):
+    paired = str(ROOT / "results" / "sweep-reduced")
+    assert usage_error(["model-sweep", "--paired", paired, "--out", paired], capsys).endswith(
+        "holds a paired sweep; the model's runs go into a folder of their own")
+
+
+def test_a_students_posterior_that_returns_nan_or_a_negative_variance_stops_the_run_naming_it():
+    def nan_posterior(K, K_star, k_star_star, y, noise_variance):
+        mean, var = gp_posterior(K, K_star, k_star_star, y, noise_variance)
+        return mean, np.full_like(var, np.nan)
+
+    def negative_posterior(K, K_star, k_star_star, y, noise_variance):
+        mean, var = gp_posterior(K, K_star, k_star_star, y, noise_variance)
+        return mean, var - 5.0
+
+    with pytest.raises(ValueError, match=r"the posterior part returned a variance with entries that are not finite"):
+        tiny_agent(5.0, parts={"posterior": nan_posterior}).act(OBS)
+    with pytest.raises(ValueError, match=r"the posterior part returned a negative variance \(-"):
+        tiny_agent(5.0, parts={"posterior": negative_posterior}).act(OBS)
+    # a variance that rounds a little below 0 is what k** - k*^T K^-1 k* gives near the data: kept, as 0
+    rounded = tiny_agent(5.0, parts={"posterior": lambda *a: (gp_posterior(*a)[0], gp_posterior(*a)[1] * 0 - 1e-12)})
+    rounded.act(OBS)
+
+
+def test_a_negative_tp_factor_stops_the_run_naming_it():
+    from sarsp_edu import StudentTProcess
+
+    with pytest.raises(ValueError, match=r"the tp_factor part returned -5; the TP's factor .* is positive"):
+        tiny_agent(5.0, model_cls=StudentTProcess, parts={"tp_factor": lambda *args: -5.0}).act(OBS)
+    tiny_agent(5.0, model_cls=StudentTProcess, parts={"tp_factor": tp_factor}).act(OBS)  # the package's own: fine
+
+
+def test_the_t_likelihood_model_refuses_parts_it_cannot_use_naming_both():
+    config = ExperimentConfig(model="t-likelihood")
+    with pytest.raises(ValueError, match=r"the cost and the reward model are GP with Student-t noise "
+                                         r"\(model='t-likelihood'\), which cannot use the replaced parts \['kernel'\]"):
+        SARSPAgent(make_model(config), make_model(config, "reward"), tiny_data(5.0),
+                   parts={"kernel": lambda X, Y, amplitude, length_scale: np.zeros((len(X), len(Y)))})
+    mixed = ExperimentConfig(model="tp", reward_model="t-likelihood")
+    with pytest.raises(ValueError, match=r"the reward model is a GP with Student-t noise .*\['posterior'\]"):
+        SARSPAgent(make_model(mixed), make_model(mixed, "reward"), tiny_data(5.0),
+                   parts={"posterior": lambda *args: gp_posterior(*args)})
+    agent = SARSPAgent(make_model(config), make_model(config, "reward"), tiny_data(5.0),
+                       parts={"corrective": lambda *args: False})  # a decision part it can use
+    assert isinstance(agent.cost_model, StudentTLikelihoodGP)
