@@ -83,3 +83,46 @@ def test_the_t_likelihood_model_refuses_parts_it_cannot_use_naming_both():
     agent = SARSPAgent(make_model(config), make_model(config, "reward"), tiny_data(5.0),
                        parts={"corrective": lambda *args: False})  # a decision part it can use
     assert isinstance(agent.cost_model, StudentTLikelihoodGP)
+
+
+def test_compare_models_refuses_a_sweeps_folder(capsys):
+    out = str(ROOT / "results" / "sweep-reduced")
+    assert usage_error(["compare", "--models", "gp", "tp", "--out", out, "--episodes", "1"], capsys).endswith(
+        f"--out {out} holds a sweep's results; 'compare' writes into a new folder, an empty one or one holding a "
+        "comparison's results")
+
+
+@pytest.mark.parametrize("argv", [["compare", "--mod", "tp", "gp"], ["compare", "--models", "tp", "gp", "--model",
+                                                                      "t-likelihood"], ["run", "--episode", "3"]])
+def test_no_flag_is_read_as_an_abbreviation(capsys, argv):
+    assert "unrecognized arguments" in usage_error(argv, capsys)
+
+
+def test_a_runs_header_names_its_models(capsys):
+    from sarsp_edu.cli.main import main
+
+    tiny = ["--episodes", "1", "--grid-size", "4", "--n-unsafe", "1", "--nss", "1", "--offline-episodes", "2",
+            "--optimizer-steps", "2", "--reward-fit-points", "20", "--k-prior", "10", "--quiet"]
+    assert main(["run", "--model", "t-likelihood", *tiny]) == 0
+    assert capsys.readouterr().out.startswith("SARSP with GP, Student-t noise (both models), ")
+    assert main(["run", "--model", "t-likelihood", "--reward-model", "tp", *tiny]) == 0
+    assert capsys.readouterr().out.startswith("SARSP with GP, Student-t noise and Student-t process (cost and reward "
+                                              "model), ")
+
+
+@pytest.mark.parametrize("command", ["threshold-study", "rule-study", "model-sweep"])
+def test_help_has_no_doubled_percent(capsys, command):
+    from sarsp_edu.cli.main import main
+
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    assert "%%" not in capsys.readouterr().out
+
+
+def test_a_model_sweep_says_what_it_does_before_its_first_cell_ends(tmp_path, monkeypatch):
+    import sarsp_edu.experiments.sweep.models as models
+
+    lines = []
+    monkeypatch.setattr(models, "in_workers", lambda function, arguments, workers: iter(()))  # no run at all
+    models.run_model_sweep(ROOT / "results" / "sweep-reduced", tmp_path / "third", n_jobs=1, report=lines.append)
+    assert lines and lines[0].startswith("t-likelihood: running ") and "each fits its models, then runs its" in lines[0]

@@ -9,7 +9,7 @@ import platform
 import sys
 
 from .._version import __version__
-from .arguments import check_file, check_out, check_writable, config_flags, config_from_args
+from .arguments import _MARKERS, check_file, check_out, check_writable, config_flags, config_from_args, results_of
 
 
 #: the packages whose versions ``sarsp-edu info`` reports (for bug reports)
@@ -48,7 +48,11 @@ def _run(args, parser) -> int:
     import pandas as pd
 
     table = pd.DataFrame({config.model.upper(): displayed_summary(result.summary)}).loc[list(SUMMARY_METRICS)]
-    print(f"SARSP with a {'Student-t' if config.model == 'tp' else 'Gaussian'} process, {_describe(config)}")
+    from ..config import MODEL_TITLES
+
+    kinds = " and ".join(MODEL_TITLES[kind] for kind in config.model_kinds)
+    print(f"SARSP with {kinds} ({'cost and reward model' if len(config.model_kinds) == 2 else 'both models'}), "
+          f"{_describe(config)}")
     print(_format_table(table))
     records = result.records
     print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "
@@ -133,6 +137,11 @@ def _compare_models(args, parser, config) -> int:
                      "after the other: leave --jobs out")
     if args.out:
         check_writable(parser, "--out", args.out, Path(args.out))
+        kind = next((k for k, marker in _MARKERS.items() if k != "compare" and (Path(args.out) / marker).exists()),
+                    None)
+        if kind:
+            parser.error(f"--out {args.out} holds {results_of(kind)}; 'compare' writes into a new folder, an empty "
+                         "one or one holding a comparison's results")
         held = [model for model in args.models if (Path(args.out) / model / "result.json").exists()]
         if held and not args.overwrite:
             parser.error(f"--out {args.out} holds runs of {', '.join(held)} already; to keep them, give another "

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import signal
 import sys
@@ -31,6 +32,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser = argparse.ArgumentParser(
         prog="sarsp-edu",
+        allow_abbrev=False,
         description=(
             "Safe reinforcement learning with Gaussian and Student-t processes: run the "
             "paper's experiment (SARSP, Algorithm 1) on the safe gridworld with outliers "
@@ -39,7 +41,9 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Run 'sarsp-edu COMMAND --help' for the settings of a command.",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    # no flag is read as an abbreviation of a longer one (--model is not --models), in any subcommand
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND",
+                                parser_class=functools.partial(argparse.ArgumentParser, allow_abbrev=False))
 
     run = sub.add_parser(
         "run",
@@ -172,7 +176,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Read the threshold study's runs: the TP and GP runs of the ablation's settings 'default, "
         "variance threshold X' beside its default row (sigma*^2 = 0.8), and the third model's runs on each of those "
         "settings' folders (model-sweep --paired ABLATION/FOLDER --out MODELS/FOLDER). Print, per threshold and "
-        "model, the backup share, total cost and TSR with 95%% intervals, who beats whom run by run, and where each "
+        "model, the backup share, total cost and TSR with 95% intervals, who beats whom run by run, and where each "
         "model leaves the backup; --figure draws them against sigma*^2.",
     )
     thresholds.add_argument("--ablation", metavar="DIR", default="results/ablation",

@@ -17,6 +17,7 @@ __all__ = [
     "REWARD_DUPLICATES",
     "NU",
     "LIKELIHOOD_NU",
+    "MODEL_TITLES",
     "MODELS",
     "OPTIMIZERS",
     "ADAM_STEPS",
@@ -168,6 +169,8 @@ NU = 3.0
 #: the regression models an experiment can run: the Student-t process, the GP, and a GP with Student-t noise
 #: (a heavy-tailed likelihood, by the Laplace approximation: a question the paper does not ask)
 MODELS = ("tp", "gp", "t-likelihood")
+#: each model's title, as a dashboard's side and the command's header show it
+MODEL_TITLES = {"tp": "Student-t process", "gp": "Gaussian process", "t-likelihood": "GP, Student-t noise"}
 #: ``likelihood_nu`` that fits the Student-t noise's degrees of freedom with the other hyperparameters, as
 #: nu = 2 + e^eta (so that the noise's variance stays finite) under :data:`NU_PRIOR`
 FITTED_NU = "fitted"

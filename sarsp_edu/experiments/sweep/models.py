@@ -147,6 +147,10 @@ def run_model_sweep(paired_dir, results_dir, model: str = "t-likelihood", n_jobs
         if todo:
             workers = _workers(-1 if n_jobs is None else n_jobs, len(todo), stacklevel=3)
             done = len(keys) - len(todo)
+            if report is not None:  # said at once: a cell's fits and episodes take minutes before its first line
+                report(f"{model}: running {len(todo)} of {len(keys)} cells ({done} stored) in {workers} worker "
+                       f"process{'es' if workers > 1 else ''}: each fits its models, then runs its "
+                       f"{base.episodes} episodes; a line as each is stored")
             with collecting(results_dir) as failures:
                 for key, failure in in_workers(_run_cell, [(base, key, model, str(results_dir)) for key in todo],
                                                workers):

@@ -12,11 +12,10 @@ from __future__ import annotations
 import ipywidgets as widgets
 
 from ..._internal.validation import check_choice
+from ...config import MODEL_TITLES
 
 __all__ = ["MODEL_TITLES", "TP_AND_GP", "model_pickers", "picked_side"]
 
-#: model -> the title its side shows
-MODEL_TITLES = {"tp": "Student-t process", "gp": "Gaussian process", "t-likelihood": "GP, Student-t noise"}
 #: tutorial 4's two sides: name -> (title, the settings that side changes)
 TP_AND_GP = {model: (MODEL_TITLES[model], {"model": model}) for model in ("tp", "gp")}
 
