@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -275,3 +276,45 @@ def test_an_agent_of_two_kinds_fits_each_model_of_its_kind():
     agent = SARSPAgent(make_model(ExperimentConfig(model="gp")), make_model(ExperimentConfig(model="tp")),
                        tiny_data(5.0), rng=0)
     assert isinstance(agent.cost_model, GaussianProcess) and isinstance(agent.reward_model, StudentTProcess)
+
+
+# -- the study ------------------------------------------------------------------------------------------
+def test_the_studys_settings_change_one_choice_each_and_name_their_stored_runs():
+    from sarsp_edu.experiments.rules import FAIR_CANDIDATES, QUESTIONS, RULE_SETTINGS, study_settings
+    from sarsp_edu.world.preparation import PREPARATION_FIELDS
+
+    names = [setting.name for setting in RULE_SETTINGS]
+    assert len(set(names)) == len(names) and set(FAIR_CANDIDATES) <= set(names)
+    assert [s.question for s in study_settings(["nu"])] == ["nu"] * 5
+    for setting in RULE_SETTINGS:
+        ExperimentConfig(**setting.changes)  # each a valid setting
+        if setting.models == ("t-likelihood",):  # run on the ablation's worlds: never a change of the world
+            assert not set(setting.changes) & set(PREPARATION_FIELDS), setting
+    with pytest.raises(ValueError, match=r"questions must be among \['rule', 'nu', 'fit', 'threshold', 'targets', "
+                                         r"'cost model'\], got \['rules'\]"):
+        study_settings(["rules"])
+    assert QUESTIONS[0] == "rule"
+
+
+def test_the_study_reads_the_stored_runs_and_chooses_the_fairer_rule_by_its_criterion(tmp_path):
+    import pandas as pd
+
+    from sarsp_edu.experiments.rules import RuleStudy
+
+    root = Path(__file__).resolve().parents[1] / "results"
+    study = RuleStudy.load(tmp_path, root / "ablation", root / "ablation-t-likelihood", questions=["rule"])
+    table = study.table("rule")
+    assert table.loc[("noisy variance, threshold 0.8", "GP"), "backup_share"] == 100.0
+    assert list(table.loc["noisy variance, threshold 0.8"].index) == ["TP", "GP", "t-likelihood GP"]
+    assert table.loc[("noisy variance, threshold 0.8", "t-likelihood GP"), "backup_share 95% CI"].endswith(", 100]")
+    pairs = study.pairs("rule")
+    assert pairs.loc[("noisy variance, threshold 0.8", "TP vs GP"), "lower total cost"] == "6 of 6"
+    assert study.fairest_rule() is None  # neither candidate has its runs stored in an empty study folder
+    rows = [{"question": "rule", "setting": setting, "model": model, "m": 40.0, "p": 0.2, "nss": 2, "seed": seed,
+             "total_cost": 1.0, "task_success_rate": 50.0, "backup_share": share, "cost noise variance": None,
+             "cost nu": None, "cost gradient norm": None}
+            for setting, shares in (("latent variance, threshold 0.8", (10.0, 60.0, 20.0)),
+                                    ("tail rule, delta 0.05", (30.0, 40.0, 35.0)))
+            for model, share in zip(("TP", "GP", "t-likelihood GP"), shares) for seed in range(6)]
+    assert RuleStudy(pd.DataFrame(rows)).fairest_rule() == "tail rule, delta 0.05"  # the lower largest share
+    assert RuleStudy(pd.DataFrame(rows[:-1])).fairest_rule() == "latent variance, threshold 0.8"  # tail incomplete

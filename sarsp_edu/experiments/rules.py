@@ -170,6 +170,8 @@ def run_rule_study(results_dir, ablation_dir, *, questions=None, n_jobs: int = 1
 
 #: what the study's tables give per setting and model, each with its 95% interval over the runs
 STUDY_MEASURES = ("total_cost", "task_success_rate", "backup_share")
+#: the range of each measure, to which its interval is cut
+_RANGES = {"total_cost": (0.0, float("inf")), "task_success_rate": (0.0, 100.0), "backup_share": (0.0, 100.0)}
 
 
 def _fitted(result) -> dict:
@@ -237,7 +239,9 @@ class RuleStudy:
             folder = (models_dir / setting_folder(stored)) if stored else results_dir / "t-likelihood" / setting.folder
             if "t-likelihood" in setting.models and (folder / MODEL_SWEEP_FILE).is_file():
                 runs.update({(key, "t-likelihood"): result for key, result in load_model_sweep(folder)[1].items()})
-            for ((m, p, nss, seed), model), result in sorted(runs.items()):
+            order = {model: i for i, model in enumerate(MODEL_NAMES)}  # TP, GP, then the third
+            for ((m, p, nss, seed), model), result in sorted(runs.items(), key=lambda item: (order[item[0][1]],
+                                                                                               item[0][0])):
                 rows.append({"question": setting.question, "setting": setting.name, "m": m, "p": p, "nss": nss,
                              "seed": seed, "model": MODEL_NAMES[model], **run_measures(result), **_fitted(result)})
         return cls(pd.DataFrame(rows))
@@ -247,8 +251,11 @@ class RuleStudy:
         95% t-interval over the runs, and the medians of the cost model's fitted noise, nu and gradient norm.
 
         The interval is over the (configuration, seed) runs, so it mixes the configurations' spread with
-        run-to-run noise: read it as a width, not a test (:meth:`pairs` compares the models run by run).
+        run-to-run noise: read it as a width, not a test (:meth:`pairs` compares the models run by run).  It is
+        cut to the measure's range (a share and a rate lie in [0, 100], a cost is at least 0), which six runs
+        far apart can overshoot.
         """
+        import numpy as np
         import pandas as pd
 
         from .ablation import _t_interval
@@ -258,7 +265,7 @@ class RuleStudy:
         for (setting, model), group in here.groupby(["setting", "model"], sort=False):
             row = {"setting": setting, "model": model, "runs": f"{len(group)} of {self.planned}"}
             for measure in STUDY_MEASURES:
-                low, high = _t_interval(group[measure])
+                low, high = np.clip(_t_interval(group[measure]), *_RANGES[measure])
                 row[measure] = float(group[measure].mean())
                 row[f"{measure} 95% CI"] = f"[{low:.3g}, {high:.3g}]"
             for fitted in ("cost noise variance", "cost nu", "cost gradient norm"):
