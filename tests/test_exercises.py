@@ -556,7 +556,7 @@ def test_an_endless_loop_is_stopped_and_a_prediction_too(monkeypatch, capsys):
     ("3.4", lambda: 1 / 0, "Your answer raised ZeroDivisionError: division by zero."),
     ("2.5", lambda: {}["x"], "Your answer raised KeyError: 'x'."),
     ("3.4", 10**400, "Could not read an int of 401 digits as a whole number."),
-    ("3.4", "fifty", "Could not read 'fifty' as a whole number."),
+    ("3.4", "a few", "Could not read 'a few' as a whole number."),  # 'fifty' is read: 50
     ("3.4", 49.5, "Could not read 49.5 as a whole number."),
     ("3.4", None, "Your answer is None."),
     ("3.4", lambda: None, "Your answer is None (is your function's return statement missing?)."),
@@ -607,7 +607,7 @@ def test_exercise_4_4_takes_a_list_a_set_an_array_a_mask_or_text():
         assert is_right("4.4", answer, decision=decision), answer
 
 
-@pytest.mark.parametrize("exercise, answer", [("2.5", "maybe"), ("2.5", 0.8), ("2.6", "same"), ("3.4", "fifty"),
+@pytest.mark.parametrize("exercise, answer", [("2.5", "maybe"), ("2.5", 1.0), ("2.6", "same"), ("3.4", "a few"),
                                               ("3.4", True), ("1.4", [math.inf, 1, 0])])
 def test_an_answer_that_cannot_be_read_lists_the_forms_and_gets_no_hint(exercise, answer, capsys):
     """Hole 5: the hint is for a wrong idea; an unreadable answer is told the accepted forms instead."""

@@ -13,10 +13,12 @@ Examples
 'above'
 >>> read_count("12"), read_count(12.0)
 (12, 12)
->>> read_count("fifty")
+>>> read_count("fifty"), read_count("Forty-two")
+(50, 42)
+>>> read_count("a few")
 Traceback (most recent call last):
 ...
-sarsp_edu.teaching.exercises.answers.Unreadable: Could not read 'fifty' as a whole number.
+sarsp_edu.teaching.exercises.answers.Unreadable: Could not read 'a few' as a whole number.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import numpy as np
 from .wording import shown
 
 __all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "read_actions", "read_count", "read_limits",
-           "read_word"]
+           "read_side", "read_word"]
 
 
 class Unreadable(ValueError):
@@ -56,15 +58,41 @@ def _compared(words, *others: str) -> frozenset:
 
 
 #: the spellings of each side, for the predictions that ask 'above' or 'below' 1, 'wider' or 'narrower'
-ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1")
-BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1")
+#: a direction said as a change ('it goes down', 'decreases', 'less than before'): each the same side
+_UP = ("goes up", "increases", "increased", "grows", "rises", "more than before", "larger than before",
+       "bigger than before", "up")
+_DOWN = ("goes down", "decreases", "decreased", "shrinks", "falls", "drops", "less than before", "smaller than before",
+         "lower than before", "down")
+ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1", *_UP)
+BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1", *_DOWN)
 WIDER = _words("wider", "wide", "widens", "broader", "larger", "bigger", "more", ">", "wider band", "more wide",
-               "less narrow")
+               "less narrow", *_UP)
 NARROWER = _words("narrower", "narrow", "narrows", "tighter", "thinner", "smaller", "less", "<", "narrower band",
-                  "more narrow", "less wide")
+                  "more narrow", "less wide", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
-_LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the factor is",
-                                         "it gets", "it becomes", "it is", "it's", "gets", "becomes", "is"))
+_LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
+                                         "the factor is", "the factor", "it gets", "it becomes", "it is", "it's",
+                                         "gets", "becomes", "is", "it"))
+
+#: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
+_UNITS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen "
+          "seventeen eighteen nineteen").split()
+_TENS = dict(zip("twenty thirty forty fifty sixty seventy eighty ninety".split(), range(20, 100, 10)))
+
+
+def _number_word(compact: str) -> float | None:
+    """A whole number from 0 to 100 written in words ('fifty', 'fortytwo' once compacted), else None."""
+    compact = compact.replace("-", "")
+    if compact in _UNITS:
+        return float(_UNITS.index(compact))
+    if compact in ("onehundred", "ahundred", "hundred"):
+        return 100.0
+    for word, tens in _TENS.items():
+        if compact == word:
+            return float(tens)
+        if compact.startswith(word) and compact[len(word):] in _UNITS[1:10]:
+            return float(tens + _UNITS.index(compact[len(word):]))
+    return None
 
 
 def _text(answer) -> str | None:
@@ -92,9 +120,9 @@ def read_word(answer, options: dict) -> str:
     text = _text(answer)
     if text is not None:
         compact = _compact(text)
-        lead_in = next((lead for lead in _LEAD_INS if compact.startswith(lead)), "")
-        for option, spellings in options.items():
-            if compact in spellings or compact[len(lead_in):] in spellings:
+        rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
+        for option, spellings in options.items():  # every lead-in that fits is tried ('its' and 'it' + 'shrinks')
+            if any(rest in spellings for rest in rests):
                 return option
     names = " or ".join(repr(option) for option in options)
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
@@ -112,7 +140,10 @@ def _number(answer, what: str) -> float:
         try:
             return float(compact)
         except ValueError:
-            raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
+            word = _number_word(compact)
+            if word is None:
+                raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
+            return word
     try:
         array = np.asarray(answer)
         if array.ndim != 0 or array.dtype.kind == "b":
@@ -120,6 +151,22 @@ def _number(answer, what: str) -> float:
         return float(answer)
     except (TypeError, ValueError, OverflowError, ArithmeticError):
         raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
+
+
+def read_side(answer) -> str:
+    """'above' or 'below' 1: a word (:func:`read_word` with :data:`ABOVE` and :data:`BELOW`), or a number on
+    that side of 1 (0.37 is 'below'); raises :class:`Unreadable`, for 1 itself too."""
+    try:
+        return read_word(answer, {"above": ABOVE, "below": BELOW})
+    except Unreadable:
+        try:
+            value = _number(answer, "a number")
+        except Unreadable:
+            raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
+        if value == 1 or math.isnan(value):
+            raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1."
+                             ) from None
+        return "above" if value > 1 else "below"
 
 
 def read_count(answer) -> int:
@@ -193,5 +240,7 @@ def read_actions(answer) -> list[int]:
             raise Unreadable(f"Could not read {shown(item)} as an action number.") from None
         if number not in (0, 1, 2, 3):
             raise Unreadable(f"{shown(item)} is not an action: they are numbered 0 to 3.")
+        if int(number) in actions:
+            raise Unreadable(f"Your list names action {int(number)} twice: name each safe action once.")
         actions.add(int(number))
     return sorted(actions)

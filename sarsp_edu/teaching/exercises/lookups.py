@@ -15,7 +15,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .answers import ABOVE, BELOW, NARROWER, WIDER, read_actions, read_count, read_limits, read_word
+from .answers import NARROWER, WIDER, read_actions, read_count, read_limits, read_side, read_word
 
 __all__ = ["Exercise", "LOOKUPS"]
 
@@ -145,8 +145,9 @@ LOOKUPS: dict[str, Exercise] = {
         "The factor exceeds 1 exactly when beta > n. A fit by likelihood alone sets beta = n (nu - 2) / nu "
         "whatever the data; against the scale the priors hold, do clean targets push beta above n?",
         _factor_without_outliers_explained,
-        read=lambda answer: read_word(answer, {"above": ABOVE, "below": BELOW}),
-        accepted="'above' or 'below' (also 'Above.', 'above 1', 'greater', '>' or 'below 1', 'smaller', '<')",
+        read=read_side,
+        accepted="'above' or 'below' (also 'Above.', 'above 1', 'greater', '>', 'it goes up' or 'below 1', "
+                 "'smaller', '<', 'it goes down', or a number on that side of 1)",
     ),
     "2.6": Exercise(
         "predict, then run: section 2's TP at nu = 30 against nu = 3: is its band 'wider' or 'narrower'?",
@@ -154,7 +155,8 @@ LOOKUPS: dict[str, Exercise] = {
         "The factor (nu + beta - 2) / (nu + n - 2) tends to 1 as nu grows; is it above 1 here?",
         "Narrower: with beta > n the factor is above 1 and falls towards 1 (the GP) as nu grows.",
         read=lambda answer: read_word(answer, {"wider": WIDER, "narrower": NARROWER}),
-        accepted="'wider' or 'narrower' (also 'Wider.', 'larger', '>' or 'Narrower.', 'smaller', '<')",
+        accepted="'wider' or 'narrower' (also 'Wider.', 'larger', '>', 'it grows' or 'Narrower.', 'smaller', '<', "
+                 "'it decreases', 'less than before')",
     ),
     "3.4": Exercise(
         "predict, then run: the most unsafe states a 10 x 10 grid can hold with no two 4-adjacent",

@@ -81,10 +81,16 @@ def _undefined_as_nan(when):
 
 
 def _summaries_cases(rng):
-    def summary(reward, rate, tsr):
-        return {"mean_reward": reward, "cost_rate": rate, "task_success_rate": tsr, "total_cost": 10.0}
+    def summary(reward, rate, tsr, total=None):  # a total cost ordered unlike the reward: one is not the other
+        return {"mean_reward": reward, "cost_rate": rate, "task_success_rate": tsr,
+                "total_cost": float(round(tsr / 4) if total is None else total)}
 
     cases = [
+        # each branch of Definition 4 on its own against its slips: agent 2's rate at least a while agent 1's is
+        # below it and agent 1 loses on reward and rate (True only for a third branch that reads agent 2's)
+        {"summary_1": summary(-100, 0.01, 70), "summary_2": summary(-90, 0.02, 90), "a": 80.0},
+        {"summary_1": summary(-100, 0.01, 85, 30), "summary_2": summary(-90, 0.02, 90, 40), "a": 100.0},  # total
+        {"summary_1": summary(-80, 0.01, 85, 40), "summary_2": summary(-90, 0.02, 90, 30), "a": 100.0},  # reward
         {"summary_1": summary(-100, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # no branch
         {"summary_1": summary(-80, 0.01, 70), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # reward
         {"summary_1": summary(-100, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # TSR
@@ -245,6 +251,16 @@ RECORD_EXERCISES = {
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
                 or s1["task_success_rate"] >= a / 100)),
                 "The success rate and a are both in %: compare them as they are."),
+            *(Mistake(_prefers_with(lambda s1, s2, a, third=third: s1["cost_rate"] < s2["cost_rate"] and (
+                s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+                or third(s1["task_success_rate"], s2["task_success_rate"], a))),
+                "The third branch asks agent 1's own success rate to reach a: agent 2's rate does not make agent 1 "
+                "preferred.") for third in (lambda t1, t2, a: t2 >= a, lambda t1, t2, a: max(t1, t2) >= a)),
+            *(Mistake(_prefers_with(lambda s1, s2, a, better=better: s1["cost_rate"] < s2["cost_rate"] and (
+                better(s1["total_cost"], s2["total_cost"]) or s1["task_success_rate"] >= s2["task_success_rate"]
+                or s1["task_success_rate"] >= a)),
+                "The first branch compares the mean rewards (mean_reward), not the total costs.")
+              for better in (lambda c1, c2: c1 <= c2, lambda c1, c2: c1 >= c2)),
             Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
                 or s1["task_success_rate"] > a)), "A success rate equal to a is enough: TSR >= a."),

@@ -1,0 +1,121 @@
+"""The grader without false verdicts: every branch of Definition 4 tested, natural wordings read, slips named."""
+
+from __future__ import annotations
+
+import itertools
+
+import pytest
+
+from sarsp_edu.teaching.exercises import EXERCISES
+from sarsp_edu.teaching.exercises.answers import (
+    NARROWER,
+    WIDER,
+    Unreadable,
+    read_actions,
+    read_count,
+    read_limits,
+    read_side,
+    read_word,
+)
+from sarsp_edu.teaching.exercises.grading import grade
+
+
+def definition_4(reward, own_rate, against_a, cost=lambda c1, c2: c1 < c2):
+    """Definition 4 with each branch given: the key when every argument is the default's."""
+    def prefers(s1, s2, a):
+        return bool(cost(s1["cost_rate"], s2["cost_rate"]) and (
+            reward(s1, s2) or own_rate(s1, s2) or against_a(s1, s2, a)))
+    return prefers
+
+
+KEY = dict(reward=lambda s1, s2: s1["mean_reward"] >= s2["mean_reward"],
+           own_rate=lambda s1, s2: s1["task_success_rate"] >= s2["task_success_rate"],
+           against_a=lambda s1, s2, a: s1["task_success_rate"] >= a)
+#: for each branch, the ways a student gets it wrong: left out, agent 2's value for agent 1's, strict, reversed,
+#: another quantity
+SLIPS = {
+    "reward": [lambda s1, s2: False, lambda s1, s2: s2["mean_reward"] >= s1["mean_reward"],
+               lambda s1, s2: s1["mean_reward"] > s2["mean_reward"],
+               lambda s1, s2: s1["total_cost"] <= s2["total_cost"],
+               lambda s1, s2: s1["total_cost"] >= s2["total_cost"]],
+    "own_rate": [lambda s1, s2: False, lambda s1, s2: s2["task_success_rate"] >= s1["task_success_rate"],
+                 lambda s1, s2: s1["task_success_rate"] > s2["task_success_rate"]],
+    "against_a": [lambda s1, s2, a: False, lambda s1, s2, a: s2["task_success_rate"] >= a,
+                  lambda s1, s2, a: max(s1["task_success_rate"], s2["task_success_rate"]) >= a,
+                  lambda s1, s2, a: s1["task_success_rate"] > a, lambda s1, s2, a: s1["task_success_rate"] >= a / 100,
+                  lambda s1, s2, a: s1["task_success_rate"] >= 100],
+    "cost": [lambda c1, c2: c1 <= c2, lambda c1, c2: c1 > c2, lambda c1, c2: True],
+}
+
+
+@pytest.mark.parametrize("branch, index", [(branch, i) for branch, slips in SLIPS.items() for i in range(len(slips))])
+def test_every_slip_in_every_branch_of_definition_4_is_caught(branch, index):
+    mutant = definition_4(**{**KEY, branch: SLIPS[branch][index]}) if branch != "cost" else \
+        definition_4(**KEY, cost=SLIPS["cost"][index])
+    right, reply = grade("6.2", EXERCISES["6.2"], mutant)
+    assert not right, f"the slip {branch} #{index} was accepted"
+    assert grade("6.2", EXERCISES["6.2"], definition_4(**KEY))[0]
+
+
+def test_the_slips_are_named_for_what_they_are():
+    third = definition_4(**{**KEY, "against_a": SLIPS["against_a"][1]})
+    assert grade("6.2", EXERCISES["6.2"], third)[1] == (
+        "The third branch asks agent 1's own success rate to reach a: agent 2's rate does not make agent 1 "
+        "preferred.")
+    total = definition_4(**{**KEY, "reward": SLIPS["reward"][3]})
+    assert grade("6.2", EXERCISES["6.2"], total)[1] == ("The first branch compares the mean rewards (mean_reward), "
+                                                         "not the total costs.")
+
+
+def test_the_issues_counter_example_is_among_the_cases():
+    import numpy as np
+
+    cases = EXERCISES["6.2"].cases(np.random.default_rng(0))
+    example = [case for case in cases if case["summary_1"]["task_success_rate"] == 70
+               and case["summary_2"]["task_success_rate"] == 90 and case["a"] == 80]
+    assert example and not definition_4(**KEY)(example[0]["summary_1"], example[0]["summary_2"], 80.0)
+
+
+@pytest.mark.parametrize("answer, side", [("decreases", "narrower"), ("goes down", "narrower"),
+                                          ("less than before", "narrower"), ("It shrinks.", "narrower"),
+                                          ("increases", "wider"), ("it grows", "wider")])
+def test_a_direction_said_as_a_change_is_read(answer, side):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == side
+
+
+@pytest.mark.parametrize("answer, side", [("it goes down", "below"), (0.37, "below"), ("0.37", "below"),
+                                          ("goes up", "above"), (1.8, "above"), ("Above.", "above")])
+def test_a_side_of_1_is_read_from_words_or_a_number(answer, side):
+    assert read_side(answer) == side
+
+
+@pytest.mark.parametrize("answer", ["not wider", "not narrower", "maybe"])
+def test_a_negation_or_a_guess_stays_unread(answer):
+    with pytest.raises(Unreadable):
+        read_word(answer, {"wider": WIDER, "narrower": NARROWER})
+
+
+def test_numbers_in_words_and_1_itself():
+    assert [read_count(word) for word in ("zero", "one", "twelve", "fifty", "Forty-two", "ninety nine")] == \
+        [0, 1, 12, 50, 42, 99]
+    assert read_limits({"lambda < 1": "infinity", "lambda = 1": "one", "lambda > 1": "zero"}) == \
+        {"<1": float("inf"), "=1": 1.0, ">1": 0.0}
+    with pytest.raises(Unreadable, match="it is on neither side of 1"):
+        read_side(1.0)
+
+
+def test_a_duplicated_action_is_refused():
+    with pytest.raises(Unreadable, match="Your list names action 0 twice"):
+        read_actions([0, 0, 1, 2])
+    assert read_actions([2, 0]) == [0, 2]
+
+
+def test_no_two_slips_of_one_branch_share_a_reply_by_accident():
+    # each reply of 6.2 names one mistake: two different replies never come from one student's function
+    replies = {}
+    for branch, slips in SLIPS.items():
+        for slip in slips:
+            mutant = definition_4(**{**KEY, branch: slip}) if branch != "cost" else definition_4(**KEY, cost=slip)
+            replies.setdefault(grade("6.2", EXERCISES["6.2"], mutant)[1], []).append(branch)
+    assert all(len(set(branches)) == 1 for reply, branches in replies.items() if "Redo" not in reply), replies
+    assert list(itertools.chain(*replies.values()))
