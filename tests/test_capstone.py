@@ -351,3 +351,35 @@ def test_a_single_precision_kernel_is_named_where_it_changes_a_decision():
 
     right, message = verdict({**STUDENT, "kernel": rbf_float32})
     assert not right and "Your rbf (exercise 2.1) returns single-precision numbers (float32)" in message
+
+
+def test_a_textbook_posterior_with_an_explicit_inverse_is_right_here_as_in_its_own_exercise():
+    """Exercise 2.2 accepts the textbook form with inv(K + s2 I); the capstone, which judges what a decision uses,
+    to the rounding an ill-conditioned prior allows, agrees (it may not call right values 'rounded')."""
+    from sarsp_edu.teaching.exercises import CODING
+    from sarsp_edu.teaching.exercises.grading import grade
+
+    def posterior_by_inverse(K, K_star, k_star_star, y, noise_variance):
+        inverse = np.linalg.inv(K + noise_variance * np.eye(len(y)))
+        return K_star @ inverse @ y, k_star_star - np.einsum("ij,jk,ik->i", K_star, inverse, K_star)
+
+    assert grade("2.2", CODING["2.2"], posterior_by_inverse)[0]
+    right, message = verdict({**STUDENT, "posterior": posterior_by_inverse})
+    assert right, message
+    assert "Your values are rounded" not in message
+
+
+def test_a_claim_of_rounding_needs_values_that_are_rounded():
+    from sarsp_edu.teaching.exercises import CODING
+    from sarsp_edu.teaching.exercises.grading import grade
+
+    reference = CODING["5.1"].reference
+
+    def a_little_off(a, b):  # wrong in the seventh digit, not rounded
+        return reference(a, b) * (1 + 3e-7) + 1e-9
+
+    def rounded(a, b):
+        return round(reference(a, b), 2)
+
+    assert "Your values are rounded" not in grade("5.1", CODING["5.1"], a_little_off)[1]
+    assert "rounded (to 2 decimals)" in grade("5.1", CODING["5.1"], rounded)[1]

@@ -37,11 +37,15 @@ class Mistake:
     """A usual mistake: the function a student who made it writes, and what to tell them.
 
     ``wrong`` takes the exercise's arguments; ``diagnosis`` says what is wrong
-    in one sentence that does not give the answer away.
+    in one sentence that does not give the answer away.  ``exact``: the
+    student's results must be the mistake's to the last digits (1e-12), not
+    only to the exercises' tolerance, as a claim such as "your values are
+    rounded" needs.
     """
 
     wrong: Callable
     diagnosis: str
+    exact: bool = False
 
 
 @dataclass(frozen=True)
@@ -200,7 +204,7 @@ def _rounding(exercise: CodingExercise) -> list:
             lambda *args, digits=digits, significant=significant: _round_to(exercise.reference(*args), digits,
                                                                            significant),
             f"Your values are rounded (to {digits} {unit}): return them as computed; round only where you "
-            "print them."))
+            "print them.", exact=True))  # said only of values that are rounded, not of values a little off
     return mistakes
 
 
@@ -311,7 +315,7 @@ def _reproduces(mistake: Mistake, cases: list, answers: list) -> bool:
                 wrong = call_copies(mistake.wrong, case)[0]
         except Exception:  # a mistake that does not apply to this input
             continue
-        if not same(got, wrong):
+        if not same(got, wrong, rtol=1e-12 if mistake.exact else RTOL):
             return False
         applied += 1
     return applied > 0
