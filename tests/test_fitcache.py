@@ -63,10 +63,22 @@ def test_an_unreadable_entry_is_fitted_again_and_replaced(cache):
     experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     (path, _), = fitcache.entries()
     path.write_bytes(b"half a fit")
-    again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
+    with pytest.warns(UserWarning, match=r"the stored fit .* was refused \(.*\): it is fitted again and stored anew"):
+        again = experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
     assert not again["gp"].loaded_from_cache
     assert stored_config(path) == TINY.replace(model="gp").to_dict()
     assert not list(cache.glob(".*.tmp"))  # written through a temporary file, none left behind
+
+
+def test_the_first_fit_kept_says_where_and_how_much_and_how_to_clear(cache):
+    with pytest.warns(UserWarning, match=r"sarsp_edu keeps fitted runs in .*fits \(\d+ MB this one, at most \d+ MB "
+                                         r"in all\).*'sarsp-edu cache --clear' removes them"):
+        experiments_on_one_world(TINY, {"gp": {"model": "gp"}}, cache=fitcache)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # said once: the folder is there now
+        experiments_on_one_world(TINY, {"tp": {"model": "tp"}}, cache=fitcache)
 
 
 def test_only_a_just_fitted_run_is_stored(cache):

@@ -108,6 +108,10 @@ def test_close_ends_the_sides_threads_and_the_fits_and_refuses_a_new_launch(run)
     assert run.fits._thread is None or not run.fits._thread.is_alive()
     assert run.launch() is None
     assert not [t for t in threading.enumerate() if t.name == "sarsp-edu-side" and t.is_alive()]
+    for call in (lambda: run.run_steps(1), lambda: run.fast_forward(1), lambda: run.step_pair()):
+        with pytest.raises(RuntimeError, match=r"after close\(\): this run is closed"):  # nothing rebuilt, stepped
+            call()
+    assert run.experiments is None
 
 
 def test_a_launched_run_that_fails_says_so_and_ends(run):

@@ -174,7 +174,10 @@ class LiveRun:
 
     # -- stepping from the caller's thread -----------------------------------------------
     def _refuse_while_animating(self, what: str) -> None:
-        """Stepping from a cell while the agents walk would step one experiment from two threads."""
+        """Stepping from a cell while the agents walk would step one experiment from two threads; a closed run
+        steps no more."""
+        if self.closed:
+            raise RuntimeError(f"{what} after close(): this run is closed; make a new dashboard to run again")
         if self.running:
             raise RuntimeError(f"{what} while the agents are running: press Stop (or call stop()) first")
 

@@ -267,7 +267,10 @@ def load(config, prepared, directory=None):
         if meta["fingerprint"] != fingerprint() or meta["config"] != config.to_dict():
             raise ValueError("not the fit of these settings")
         experiment = Experiment(config, prepared=prepared, fit=lambda agent: _restore(agent, arrays, meta))
-    except Exception:  # unreadable, edited or not ours: fitted again and stored anew
+    except Exception as exc:  # unreadable, edited or not ours: fitted again and stored anew, and said
+        reason = str(exc).strip().splitlines()[0][:200] if str(exc).strip() else type(exc).__name__
+        warnings.warn(f"the stored fit {path} was refused ({reason}): it is fitted again and stored anew",
+                      UserWarning, stacklevel=2)
         try:
             path.unlink(missing_ok=True)
         except OSError as exc:
@@ -314,11 +317,17 @@ def store(experiment, directory=None) -> Path | None:
     meta["digest"] = _digest(arrays, meta)
     buffer = io.BytesIO()
     np.savez(buffer, meta=np.array(json.dumps(meta)), **arrays)
+    first = directory is None and not path.parent.exists()  # the user's cache folder, made now
     try:
         atomic_write_bytes(path, buffer.getvalue())
     except OSError as exc:  # a full or read-only disk, a folder in the way: a later fit, nothing else
         _warn_once(f"{path} cannot be written ({exc.strerror or exc})")
         return None
+    if first:
+        warnings.warn(f"sarsp_edu keeps fitted runs in {path.parent} ({len(buffer.getvalue()) / 2**20:.0f} MB this "
+                      f"one, at most {CACHE_BYTES / 2**20:.0f} MB in all) so that the live dashboards and the "
+                      f"capstone's check start at once next time; 'sarsp-edu cache --clear' removes them, "
+                      f"{CACHE_VARIABLE}=off keeps none", UserWarning, stacklevel=2)
     _prune(path.parent)
     return path
 
