@@ -209,7 +209,7 @@ WRONG = {
              bool(mu_cost[action] >= d or var_cost[action] == min(var_cost)),
              "taken as the backup")],
     "5.1": [(lambda a, b: (a - b) / abs(b) * 100, "Table 2's convention"),
-            (lambda a, b: abs(a - b) / max(a, b) * 100, "not the larger")],
+            (lambda a, b: abs(a - b) / max(a, b) * 100, "the larger of the two")],
     "5.2": [(lambda t1, g1, t2, g2: 100.0 * np.mean(np.sign(t1 - g1) == np.sign(t2 - g2)), "A tie names no better"),
             (lambda t1, g1, t2, g2: agreement_share(t1, g1, t2, g2) / 100, "in %")],
     "5.3": [(lambda tp, gp: 1.0 if not np.any(tp != gp) else stats.binomtest(int(np.sum(tp > gp)), len(tp)).pvalue,
@@ -237,7 +237,7 @@ SLIPS = {
                                                                             np.sqrt(noise_variance)),
              "not its square root")],
     "2.3": [(lambda K, y, noise_variance, nu: (nu + y @ np.linalg.solve(K + noise_variance * np.eye(len(y)), y))
-             / (nu + len(y)), "lose 2")],
+             / (nu + len(y)), "miss the same term")],
     "2.7": [(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
              "enters squared")],
     "3.1": [(lambda X, y, cap: cap_duplicates(X, y, cap + 1), "one copy too many")],
@@ -257,8 +257,8 @@ SLIPS = {
                 var_cost[action] <= min(var_cost) and not was_backup)), "exactly d"),
             (lambda mu_cost, var_cost, action, d, was_backup: bool(mu_cost[action] >= d or (
                 action == int(np.argmin(var_cost)) and not was_backup)), "tie for the lowest variance")],
-    "5.1": [(lambda a, b: abs(a - b) / (a + b) * 100, "not by their sum"),
-            (lambda a, b: abs(a - b) / ((a + b) / 2), "times 100")],
+    "5.1": [(lambda a, b: abs(a - b) / (a + b) * 100, "the two added up"),
+            (lambda a, b: abs(a - b) / ((a + b) / 2), "those of a fraction")],
     "5.2": [(lambda t1, g1, t2, g2: agreement_share(t1, g1, t2, g2) * len(t1) / 100, "the count")],
     "5.3": [(lambda tp, gp: float("nan") if not np.any(np.asarray(tp) != np.asarray(gp)) else sign_test(tp, gp),
              "the p-value is 1"),
@@ -842,6 +842,10 @@ def test_every_listed_mistake_applies_to_the_exercises_inputs_and_differs_from_t
                     answer = call_copies(mistake.wrong, case)[0]
                 except np.linalg.LinAlgError:
                     if not exercise.on_linalg_error:
+                        raise
+                    continue
+                except ZeroDivisionError:  # a slip written as a student writes it, at a = b = 0 where the key
+                    if name != "5.1":      # gives 0: the grader skips a mistake on an input it raises on
                         raise
                     continue
                 applied += 1

@@ -119,3 +119,19 @@ def test_no_two_slips_of_one_branch_share_a_reply_by_accident():
             replies.setdefault(grade("6.2", EXERCISES["6.2"], mutant)[1], []).append(branch)
     assert all(len(set(branches)) == 1 for reply, branches in replies.items() if "Redo" not in reply), replies
     assert list(itertools.chain(*replies.values()))
+
+
+def test_a_percent_difference_that_divides_by_zero_at_0_0_is_refused():
+    def first_attempt(a, b):
+        return abs(a - b) / ((abs(a) + abs(b)) / 2) * 100  # right everywhere but a = b = 0, where the guide gives 0
+
+    right, reply = grade("5.1", EXERCISES["5.1"], first_attempt)
+    assert not right and reply == "Your function raised ZeroDivisionError: float division by zero (on a = 0, b = 0)."
+
+
+@pytest.mark.parametrize("name", ["2.3", "4.1", "5.1"])
+def test_no_reply_states_the_formula_it_asks_for(name):
+    said = " ".join(mistake.diagnosis for mistake in EXERCISES[name].mistakes)
+    for giveaway in ("(nu + beta - 2) / (nu + n - 2)", "nu + n - 2.", "variance <= sigma*^2 and distance >= d",
+                     "Divide by the mean", "take the absolute difference", "times 100"):
+        assert giveaway not in said, giveaway

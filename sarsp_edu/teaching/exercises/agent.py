@@ -259,7 +259,8 @@ AGENT_EXERCISES = {
                     "A pair in S_u (known unsafe) is never safe, whatever the model predicts."),
             Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
                     (var_cost < variance_threshold) & (mu_cost > d) & ~known_unsafe,
-                    "At the thresholds themselves an action is safe: variance <= sigma*^2 and distance >= d."),
+                    "An action exactly at a threshold (a variance equal to sigma*^2, a distance equal to d) is "
+                    "judged wrongly: which comparison keeps it?"),
             Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
                     (np.sqrt(var_cost) <= variance_threshold) & (mu_cost >= d) & ~known_unsafe,
                     "sigma*^2 bounds the variance, not the standard deviation."),

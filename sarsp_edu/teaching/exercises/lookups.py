@@ -142,8 +142,8 @@ LOOKUPS: dict[str, Exercise] = {
     "2.5": Exercise(
         "predict, then compute: without outliers, is the fitted TP's variance factor 'above' or 'below' 1?",
         _factor_without_outliers,
-        "The factor exceeds 1 exactly when beta > n. A fit by likelihood alone sets beta = n (nu - 2) / nu "
-        "whatever the data; against the scale the priors hold, do clean targets push beta above n?",
+        "Which of beta and n is the larger decides the side of 1: compute both for the fit on clean targets (the "
+        "model holds beta_, and n rows), and ask what the fit itself does to beta.",
         _factor_without_outliers_explained,
         read=read_side,
         accepted="'above' or 'below' (also 'Above.', 'above 1', 'greater', '>', 'it goes up' or 'below 1', "
@@ -152,7 +152,8 @@ LOOKUPS: dict[str, Exercise] = {
     "2.6": Exercise(
         "predict, then run: section 2's TP at nu = 30 against nu = 3: is its band 'wider' or 'narrower'?",
         _band_as_nu_grows,
-        "The factor (nu + beta - 2) / (nu + n - 2) tends to 1 as nu grows; is it above 1 here?",
+        "Compute the factor (nu + beta - 2) / (nu + n - 2) of section 2's fit at nu = 3 and at nu = 30 (beta_ and "
+        "the rows are on the model): which way does the band move between them?",
         "Narrower: with beta > n the factor is above 1 and falls towards 1 (the GP) as nu grows.",
         read=lambda answer: read_word(answer, {"wider": WIDER, "narrower": NARROWER}),
         accepted="'wider' or 'narrower' (also 'Wider.', 'larger', '>', 'it grows' or 'Narrower.', 'smaller', '<', "

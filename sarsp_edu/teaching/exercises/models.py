@@ -289,11 +289,11 @@ MODEL_EXERCISES = {
             Mistake(lambda K, y, noise_variance, nu: (nu + float(y @ y) - 2) / (nu + len(y) - 2),
                     "beta is y^T K_y^-1 y, with the inverse covariance between the two y's."),
             Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance) - 2) / (nu + len(y)),
-                    "The denominator is nu + n - 2."),
+                    "Your denominator is not the question's: compare them term by term."),
             Mistake(lambda K, y, noise_variance, nu: 1 / tp_factor(K, y, noise_variance, nu),
                     "The fraction is upside down."),
             Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance)) / (nu + len(y)),
-                    "Both nu + beta and nu + n lose 2: (nu + beta - 2) / (nu + n - 2)."),
+                    "Your numerator and your denominator each miss the same term of the question's: read them again."),
             Mistake(lambda K, y, noise_variance, nu: (nu + _beta(K, y, noise_variance) - 2) / (nu + len(y) - 3),
                     "n is the number of training targets, len(y), not len(y) - 1."),
             Mistake(lambda K, y, noise_variance, nu: (nu + np.sqrt(_beta(K, y, noise_variance)) - 2)

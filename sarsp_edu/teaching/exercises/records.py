@@ -17,7 +17,7 @@ __all__ = ["RECORD_EXERCISES"]
 
 # -- Tutorial 5: Table 1's % difference ------------------------------------------------------------
 def _symmetric_cases(rng):
-    return [{"a": 28.0, "b": 58.0}, {"a": 58.0, "b": 28.0}, {"a": 5.0, "b": 5.0},
+    return [{"a": 28.0, "b": 58.0}, {"a": 58.0, "b": 28.0}, {"a": 5.0, "b": 5.0}, {"a": 0.0, "b": 0.0},
             {"a": float(rng.uniform(1, 100)), "b": float(rng.uniform(1, 100))},
             {"a": 0.0, "b": 4.0},                                                 # one total of 0
             {"a": -28.0, "b": -58.0},                                             # rewards: both negative
@@ -178,9 +178,10 @@ RECORD_EXERCISES = {
         mistakes=(
             Mistake(lambda a, b: (a - b) / abs(b) * 100, "That is the change of a relative to b (Table 2's "
                                                         "convention); Table 1's has no reference model."),
-            Mistake(lambda a, b: (a - b) / ((abs(a) + abs(b)) / 2) * 100, "It has no sign: take the absolute "
-                                                                         "difference."),
-            Mistake(lambda a, b: (a - b) / ((a + b) / 2) * 100, "It has no sign: take the absolute difference."),
+            Mistake(lambda a, b: (a - b) / ((abs(a) + abs(b)) / 2) * 100,
+                    "Your result is negative where a lies below b: a % difference has no direction."),
+            Mistake(lambda a, b: (a - b) / ((a + b) / 2) * 100,
+                    "Your result is negative where a lies below b: a % difference has no direction."),
             Mistake(lambda a, b: abs(a - b) / ((a + b) / 2) * 100,
                     "Right for Table 1's totals, not for negative values (rewards): read the question's rule for "
                     "them; a % difference is never negative."),
@@ -188,11 +189,13 @@ RECORD_EXERCISES = {
                     "Right while a and b share a sign; where their signs differ, read the question's rule: "
                     "(a + b) / 2 can be near 0 there."),
             *(Mistake(lambda a, b, size=size: abs(a - b) / max(size(a), size(b)) * 100,
-                      "Divide by the mean of the two, not the larger.") for size in (float, abs)),
+                      "Your denominator is the larger of the two: for 28 against 58 it gives 51.7, where Table 1 "
+                      "prints 69.8%.") for size in (float, abs)),
             *(Mistake(lambda a, b, size=size: abs(a - b) / (size(a) + size(b)) * 100,
-                      "Divide by the mean of the two, not by their sum.") for size in (float, abs)),
+                      "Your denominator is the two added up: for 28 against 58 it gives 34.9, where Table 1 prints "
+                      "69.8%.") for size in (float, abs)),
             *(Mistake(lambda a, b, size=size: abs(a - b) / ((size(a) + size(b)) / 2),
-                      "It is a percentage: times 100.") for size in (float, abs)),
+                      "Your values are those of a fraction; Table 1 prints a percentage.") for size in (float, abs)),
         ),
         hint="Redo 28 against 58 by hand (Table 1 prints 69.8%, rounded), then one of the other cases: "
              "check the numerator, the denominator and the factor 100.",
