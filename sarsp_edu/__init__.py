@@ -42,10 +42,12 @@ def _register_environment() -> None:
     """Make ``gymnasium.make("sarsp_edu/SafeGridWorld-v0")`` work once sarsp_edu is imported."""
     import gymnasium
 
+    from .config import GRID_SIZE
+
     if "sarsp_edu/SafeGridWorld-v0" not in gymnasium.registry:
         # T_max = n * n on the paper's 10 x 10 grid: TimeLimit truncates where the environment itself does
         gymnasium.register(id="sarsp_edu/SafeGridWorld-v0", entry_point="sarsp_edu.world.gridworld:SafeGridWorld",
-                           max_episode_steps=100)
+                           max_episode_steps=GRID_SIZE * GRID_SIZE)
 
 
 _register_environment()

@@ -21,6 +21,7 @@ __all__ = [
     "MODELS",
     "OPTIMIZERS",
     "ADAM_STEPS",
+    "HYPERPARAMETER_BOUNDS",
     "LEARNING_RATE",
     "PRIORS",
     "NOISE_CONVENTIONS",
@@ -189,6 +190,8 @@ OUTLIER_MODELS = ("inputs-and-targets", "targets")
 # -- hyperparameter fits (section 5.2) ---------------------------------------
 #: the optimisers a model may use (None: keep the constructor's hyperparameters)
 OPTIMIZERS = ("adam", "lbfgs")
+#: the box a GP's or TP's hyperparameters are fitted in (each of amplitude, length scale, noise variance)
+HYPERPARAMETER_BOUNDS = (1e-5, 1e5)
 #: the paper's optimiser: 50 Adam steps with learning rate 0.1
 ADAM_STEPS = 50
 LEARNING_RATE = 0.1

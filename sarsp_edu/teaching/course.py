@@ -253,7 +253,20 @@ def _answers(notebook) -> dict:
 
 def typed_answers(path: Path, generated) -> list:
     """The answer cells of the student notebook at ``path`` whose text differs from ``generated``'s (a student
-    typed in them); empty where the file does not exist or holds the generated stubs."""
+    typed in them); empty where the file does not exist or holds the generated stubs.
+
+    Parameters
+    ----------
+    path : Path
+        A student notebook that may exist.
+    generated : nbformat.NotebookNode
+        The student notebook made afresh from its source (:func:`student_notebook`).
+
+    Returns
+    -------
+    list of str
+        The grade ids of the answer cells that differ, sorted.
+    """
     import nbformat
 
     if not path.exists():

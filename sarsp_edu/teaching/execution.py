@@ -57,7 +57,19 @@ class NotebookFailed(RuntimeError):
 
 def executed(notebook, folder, timeout: int, path: Path):
     """:func:`execute`, a cell that raises said in one line (:class:`NotebookFailed`) rather than nbclient's
-    traceback of the whole cell."""
+    traceback of the whole cell.
+
+    Parameters
+    ----------
+    notebook : nbformat.NotebookNode
+        Executed in place, as :func:`execute` does.
+    folder : path-like
+        The kernel's working folder.
+    timeout : int
+        Seconds each cell may run.
+    path : Path
+        The notebook's file, named in the message.
+    """
     from nbclient.exceptions import CellExecutionError
 
     try:

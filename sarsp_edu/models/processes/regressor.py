@@ -18,7 +18,7 @@ from sklearn.utils.validation import validate_data
 
 from ..._internal.rng import as_generator, draw_subset
 from ..._internal.validation import check_choice, check_int, check_positive, check_training, check_X
-from ...config import ADAM_STEPS, LEARNING_RATE, OPTIMIZERS, PRIORS
+from ...config import ADAM_STEPS, HYPERPARAMETER_BOUNDS, LEARNING_RATE, OPTIMIZERS, PRIORS
 from ..kernels import RBF, DistanceLevels, squared_distances, whole_distance_bound
 from ..linalg import cholesky, cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
 from ..optimizers import adam, best_of_starts, lbfgs, projected_gradient_norm, restart_points
@@ -46,7 +46,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         max_iter: int | None = None,
         prior: str | None = "lognormal",
         max_fit_points: int | None = 1000,
-        bounds: tuple[float, float] = (1e-5, 1e5),
+        bounds: tuple[float, float] = HYPERPARAMETER_BOUNDS,
         rng=None,
         n_restarts: int = 0,
     ):

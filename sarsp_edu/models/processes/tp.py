@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..._internal.validation import check_choice, check_nu
-from ...config import LEARNING_RATE, NOISE_CONVENTIONS, NU
+from ...config import HYPERPARAMETER_BOUNDS, LEARNING_RATE, NOISE_CONVENTIONS, NU
 from ..kernels import RBF
 from .equations import (
     tp_likelihood_weight,
@@ -88,7 +88,7 @@ class StudentTProcess(ProcessRegressor):
         max_iter: int | None = None,
         prior: str | None = "lognormal",
         max_fit_points: int | None = 1000,
-        bounds: tuple[float, float] = (1e-5, 1e5),
+        bounds: tuple[float, float] = HYPERPARAMETER_BOUNDS,
         rng=None,
         n_restarts: int = 0,
     ):
