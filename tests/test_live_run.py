@@ -210,3 +210,55 @@ def test_run_again_right_after_stop_never_steps_one_side_from_two_threads(run):
     watched = experiment.agent.refit_model
     run._adopt("gp", experiment)  # adopted again (both launches' threads adopt a side that joins): one watch
     assert experiment.agent.refit_model is watched and watched.watched_by is run
+
+
+def test_a_side_awaited_after_its_run_was_discarded_is_none_not_an_error(run):
+    token = run._token()
+    run.discard()  # a slider moved while a side's thread was about to wait for its fit
+    assert run._await_side("tp", token) is None  # was: TypeError, argument of type 'NoneType' is not iterable
+
+
+def test_an_error_of_a_run_discarded_meanwhile_is_not_said(run, monkeypatch):
+    def play_then_fail(generation):
+        run.discard()  # a slider moved while the run was preparing
+        raise TypeError("argument of type 'NoneType' is not iterable")
+
+    monkeypatch.setattr(run, "_play", play_then_fail)
+    thread = run.launch()
+    thread.join(60)
+    assert not any("Stopped by an error" in text for text in run.view.said()), run.view.said()
+
+
+def test_fast_forward_steps_each_side_holding_its_step_lock(run, monkeypatch):
+    run.build()
+    held = []
+    for name, experiment in run.experiments.items():
+        def episode(original=experiment.run_episode, name=name):
+            held.append(run._step_locks[name].locked())  # a stopped side's thread cannot be in a step meanwhile
+            return original()
+
+        monkeypatch.setattr(experiment, "run_episode", episode)
+    run.fast_forward(1)
+    assert len(held) == 2 and all(held)
+
+
+def test_closing_the_fit_queue_starts_no_process(monkeypatch):
+    from sarsp_edu.teaching.live import fitting
+    from sarsp_edu.teaching.live.background import FitQueue
+
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    queue = FitQueue(dict(TP_AND_GP))
+    queue.request(SMALL.replace(optimizer_steps=400))  # long enough to be under way when closed
+    assert _wait_until(lambda: any(fits.progress for fits in list(queue._pending_fits.values())))
+    started = []
+    real = fitting.FitWorker
+
+    def counted():
+        started.append(1)
+        return real()
+
+    monkeypatch.setattr(fitting, "FitWorker", counted)
+    thread = queue._thread
+    queue.close()
+    thread.join(60)
+    assert not thread.is_alive() and started == []  # was: one replacement process per abandoned worker

@@ -386,5 +386,7 @@ class FitQueue:
                         experiment.timings["offline_fit_seconds"] = float(seconds)
                     self._hand_over(fits, name, experiment)
         finally:
+            with self._condition:
+                closed = self._wanted is None and self._pending  # close(): no fit will follow, no worker is kept
             for worker in workers.values():  # abandoned or failed: stopped at once
-                give_back(worker, finished=False)
+                give_back(worker, finished=False, replace=not closed)

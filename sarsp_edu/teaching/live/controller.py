@@ -232,10 +232,11 @@ class LiveRun:
 
     def _forward_quietly(self, episodes) -> None:
         with one_blas_thread():
-            for experiment in self.experiments.values():
+            for name, experiment in self.experiments.items():
                 target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
-                while len(experiment.episodes) < target:
-                    experiment.run_episode()
+                with self._step_locks[name]:  # a side's thread still ending its step after Stop ends it first
+                    while len(experiment.episodes) < target:
+                        experiment.run_episode()
 
     def _show_all(self) -> None:
         for name in self.sides:
@@ -274,7 +275,8 @@ class LiveRun:
                 self._forward(generation, episodes)
         except Exception as exc:  # a background thread has nobody to raise to: the view says it
             with self.lock:
-                self.view.say(f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>")
+                if self._current(generation):  # an error of a run discarded meanwhile is no longer news
+                    self.view.say(f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>")
         finally:
             with self.lock:
                 if self._current(generation):
@@ -327,9 +329,14 @@ class LiveRun:
                 self._begin({})
 
     def _await_side(self, name, generation):
-        """A side's run, waiting for its models to be fitted if they are not yet (its header says how far)."""
-        if name in self.experiments:
-            return self.experiments[name]
+        """A side's run, waiting for its models to be fitted if they are not yet (its header says how far); None
+        where the run was discarded meanwhile."""
+        with self.lock:
+            experiments = self.experiments if self._current(generation) else None
+        if experiments is None:
+            return None
+        if name in experiments:
+            return experiments[name]
         pending, said = self.pending, None
         while not pending.ready(name) and self._current(generation):
             progress = pending.progress.get(name, "waiting for its fit to begin")

@@ -114,7 +114,7 @@ def take_worker() -> FitWorker:
     return FitWorker()
 
 
-def give_back(worker: FitWorker, finished: bool) -> None:
+def give_back(worker: FitWorker, finished: bool, replace: bool = True) -> None:
     """Keep a worker whose fit ``finished`` for the next fits; terminate one whose fit was abandoned (and start a
     fresh one in its place, so that the next fit does not wait for imports).
 
@@ -126,9 +126,14 @@ def give_back(worker: FitWorker, finished: bool) -> None:
         Its fit ended or was abandoned; the caller no longer uses it.
     finished : bool
         True: its fit ended (an answer came); False: abandoned, so the worker may still be fitting.
+    replace : bool, default True
+        Start a fresh worker in place of an abandoned one; False where nothing will be fitted any more (the queue
+        is closed), so that closing starts no process.
     """
     if not finished:
         worker.terminate()
+        if not replace:
+            return
         worker = FitWorker()
     with _IDLE_LOCK:
         if len(_IDLE) < IDLE_WORKERS and worker.alive:
