@@ -318,3 +318,16 @@ def test_the_study_reads_the_stored_runs_and_chooses_the_fairer_rule_by_its_crit
             for model, share in zip(("TP", "GP", "t-likelihood GP"), shares) for seed in range(6)]
     assert RuleStudy(pd.DataFrame(rows)).fairest_rule() == "tail rule, delta 0.05"  # the lower largest share
     assert RuleStudy(pd.DataFrame(rows[:-1])).fairest_rule() == "latent variance, threshold 0.8"  # tail incomplete
+
+
+def test_the_command_prints_the_stored_study_and_draws_it(tmp_path, capsys):
+    from sarsp_edu.cli.main import main
+
+    root = Path(__file__).resolve().parents[1] / "results"
+    figure = tmp_path / "rules.png"
+    assert main(["rule-study", "--out", str(tmp_path / "study"), "--ablation", str(root / "ablation"), "--models",
+                 str(root / "ablation-t-likelihood"), "--questions", "rule", "nu", "--figure", str(figure)]) == 0
+    out = capsys.readouterr().out
+    assert "== rule ==" in out and "== nu ==" in out and "noisy variance, threshold 0.8" in out
+    assert "the fairer rule (of the latent variance at 0.8 and the tail rule at 0.05" in out
+    assert "not decided yet" in out and figure.stat().st_size > 10_000

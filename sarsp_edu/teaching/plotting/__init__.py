@@ -37,7 +37,7 @@ from .results import (
     plot_paper_figure,
 )
 from .style import COLOURS, LINESTYLES, MARKERS, PlainLogFormatter, log_scale
-from .third_model import plot_model_curves, plot_threshold_study
+from .third_model import plot_model_curves, plot_rule_study, plot_threshold_study
 from .world import plot_gridworld, plot_outlier_scatter
 
 __all__ = [
@@ -60,6 +60,7 @@ __all__ = [
     "plot_model_curves",
     "plot_outlier_scatter",
     "plot_paper_figure",
+    "plot_rule_study",
     "plot_threshold_study",
     "plot_outlier_weights",
     "plot_robust",

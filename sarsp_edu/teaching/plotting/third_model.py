@@ -1,11 +1,12 @@
-"""Beyond the paper: the GP with Student-t noise beside the TP and the GP (learning curves, the threshold study)."""
+"""Beyond the paper: the GP with Student-t noise beside the TP and the GP (learning curves, the threshold study,
+the rule study)."""
 
 from __future__ import annotations
 
 from .results import METRIC_LABELS, _settled_ylim
 from .style import COLOURS, LINESTYLES, MARKERS, SMALL, finish_axes, log_scale
 
-__all__ = ["plot_model_curves", "plot_threshold_study"]
+__all__ = ["plot_model_curves", "plot_rule_study", "plot_threshold_study"]
 
 #: the style keys of the threshold study's models (the GP with Student-t noise is drawn as "robust" everywhere)
 _STUDY_STYLES = {"TP": "tp", "GP": "gp", "t-likelihood GP": "robust"}
@@ -77,3 +78,41 @@ def plot_model_curves(ax, curves, *, metric: str, title: str | None = None, sett
         _settled_ylim([ax], [curves], settle)
     finish_axes(ax, "episode", METRIC_LABELS.get(metric, metric), title or "")
     return ax
+
+
+def plot_rule_study(axes, runs, *, measures=("total_cost", "backup_share", "task_success_rate")):
+    """Each setting's runs (faint dots) and their mean (a marker) per model, the settings down the vertical axis.
+
+    One row of dots per setting and model: the six runs of a setting mix three configurations, whose levels
+    differ more than a run's noise, and the dots show that spread as it is.
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib Axes
+        One per measure.
+    runs : pandas.DataFrame
+        :attr:`~sarsp_edu.experiments.rules.RuleStudy.runs` (of one question or several): ``setting``,
+        ``model`` and the measures, a row per run.
+    measures : sequence of str
+        Columns of ``runs`` to draw.
+    """
+    settings = list(dict.fromkeys(runs["setting"]))
+    present = set(runs["model"])
+    models = [m for m in _STUDY_STYLES if m in present] + sorted(present - set(_STUDY_STYLES))
+    for ax, measure in zip(axes, measures):
+        for i, model in enumerate(models):
+            key = _STUDY_STYLES.get(model, "tp")
+            offset = 0.22 * (i - (len(models) - 1) / 2)  # the models' rows side by side within a setting
+            part = runs[runs["model"] == model]
+            rows = [settings.index(s) + offset for s in part["setting"]]
+            ax.scatter(part[measure], rows, s=14, color=COLOURS[key], marker=MARKERS[key], alpha=0.35, lw=0)
+            mean = part.groupby("setting", sort=False)[measure].mean()
+            ax.scatter(mean.to_numpy(), [settings.index(s) + offset for s in mean.index], s=46,
+                       color=COLOURS[key], marker=MARKERS[key], label=model, zorder=3)
+        ax.set_yticks(range(len(settings)))
+        ax.set_yticklabels(settings if ax is axes[0] else [""] * len(settings))
+        ax.invert_yaxis()
+        finish_axes(ax, _STUDY_LABELS.get(measure, measure), "", _STUDY_LABELS.get(measure, measure).split(" (")[0])
+        if ax is not axes[0] and ax.get_legend() is not None:
+            ax.get_legend().remove()
+    return axes
