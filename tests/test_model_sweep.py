@@ -35,7 +35,9 @@ def test_a_third_model_runs_on_the_very_worlds_of_a_stored_sweep_resumes_and_rea
     with pytest.warns(UserWarning, match=r"n_jobs=3: running 1 worker process, for 1 cell to run on"):
         first = run_model_sweep(tmp_path / "paired", tmp_path / "tl", cells=[(40.0, 0.2, 1, 0)], n_jobs=3,
                                 report=said.append)
-    assert first == {(40.0, 0.2, 1, 0)} and said == ["t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 1)"]
+    assert first == {(40.0, 0.2, 1, 0)} and said == [
+        "t-likelihood: running 1 of 1 cells (0 stored) in 1 worker process: each fits its models, then runs its 3 "
+        "episodes; a line as each is stored", "t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 1)"]
     interrupted = tmp_path / "tl" / "cells" / "m40_p0.2_nss2_seed0" / ".t-likelihood.x1"
     interrupted.mkdir(parents=True)  # a run whose storing was cut short: cleared, and the run made again
     stored = (tmp_path / "tl" / "cells" / "m40_p0.2_nss1_seed0" / "t-likelihood" / "records.csv").read_bytes()

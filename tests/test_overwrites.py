@@ -90,6 +90,10 @@ def test_a_students_answers_are_refused_then_kept_beside_the_new_notebook(tmp_pa
     assert f"kept the student's answers of {student} in {student}.bak" in capsys.readouterr().out
     assert Path(f"{student}.bak").read_bytes() == typed
     assert "my answer" not in student.read_text()
+    notebook.cells[1].source = "def my_answer():\n    return 40  # typed again"
+    nbformat.write(notebook, student)
+    assert main([*argv, "--overwrite"]) == 0  # a second backup keeps the first
+    assert Path(f"{student}.bak").read_bytes() == typed and "typed again" in Path(f"{student}.bak2").read_text()
 
 
 @pytest.mark.slow  # starts a kernel

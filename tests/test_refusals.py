@@ -73,11 +73,13 @@ def test_a_negative_tp_factor_stops_the_run_naming_it():
 def test_the_t_likelihood_model_refuses_parts_it_cannot_use_naming_both():
     config = ExperimentConfig(model="t-likelihood")
     with pytest.raises(ValueError, match=r"the cost and the reward model are GP with Student-t noise "
-                                         r"\(model='t-likelihood'\), which cannot use the replaced parts \['kernel'\]"):
+                                         r"\(model='t-likelihood' and reward_model='t-likelihood'\), which cannot use "
+                                         r"the replaced parts \['kernel'\]"):
         SARSPAgent(make_model(config), make_model(config, "reward"), tiny_data(5.0),
                    parts={"kernel": lambda X, Y, amplitude, length_scale: np.zeros((len(X), len(Y)))})
     mixed = ExperimentConfig(model="tp", reward_model="t-likelihood")
-    with pytest.raises(ValueError, match=r"the reward model is a GP with Student-t noise .*\['posterior'\]"):
+    with pytest.raises(ValueError, match=r"the reward model is a GP with Student-t noise "
+                                         r"\(reward_model='t-likelihood'\), .*\['posterior'\]"):
         SARSPAgent(make_model(mixed), make_model(mixed, "reward"), tiny_data(5.0),
                    parts={"posterior": lambda *args: gp_posterior(*args)})
     agent = SARSPAgent(make_model(config), make_model(config, "reward"), tiny_data(5.0),

@@ -331,3 +331,20 @@ def test_the_command_prints_the_stored_study_and_draws_it(tmp_path, capsys):
     assert "== rule ==" in out and "== nu ==" in out and "noisy variance, threshold 0.8" in out
     assert "the fairer rule (of the latent variance at 0.8 and the tail rule at 0.05" in out
     assert "not decided yet" in out and figure.stat().st_size > 10_000
+
+
+def test_an_unknown_prediction_is_never_safe_under_the_tail_rule():
+    got = probability_below(1.0, [1.5, np.nan, 3.0], [np.nan, 0.0, 1.0])
+    assert np.isnan(got[:2]).all() and got[2] < 0.05
+    assert np.isnan(probability_below(1.0, [np.nan], [1.0], noise=(3.0, 0.5))).all()
+    safe = choose_action(np.array([1.5, 3.0]), np.array([np.nan, 1.0]), np.array([5.0, 1.0]), np.zeros(2, bool),
+                         1.0, 0.8, got[[0, 2]], 0.05)[1]
+    assert safe.tolist() == [False, True]
+
+
+def test_the_fit_cache_keeps_a_run_only_where_it_keeps_both_of_its_models(tmp_path):
+    from sarsp_edu.teaching.live import fitcache
+
+    assert fitcache.cached(ExperimentConfig(model="gp", reward_model="tp"))
+    assert not fitcache.cached(ExperimentConfig(model="gp", reward_model="t-likelihood"))
+    assert fitcache._path(ExperimentConfig(model="gp", reward_model="t-likelihood"), tmp_path) is None

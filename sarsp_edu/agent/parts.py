@@ -229,6 +229,14 @@ def _array(value, shape: tuple, part: str, what: str) -> np.ndarray:
     return array
 
 
+def _rounding(K, noise_variance, k_star_star) -> np.ndarray:
+    """How far below 0 a right latent variance ``k** - k*^T K_y^-1 k*`` may round: 100 machine epsilons times
+    the condition number of ``K_y = K + noise I`` times ``k**`` (computed only where a variance is negative)."""
+    condition = np.linalg.cond(np.asarray(K, dtype=float) + noise_variance * np.eye(len(K)))
+    return 100.0 * np.finfo(float).eps * (condition if np.isfinite(condition) else 1e16) * np.maximum(
+        np.abs(k_star_star), 1.0)
+
+
 def predict_from_parts(parts: DecisionParts, model, X_sets, y_sets, query_sets, include_noise: bool = False):
     """What ``model.predict_batch`` computes, assembled from the parts' kernel, posterior and TP factor.
 
@@ -272,8 +280,7 @@ def predict_from_parts(parts: DecisionParts, model, X_sets, y_sets, query_sets, 
             raise ValueError("the posterior part must return two arrays, (mean, latent variance)")
         mean[b] = _array(result[0], (q,), "posterior", "a mean")
         latent = _array(result[1], (q,), "posterior", "a variance")
-        rounding = 1e-9 * np.maximum(np.abs(np.diagonal(K_query)), 1.0)  # k** - k*^T K_y^-1 k* may round below 0
-        if np.any(latent < -rounding):
+        if np.any(latent < 0) and np.any(latent < -_rounding(K, s2, np.diagonal(K_query))):
             raise ValueError(f"the posterior part returned a negative variance ({latent.min():.3g}); a variance is "
                              "at least 0")
         latent = np.maximum(latent, 0.0)

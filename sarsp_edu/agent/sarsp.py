@@ -195,10 +195,12 @@ class SARSPAgent:
         robust = [role for role, model in (("cost", self.cost_model), ("reward", self.reward_model))
                   if isinstance(model, StudentTLikelihoodGP)]
         if unusable and robust:
+            setting = " and ".join({"cost": "model", "reward": "reward_model"}[role] + "='t-likelihood'"
+                                   for role in robust)
             raise ValueError(f"the {' and the '.join(robust)} model {'is a' if len(robust) == 1 else 'are'} GP with "
-                             f"Student-t noise (model='t-likelihood'), which cannot use the replaced parts "
-                             f"{unusable}: its predictions come from its own Laplace approximation; use the "
-                             "package's kernel, posterior and tp_factor with it, or model='tp' or 'gp'")
+                             f"Student-t noise ({setting}), which cannot use the replaced parts {unusable}: its "
+                             "predictions come from its own Laplace approximation; use the package's kernel, "
+                             "posterior and tp_factor with it, or make it 'tp' or 'gp'")
         self.__dict__["parts"] = parts
 
     def __getattr__(self, name):

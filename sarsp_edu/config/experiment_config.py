@@ -211,7 +211,7 @@ class ExperimentConfig(_Settings):
     def offline_fit_steps(self) -> int | None:
         """Steps of the hyperparameter search in the agent's offline fit (cost and reward model), as progress
         counts them; None for L-BFGS, which takes as many as it needs."""
-        return 2 * self.optimizer_steps if self.optimizer == "adam" else None
+        return 2 * self.optimizer_steps * (1 + self.fit_restarts) if self.optimizer == "adam" else None
 
     def ignored_settings(self) -> dict:
         """The settings that this config's other choices leave unused: ``{field: reason}``.

@@ -128,13 +128,13 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
 #: start).  The indices are those every model shares, 0 the amplitude, 1 the length scale, 2 the noise (a GP's
 #: and TP's log noise variance, the Student-t likelihood's log scale).  Narrow noise comes first: a short search
 #: that starts at wide noise may never reach the regime where the outliers are discounted.  A second round
-#: doubles the offsets.
+#: moves twice as far, a third three times.
 RESTART_OFFSETS = ((2, -4.0), (2, 4.0), (1, -2.0), (1, 2.0), (0, -2.0), (0, 2.0))
 
 
 def restart_points(theta0, bounds, n_restarts: int) -> list:
     """The starts of a search with ``n_restarts`` restarts: ``theta0``, then one per :data:`RESTART_OFFSETS`
-    (cycled, the offsets doubled on each new round), each clipped into ``bounds``.
+    (cycled; round r, from 0, moves by r + 1 times the offsets), each clipped into ``bounds``.
 
     Deterministic: a fit's restarts draw nothing from a random stream, so a run's random draws are the same with
     or without them.

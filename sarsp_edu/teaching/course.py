@@ -251,6 +251,17 @@ def _answers(notebook) -> dict:
             if _grading(cell).get("solution")}
 
 
+def _free_backup(path: Path) -> Path:
+    """Where to keep the old ``path``: ``NAME.bak``, or ``NAME.bak2``, ``NAME.bak3`` ... where those exist (a backup
+    never replaces an older one)."""
+    number = 1
+    while True:
+        backup = path.with_name(f"{path.name}.bak{'' if number == 1 else number}")
+        if not backup.exists():
+            return backup
+        number += 1
+
+
 def typed_answers(path: Path, generated) -> list:
     """The answer cells of the student notebook at ``path`` whose text differs from ``generated``'s (a student
     typed in them); empty where the file does not exist or holds the generated stubs.
@@ -347,7 +358,7 @@ def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: in
             clear_reveals(executed(notebook, tutorials, timeout, path))
         target = student_path(path)
         if target in typed:
-            backup = target.with_name(target.name + ".bak")
+            backup = _free_backup(target)
             atomic_write_bytes(backup, target.read_bytes())
             if report is not None:
                 report(f"kept the student's answers of {target} in {backup}")

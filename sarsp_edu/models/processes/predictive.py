@@ -42,13 +42,15 @@ def probability_below(threshold: float, mean, var, df=math.inf, noise=None) -> n
     Returns
     -------
     ndarray
-        Shaped as ``mean``.  Where ``var`` is 0 the predictive is a point: 1 below the threshold, else 0.
+        Shaped as ``mean``.  Where ``var`` is 0 the predictive is a point: 1 below the threshold, else 0; where
+        the mean or the variance is NaN, NaN (a rule comparing it with delta calls the action unsafe).
     """
     mean, var = np.asarray(mean, dtype=float), np.asarray(var, dtype=float)
-    sd = np.sqrt(np.maximum(var, 0.0))
+    unknown = np.isnan(mean) | np.isnan(var)  # NaN, so that no rule calls such an action safe
+    sd = np.sqrt(np.maximum(np.where(unknown, 1.0, var), 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
         if noise is not None:
-            return _with_student_t_noise(threshold, mean, sd, *noise)
+            return np.where(unknown, np.nan, _with_student_t_noise(threshold, np.where(unknown, 0.0, mean), sd, *noise))
         df = np.broadcast_to(np.asarray(df, dtype=float), mean.shape)
         z = np.where(sd > 0, (threshold - mean) / np.where(sd > 0, sd, 1.0), np.where(mean < threshold, np.inf,
                                                                                     -np.inf))
@@ -57,7 +59,7 @@ def probability_below(threshold: float, mean, var, df=math.inf, noise=None) -> n
         if heavy.any():  # a Student-t of variance var: scale sd sqrt((df - 2) / df)
             out = np.where(heavy, stats.t.cdf(z * np.sqrt(np.where(heavy, df / (df - 2.0), 1.0)),
                                               np.where(heavy, df, 3.0)), out)
-        return out
+        return np.where(unknown, np.nan, out)
 
 
 def _with_student_t_noise(threshold: float, mean, sd, nu: float, scale: float) -> np.ndarray:

@@ -209,17 +209,19 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         first, group = distinct_rows(X)  # repeated inputs share one latent value
         U = X[first]
         kernel = RBF() if self.kernel is None else self.kernel
-        scale, self.nu_ = float(self.scale), float(self.nu)
+        scale, nu = float(self.scale), float(self.nu)
         last = None
-        self.gradient_norm_, self.start_objectives_ = math.nan, np.array([])
+        gradient_norm, start_objectives = math.nan, np.array([])
         if self.optimizer is not None:
             theta0 = [kernel.amplitude, kernel.length_scale, scale] + ([self.nu - 2.0] if self.fit_nu else [])
-            theta, last = self._search(np.log(theta0), U, y, group)
+            theta, last, gradient_norm, start_objectives = self._search(np.log(theta0), U, y, group)
             amplitude, length, scale = np.exp(theta[:3])
             kernel = RBF(amplitude, length)
             if self.fit_nu:
-                self.nu_ = 2.0 + math.exp(theta[3])
-        self.kernel_, self.scale_ = kernel, float(scale)
+                nu = 2.0 + math.exp(theta[3])
+        # the fitted state is set together, after the search: a search that raises leaves the last fit whole
+        self.kernel_, self.scale_, self.nu_ = kernel, float(scale), nu
+        self.gradient_norm_, self.start_objectives_ = gradient_norm, start_objectives
         mode = self._laplace(kernel, self.scale_, U, y, group, a0=last)
         self.f_hat_ = mode.f[group]
         self.W_ = student_t_log_likelihood(y - self.f_hat_, self.nu_, self.scale_)[2]  # per row
@@ -233,7 +235,8 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     def _search(self, theta0, U, y, group):
         """The log hyperparameters that maximise the approximate log marginal likelihood (plus the log priors),
-        and the last mode found (where the final one's search starts)."""
+        the last mode found (where the final one's search starts), the gradient norm where the search ended and
+        each start's final objective."""
         start = {"a": None}  # the last mode, where the next evaluation's Newton search starts
         bounds = np.vstack([_LOG_BOUNDS, _NU_BOUNDS]) if self.fit_nu else _LOG_BOUNDS
 
@@ -268,20 +271,21 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             theta, _, self.n_iter_ = search(starts[0])
             finals = None
         else:
-            best_start = {}
+            modes = []  # each start's last mode, in the order of the starts
 
-            def remembered(theta):  # the best start's last mode, where the fitted model's search starts
+            def remembered(theta):
                 found = search(theta)
-                best_start[float(found[1][-1])] = start["a"]
+                modes.append(start["a"])
                 return found
 
             theta, trace, self.n_iter_, finals = best_of_starts(remembered, starts)
-            start["a"] = best_start[float(trace[-1])]
+            chosen = next(i for i, value in enumerate(finals) if value == trace[-1] or (value != value and
+                                                                                        trace[-1] != trace[-1]))
+            start["a"] = modes[chosen]  # the best start's last mode: where the fitted model's search starts
         last = start["a"]  # the fitted model's mode search starts where the search's last one ended
         value, gradient = negative(theta)
-        self.start_objectives_ = -np.asarray([value] if finals is None else finals, dtype=float)
-        self.gradient_norm_ = projected_gradient_norm(gradient, theta, bounds)
-        return theta, last
+        objectives = -np.asarray([value] if finals is None else finals, dtype=float)
+        return theta, last, projected_gradient_norm(gradient, theta, bounds), objectives
 
     def _check_fitted(self):
         if not hasattr(self, "f_hat_"):

@@ -279,9 +279,12 @@ def _lock_step(config, recorder: _Recorder, shown: _Progress) -> tuple[bool, str
             culprit = _culprit(recorder.calls)
             return False, f"{_where(mine, package, decisions)}: your agent stopped: {raised(exc)}." + (
                 f"\n{culprit}" if culprit else "")
-        culprit = _culprit(recorder.calls)
-        rounding_only = culprit is None and not _low_precision(recorder.calls)  # every part right to its rounding
-        difference = _difference(mine, theirs, rounding_only=rounding_only)
+        difference = _difference(mine, theirs)
+        culprit = rounding_only = None
+        if difference is not None:  # only then are the step's calls checked one by one (each costs a solve)
+            culprit = _culprit(recorder.calls)
+            rounding_only = culprit is None and not _low_precision(recorder.calls)  # every part right to rounding
+            difference = _difference(mine, theirs, rounding_only=rounding_only)
         if difference is not None:
             if rounding_only:
                 return _parted_by_rounding(recorder.parts, _where(mine, package, decisions), difference,

@@ -284,7 +284,7 @@ class FitQueue:
                     del sides[name]
             # a model whose fits the cache does not keep cannot be handed over by a worker: fitted here, after
             # the workers' sides are handed over (they step meanwhile), abandoned at a step if newer settings come
-            here = {name: side for name, side in sides.items() if side.model not in fitcache.CACHED_MODELS}
+            here = {name: side for name, side in sides.items() if not fitcache.cached(side)}
             sides = {name: side for name, side in sides.items() if name not in here}
             workers = self._workers(sides, folder) if sides else {}
             if workers is None:  # no process could be started: fitted here, one side after the other

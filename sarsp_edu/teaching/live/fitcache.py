@@ -117,9 +117,15 @@ def _steps_taken(experiment) -> int:
 CACHED_MODELS = ("tp", "gp")
 
 
+def cached(config) -> bool:
+    """Whether the cache keeps the fits of ``config``: every model of its agent (the cost and the reward model's
+    kinds) of :data:`CACHED_MODELS`."""
+    return all(kind in CACHED_MODELS for kind in config.model_kinds)
+
+
 def _path(config, directory=None) -> Path | None:
     directory = cache_directory() if directory is None else Path(directory)
-    if directory is None or config.model not in CACHED_MODELS:
+    if directory is None or not cached(config):
         return None
     key = hashlib.sha256(f"{fingerprint()}\n{config!r}".encode()).hexdigest()[:32]
     return directory / f"{config.model}-{key}{_SUFFIX}"
