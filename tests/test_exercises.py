@@ -239,7 +239,7 @@ SLIPS = {
     "2.3": [(lambda K, y, noise_variance, nu: (nu + y @ np.linalg.solve(K + noise_variance * np.eye(len(y)), y))
              / (nu + len(y)), "miss the same term")],
     "2.7": [(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
-             "enters squared")],
+             "check its power")],
     "3.1": [(lambda X, y, cap: cap_duplicates(X, y, cap + 1), "one copy too many")],
     "3.3": [(lambda position, action, size: move(position, action, size + 1), "clip to size - 1")],
     "4.2": [(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (

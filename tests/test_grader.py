@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 
+import numpy as np
 import pytest
 
 from sarsp_edu.teaching.exercises import EXERCISES
@@ -135,3 +136,77 @@ def test_no_reply_states_the_formula_it_asks_for(name):
     for giveaway in ("(nu + beta - 2) / (nu + n - 2)", "nu + n - 2.", "variance <= sigma*^2 and distance >= d",
                      "Divide by the mean", "take the absolute difference", "times 100"):
         assert giveaway not in said, giveaway
+
+
+# -- a cold pass's findings, each a test -----------------------------------------------------------------
+def test_a_move_guarded_one_cell_short_of_a_wall_is_refused():
+    from sarsp_edu.world.gridworld.layout import moved
+
+    def one_short(position, action, size):
+        x, y = int(position[0]), int(position[1])
+        if action == 1 and y >= size - 2:  # DOWN stops a cell early
+            return np.array([x, y])
+        return np.array(moved(position, action, size))
+
+    assert not grade("3.3", EXERCISES["3.3"], one_short)[0]
+
+
+def test_rows_keyed_by_their_rounded_inputs_are_refused():
+    from sarsp_edu.teaching.exercises import CODING
+
+    def by_rounded_key(X, y, cap):
+        kept, counts = [], {}
+        for i, x in enumerate(np.asarray(X)):
+            key = tuple(np.round(x).astype(int))
+            if counts.get(key, 0) < cap:
+                counts[key] = counts.get(key, 0) + 1
+                kept.append(i)
+        return np.asarray(X)[kept], np.asarray(y)[kept]
+
+    assert not grade("3.1", CODING["3.1"], by_rounded_key)[0]
+
+
+def test_a_corrective_test_that_never_corrects_or_rounds_the_variances_is_refused():
+    from sarsp_edu.teaching.exercises import CODING
+
+    assert grade("4.3", CODING["4.3"], lambda mu_cost, var_cost, action, d, was_backup: False)[1] == (
+        "Your test never corrects the data: after a violation, the question gives two reasons that do.")
+
+    def rounded(mu_cost, var_cost, action, d, was_backup):
+        return bool(mu_cost[action] >= d or (round(var_cost[action], 1) <= round(min(var_cost), 1) and not was_backup))
+
+    assert not grade("4.3", CODING["4.3"], rounded)[0]
+
+
+def test_a_limit_near_but_not_at_its_value_is_wrong():
+    from sarsp_edu.teaching.exercises import is_right
+
+    assert is_right("1.4", {"lambda < 1": "infinite", "lambda = 1": "one", "lambda > 1": 0})
+    for near in ({"lambda < 1": "inf", "lambda = 1": 1.01, "lambda > 1": 0},
+                 {"lambda < 1": "inf", "lambda = 1": 1, "lambda > 1": 1e-300}):
+        assert not is_right("1.4", near)
+
+
+@pytest.mark.parametrize("answer, side", [("lower", "narrower"), ("reduced", "narrower"), ("smaller band", "narrower"),
+                                          ("narrower than at nu = 3", "narrower"), ("wider than before", "wider")])
+def test_more_wordings_of_a_band_are_read(answer, side):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == side
+
+
+@pytest.mark.parametrize("answer", ["1 > factor", "below 1 (about 0.37)", "1/3", "beta < n"])
+def test_more_wordings_of_below_are_read(answer):
+    assert read_side(answer) == "below"
+
+
+def test_a_count_with_its_unit_is_read():
+    assert [read_count(a) for a in ("50 cells", "fifty cells", "12 unsafe states")] == [50, 50, 12]
+
+
+def test_a_cost_rate_alone_is_named_as_such():
+    reply = grade("6.2", EXERCISES["6.2"], lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"])[1]
+    assert reply.startswith("A lower cost rate is not enough on its own")
+
+
+def test_the_pulls_replies_never_spell_the_denominator():
+    said = " ".join(mistake.diagnosis for mistake in EXERCISES["2.7"].mistakes)
+    assert "nu sigma_t^2 + r^2" not in said and "nu + 1, not nu" not in said

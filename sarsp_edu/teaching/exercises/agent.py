@@ -23,6 +23,9 @@ def _cap_cases(rng):
     for n, cap, features in ((1, 1, 2), (12, 1, 2), (40, 2, 1), (60, 12, 2), (30, 3, 3)):
         X = rng.integers(0, 3 if features < 3 else 2, (n, features)).astype(float)  # few distinct inputs: many copies
         cases.append({"X": X, "y": rng.integers(0, 4, n).astype(float), "cap": cap})
+    # inputs that are not whole numbers: 0.2 and 0.4 are two inputs, whatever they round to
+    cases.append({"X": np.array([[0.2, 1.0], [0.4, 1.0], [0.2, 1.0], [0.4, 1.0]]), "y": np.array([1.0, 2.0, 3.0, 4.0]),
+                  "cap": 1})
     return cases
 
 
@@ -75,6 +78,11 @@ def _move_cases(rng):
     # at the far walls of grids of 10 and 12 cells: a wall at size - 1 from size alone, whatever size is
     cases += [{"position": np.array([9, 9]), "action": a, "size": 10} for a in (0, 1)]
     cases += [{"position": np.array([11, 5]), "action": 0, "size": 12}]
+    # one cell from each wall, a step onto the wall's own row or column is allowed (a guard one cell short is not)
+    cases += [{"position": np.array([8, 4]), "action": 0, "size": 10}, {"position": np.array([4, 8]), "action": 1,
+                                                                         "size": 10},
+              {"position": np.array([1, 6]), "action": 2, "size": 10}, {"position": np.array([6, 1]), "action": 3,
+                                                                         "size": 10}]
     cases += [{"position": rng.integers(0, 10, 2), "action": int(rng.integers(0, 4)), "size": 10} for _ in range(6)]
     return cases
 
@@ -170,6 +178,8 @@ def _correction_cases(rng):
         # other d: a distance of 1.2 is below d = 1.5; one of 0.7 is at least d = 0.5
         case([1.2, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.5, False),
         case([0.7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 0.5, False),
+        # variances that part in their second decimal: 0.84 is not the lowest of 0.81 and 0.84
+        case([0.5, 0.2, 0.3, 0.4], [0.84, 0.81, 0.9, 0.95], 0, 1.0, False),
     ]
     for _ in range(6):
         cases.append(case(rng.uniform(0, 2, 4), rng.uniform(0, 1.5, 4), int(rng.integers(0, 4)),
@@ -317,6 +327,8 @@ AGENT_EXERCISES = {
         examples={"d": 1.0},
         cases=_correction_cases,
         mistakes=(
+            Mistake(lambda mu_cost, var_cost, action, d, was_backup: False,
+                    "Your test never corrects the data: after a violation, the question gives two reasons that do."),
             Mistake(lambda mu_cost, var_cost, action, d, was_backup:
                     bool(mu_cost[action] >= d or var_cost[action] <= var_cost.min()),
                     "An action taken as the backup is not corrected for being the most certain: it was not "

@@ -60,14 +60,22 @@ def _compared(words, *others: str) -> frozenset:
 #: the spellings of each side, for the predictions that ask 'above' or 'below' 1, 'wider' or 'narrower'
 #: a direction said as a change ('it goes down', 'decreases', 'less than before'): each the same side
 _UP = ("goes up", "increases", "increased", "grows", "rises", "more than before", "larger than before",
-       "bigger than before", "up")
-_DOWN = ("goes down", "decreases", "decreased", "shrinks", "falls", "drops", "less than before", "smaller than before",
-         "lower than before", "down")
-ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1", *_UP)
-BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1", *_DOWN)
-WIDER = _words("wider", "wide", "widens", "broader", "larger", "bigger", "more", ">", "wider band", "more wide",
+       "bigger than before", "higher than before", "up")
+_DOWN = ("goes down", "decreases", "decreased", "reduced", "reduces", "shrinks", "falls", "drops", "less than before",
+         "smaller than before", "lower than before", "down")
+
+
+def _bands(*words):
+    """Each comparative alone, of the band, and against before or nu = 3 ('smaller band', 'narrower than at nu = 3')."""
+    return (*words, *(f"{word} {tail}" for word in words for tail in ("band", "than before", "than at nu = 3",
+                                                                       "than at nu=3", "than with nu = 3")))
+ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1",
+                  "1 < factor", "beta > n", *_UP)
+BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1", "1 > factor", "beta < n",
+                  *_DOWN)
+WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "more", ">", "more wide",
                "less narrow", *_UP)
-NARROWER = _words("narrower", "narrow", "narrows", "tighter", "thinner", "smaller", "less", "<", "narrower band",
+NARROWER = _words(*_bands("narrower", "tighter", "thinner", "smaller", "lower"), "narrow", "narrows", "less", "<",
                   "more narrow", "less wide", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
@@ -119,7 +127,7 @@ def read_word(answer, options: dict) -> str:
     """
     text = _text(answer)
     if text is not None:
-        compact = _compact(text)
+        compact = _compact(re.sub(r"\s*\([^()]*\)\s*\.?\s*$", "", text))  # 'below 1 (about 0.37)': the aside dropped
         rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
         for option, spellings in options.items():  # every lead-in that fits is tried ('its' and 'it' + 'shrinks')
             if any(rest in spellings for rest in rests):
@@ -135,8 +143,12 @@ def _number(answer, what: str) -> float:
     text = _text(answer)
     if text is not None:
         compact = _compact(text)
-        compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf"}.get(
-            compact, compact)
+        compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
+                   "infinite": "inf"}.get(compact, compact)
+        compact = re.sub(r"(cells|states|unsafestates)$", "", compact)  # '50 cells', 'fifty unsafe states'
+        fraction = re.fullmatch(r"(-?\d+)/(\d+)", compact)  # '1/3'
+        if fraction and int(fraction.group(2)):
+            return int(fraction.group(1)) / int(fraction.group(2))
         try:
             return float(compact)
         except ValueError:

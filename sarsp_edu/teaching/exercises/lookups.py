@@ -62,7 +62,8 @@ def _gaussian_limits(answer, **_) -> bool:
 
     for side, lam in (("<1", sp.Rational(1, 3)), ("=1", 1), (">1", 3)):
         limit, got = tails.gaussian_tail_limit(lam), answer[side]
-        if not (got == math.inf if limit == sp.oo else math.isclose(got, float(limit), rel_tol=0.01, abs_tol=1e-12)):
+        # the limits are exact numbers (infinity, 1, 0): a guess of 1.01 or 1e-300 is not one of them
+        if not (got == math.inf if limit == sp.oo else math.isclose(got, float(limit), rel_tol=1e-9, abs_tol=0.0)):
             return False
     return True
 
@@ -133,7 +134,8 @@ LOOKUPS: dict[str, Exercise] = {
     "1.4": Exercise(
         "predict, then run: the Gaussian ratio's limit for lambda < 1, lambda = 1 and lambda > 1",
         _gaussian_limits,
-        "Write the ratio as exp((1 - lambda**2) x**2 / 2) and look at the sign of 1 - lambda**2.",
+        "Write out the ratio of the density at lambda x to the density at x, simplify its exponent, and ask how "
+        "the exponent's sign depends on lambda as x grows.",
         "inf, 1 and 0: no single power of lambda fits, so the Gaussian is not regularly varying.",
         read=read_limits,
         accepted="a dict with the keys 'lambda < 1', 'lambda = 1' and 'lambda > 1' (also spelt 'lambda<1', "
@@ -173,8 +175,8 @@ LOOKUPS: dict[str, Exercise] = {
         "predict, then compute: which actions the GP's decision calls safe with sigma*^2 = 10 "
         "(a list of action numbers)",
         _gp_safe_at_ten,
-        "An action is safe when its cost variance is at most sigma*^2 and its predicted distance at least "
-        "d = 1: which of the two tests does raising sigma*^2 leave to decide?",
+        "An action is safe when it is not known unsafe, its cost variance is at most sigma*^2 and its predicted "
+        "distance at least d = 1: which of these does raising sigma*^2 leave to decide, for each action?",
         "Its variances now pass, and the predicted distances decide, as they do for the TP at sigma*^2 = 0.8.",
         read=read_actions,
         accepted="a list of action numbers such as [0, 2] (RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3; [] for none), "

@@ -345,15 +345,14 @@ MODEL_EXERCISES = {
             Mistake(lambda residual, nu, scale: -_pull(residual, nu, scale),
                     "The sign: a point above the function (r = y - f > 0) pulls it up."),
             Mistake(lambda residual, nu, scale: np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
-                    "The factor nu + 1 from the exponent -(nu + 1)/2 is missing."),
+                    "A factor from the exponent is missing."),
             Mistake(lambda residual, nu, scale: (nu + 1) * np.asarray(residual) / (nu + np.asarray(residual) ** 2),
-                    "The scale sigma_t is missing: the residual is measured in units of sigma_t, "
-                    "nu sigma_t^2 + r^2."),
+                    "The scale sigma_t is missing: the residual is measured in units of sigma_t."),
             Mistake(lambda residual, nu, scale:
                     (nu + 1) * np.asarray(residual) / (nu * scale + np.asarray(residual) ** 2),
-                    "The scale enters squared, as the residual does: nu sigma_t^2 + r^2."),
+                    "The scale enters as the residual does: check its power."),
             Mistake(lambda residual, nu, scale: nu * np.asarray(residual) / (nu * scale**2 + np.asarray(residual) ** 2),
-                    "The factor in front comes from the exponent -(nu + 1)/2: nu + 1, not nu."),
+                    "The factor in front comes from the exponent: check it against the density."),
         ),
         hint="Differentiate -(nu + 1)/2 log(1 + r^2 / (nu sigma_t^2)) with r = y - f; d r / d f = -1.",
         explanation="It grows with the residual up to |r| = sqrt(nu) sigma_t, then falls towards 0: the farther a "

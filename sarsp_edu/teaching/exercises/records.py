@@ -91,6 +91,8 @@ def _summaries_cases(rng):
         {"summary_1": summary(-100, 0.01, 70), "summary_2": summary(-90, 0.02, 90), "a": 80.0},
         {"summary_1": summary(-100, 0.01, 85, 30), "summary_2": summary(-90, 0.02, 90, 40), "a": 100.0},  # total
         {"summary_1": summary(-80, 0.01, 85, 40), "summary_2": summary(-90, 0.02, 90, 30), "a": 100.0},  # reward
+        # no success at all: a lower cost rate alone is not enough (and 0 is below a / 100 too)
+        {"summary_1": summary(-100, 0.01, 0.0, 5), "summary_2": summary(-90, 0.02, 90, 30), "a": 100.0},
         {"summary_1": summary(-100, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # no branch
         {"summary_1": summary(-80, 0.01, 70), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # reward
         {"summary_1": summary(-100, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # TSR
@@ -250,6 +252,9 @@ RECORD_EXERCISES = {
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"])),
                 "Your answer never lets a success rate of at least a decide on its own: is the third branch "
                 "missing, a fixed at 100, or the rate compared as a fraction where a is in %?"),
+            Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"]),
+                    "A lower cost rate is not enough on its own: Definition 4 also asks one of three things of "
+                    "agent 1."),
             Mistake(_prefers_with(lambda s1, s2, a: s1["cost_rate"] < s2["cost_rate"] and (
                 s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
                 or s1["task_success_rate"] >= a / 100)),
