@@ -80,7 +80,9 @@ def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, mon
     line, text = caught.value.failures[(40.0, 0.2, 2, 0)]
     assert line == "RuntimeError: the Laplace approximation has no maximum here" and "in failing" in text  # all kept
     assert pickle.loads(pickle.dumps(caught.value)).failures == caught.value.failures  # as from a worker
-    assert said == ["t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 3)",
+    assert said == ["t-likelihood: running 3 of 3 cells (0 stored) in 1 worker process: each fits its models, then "
+                    "runs its 3 episodes; a line as each is stored",
+                    "t-likelihood: m40_p0.2_nss1_seed0 stored (1 of 3)",
                     "t-likelihood: m40_p0.2_nss2_seed0 raised RuntimeError: the Laplace approximation has no maximum "
                     "here (1 of 3 stored)",
                     "t-likelihood: m40_p0.2_nss3_seed0 stored (2 of 3)"]
@@ -94,7 +96,8 @@ def test_a_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, mon
     monkeypatch.setattr(experiment, "run_experiment", original)
     said.clear()
     assert len(run_model_sweep(tmp_path / "paired", tmp_path / "tl", n_jobs=1, report=said.append)) == 3
-    assert said == ["t-likelihood: m40_p0.2_nss2_seed0 stored (3 of 3)"]
+    assert said[1:] == ["t-likelihood: m40_p0.2_nss2_seed0 stored (3 of 3)"]
+    assert said[0].startswith("t-likelihood: running 1 of 3 cells (2 stored) in 1 worker process")
 
 
 def test_a_paired_cell_that_raises_is_named_and_the_other_cells_still_run(tmp_path, monkeypatch, capsys):

@@ -106,10 +106,10 @@ def test_a_runs_header_names_its_models(capsys):
     tiny = ["--episodes", "1", "--grid-size", "4", "--n-unsafe", "1", "--nss", "1", "--offline-episodes", "2",
             "--optimizer-steps", "2", "--reward-fit-points", "20", "--k-prior", "10", "--quiet"]
     assert main(["run", "--model", "t-likelihood", *tiny]) == 0
-    assert capsys.readouterr().out.startswith("SARSP with GP, Student-t noise (both models), ")
+    assert capsys.readouterr().out.startswith("SARSP, cost and reward model: GP, Student-t noise, ")
     assert main(["run", "--model", "t-likelihood", "--reward-model", "tp", *tiny]) == 0
-    assert capsys.readouterr().out.startswith("SARSP with GP, Student-t noise and Student-t process (cost and reward "
-                                              "model), ")
+    assert capsys.readouterr().out.startswith("SARSP, cost model: GP, Student-t noise, reward model: Student-t "
+                                              "process, ")
 
 
 @pytest.mark.parametrize("command", ["threshold-study", "rule-study", "model-sweep"])

@@ -50,9 +50,11 @@ def _run(args, parser) -> int:
     table = pd.DataFrame({config.model.upper(): displayed_summary(result.summary)}).loc[list(SUMMARY_METRICS)]
     from ..config import MODEL_TITLES
 
-    kinds = " and ".join(MODEL_TITLES[kind] for kind in config.model_kinds)
-    print(f"SARSP with {kinds} ({'cost and reward model' if len(config.model_kinds) == 2 else 'both models'}), "
-          f"{_describe(config)}")
+    if len(config.model_kinds) == 1:
+        models = f"cost and reward model: {MODEL_TITLES[config.model]}"
+    else:
+        models = f"cost model: {MODEL_TITLES[config.model]}, reward model: {MODEL_TITLES[config.reward_model]}"
+    print(f"SARSP, {models}, {_describe(config)}")
     print(_format_table(table))
     records = result.records
     print(f"corrective updates: {int(records['corrective_updates'].iloc[-1])}, "

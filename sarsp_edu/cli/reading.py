@@ -14,6 +14,7 @@ def _tables(args, parser) -> int:
     from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
     if args.markdown:
+        check_file(parser, "--markdown", args.markdown, overwrite=True)  # a folder, a link, a device in the way
         folder = Path(args.results_dir).resolve()
         if folder in Path(args.markdown).resolve().parents:
             parser.error(f"--markdown {args.markdown} lies inside the results folder {args.results_dir}, whose files "
