@@ -108,3 +108,26 @@ def test_a_cell_that_raises_is_said_in_one_line_and_nothing_is_written(tmp_path,
         assert err[0] == (f"error: {source}: cell 3 ('x = 1') raised ValueError: the world has no goal; no file was "
                           "written for it")
     assert source.read_bytes() == before and not (tutorials / "01_unit.ipynb").exists()
+
+
+def test_a_hostile_pass_s_losses_and_tracebacks_are_refusals_now(tmp_path, capsys):
+    ablation, models = str(ROOT / "results" / "ablation"), str(ROOT / "results" / "ablation-t-likelihood")
+    inside = str(ROOT / "results" / "ablation" / "ablation.json")
+    assert usage_error(["threshold-study", "--ablation", ablation, "--models", models, "--markdown", inside,
+                        "--overwrite"], capsys).endswith("whose files it could replace; write it outside")
+    assert usage_error(["course", "handout", "--root", str(ROOT), "--zip", str(tmp_path / "notes.md")],
+                       capsys).endswith("name a .zip file")
+    assert usage_error(["course", "handout", "--root", str(tmp_path), "--zip", str(tmp_path / "in.zip")],
+                       capsys).endswith("whose files it could replace; write it outside")
+    assert usage_error(["tables", str(SWEEP), "--markdown", ""], capsys).endswith(
+        "--markdown was given an empty file name; give a file to write")
+    assert "--out was given an empty folder name" in usage_error(["run", "--out", "", "--episodes", "1"], capsys)
+    same = str(tmp_path / "both.pdf")
+    assert usage_error(["threshold-study", "--ablation", ablation, "--markdown", same, "--figure", same],
+                       capsys).endswith(f"--markdown and --figure name the same file {same}; give each its own")
+    assert main(["rule-study", "--out", str(tmp_path / "s"), "--ablation", ablation, "--models", models,
+                 "--questions", "fit"]) == 0
+    assert "no run stored yet" in capsys.readouterr().out
+    assert usage_error(["rule-study", "--out", str(tmp_path / "s"), "--ablation", str(tmp_path)], capsys).endswith(
+        "is not an ablation results folder (no ablation.json); the study reads the stored TP and GP runs and the "
+        "third model's from there")

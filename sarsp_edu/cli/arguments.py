@@ -220,6 +220,9 @@ def check_out(parser: argparse.ArgumentParser, out, command: str, config=None, o
         return
     from pathlib import Path
 
+    if not str(out).strip():
+        parser.error("--out was given an empty folder name; give a folder (new, empty, or holding a "
+                     f"{command}'s results)")
     path = Path(out)
     if path.exists() and not path.is_dir():
         parser.error(f"--out {out} is a file; give a folder (new, empty, or holding a {command}'s results)")
@@ -285,6 +288,8 @@ def check_file(parser: argparse.ArgumentParser, flag: str, name, overwrite: bool
     """
     from pathlib import Path
 
+    if not str(name).strip():
+        parser.error(f"{flag} was given an empty file name; give a file to write")
     path = Path(name)
     if path.is_symlink():
         parser.error(f"{flag} {name} is a symbolic link; give the file itself or a new name (writing would replace "

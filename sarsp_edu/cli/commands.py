@@ -375,6 +375,11 @@ def _course(args, parser) -> int:
                          "folder, or remove it first")
         check_out(parser, args.out, "handout")
     else:
+        if Path(args.zip).suffix.lower() != ".zip":
+            parser.error(f"--zip {args.zip}: name a .zip file")
+        if Path(args.root).resolve() in Path(args.zip).resolve().parents:
+            parser.error(f"--zip {args.zip} lies inside the repository --root {args.root}, whose files it could "
+                         "replace; write it outside")
         check_file(parser, "--zip", args.zip, overwrite=args.overwrite)
     try:
         made = write_handout(args.root, out=args.out, zip_path=args.zip)

@@ -13,7 +13,9 @@ def _tables(args, parser) -> int:
     from ..experiments.sweep import SweepResults, describe_cells, stored_sweep
     from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
-    if args.markdown:
+    _distinct_outputs(parser, args.markdown, args.figure)
+    _outside(parser, "--figure", args.figure, [args.results_dir])
+    if args.markdown is not None:
         check_file(parser, "--markdown", args.markdown, overwrite=True)  # a folder, a link, a device in the way
         folder = Path(args.results_dir).resolve()
         if folder in Path(args.markdown).resolve().parents:
@@ -23,7 +25,7 @@ def _tables(args, parser) -> int:
 
     model_sweep = (Path(args.results_dir) / "model_sweep.json").is_file()  # another model on a paired sweep's cells
     ablation = _ablation_of_model_sweeps(Path(args.results_dir))  # another model on each of an ablation's settings
-    if args.figure and not (model_sweep or ablation):
+    if args.figure is not None and not (model_sweep or ablation):
         parser.error("--figure draws the learning curves of a model sweep's three models, or the threshold study of "
                      f"a folder of model sweeps on an ablation's settings; {args.results_dir} is neither")
     _check_figure(parser, args.figure, args.overwrite)
@@ -265,7 +267,7 @@ def _check_figure(parser, path, overwrite: bool) -> None:
     format matplotlib writes here."""
     from pathlib import Path
 
-    if path:
+    if path is not None:
         check_file(parser, "--figure", path, overwrite=overwrite)
         if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
             parser.error(f"--figure {path}: name a .png, .svg or .pdf file")
@@ -306,7 +308,10 @@ def _threshold_study(args, parser) -> int:
     from ..experiments.tables import frame_to_markdown
     from ..experiments.thresholds import ThresholdStudy, threshold_settings
 
-    if args.markdown:
+    for flag, name in (("--markdown", args.markdown), ("--figure", args.figure)):
+        _outside(parser, flag, name, [args.ablation, args.models])
+    _distinct_outputs(parser, args.markdown, args.figure)
+    if args.markdown is not None:
         check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
     _check_figure(parser, args.figure, args.overwrite)
     if args.models is not None:
@@ -353,6 +358,27 @@ def _threshold_study(args, parser) -> int:
         plot_threshold_study(axes, study.runs)
         _save_figure(figure, args.figure)
     return 0
+
+
+def _outside(parser, flag: str, name, folders) -> None:
+    """Refuse an output file inside a results folder being read: it could replace one of its files."""
+    from pathlib import Path
+
+    if not name:
+        return
+    target = Path(name).resolve()
+    for folder in folders:
+        if folder is not None and Path(folder).resolve() in target.parents:
+            parser.error(f"{flag} {name} lies inside the results folder {folder}, whose files it could replace; write "
+                         "it outside")
+
+
+def _distinct_outputs(parser, markdown, figure) -> None:
+    """Refuse --markdown and --figure naming one file: the second would replace the first."""
+    from pathlib import Path
+
+    if markdown and figure and Path(markdown).resolve() == Path(figure).resolve():
+        parser.error(f"--markdown and --figure name the same file {figure}; give each its own")
 
 
 def _check_models_folder(parser, folder) -> None:

@@ -49,6 +49,13 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
     if args.jobs < 1:
         parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
     _check_figure(parser, args.figure, args.overwrite)
+    if Path(args.out).exists() and not Path(args.out).is_dir():
+        parser.error(f"--out {args.out} is a file; give the study's folder")
+    for flag, folder, marker in (("--ablation", args.ablation, "ablation.json"), ("--models", args.models, None)):
+        if not Path(folder).is_dir() or (marker and not (Path(folder) / marker).is_file()):
+            what = "an ablation results folder (no ablation.json)" if marker else "a folder"
+            parser.error(f"{flag} {folder} is not {what}; the study reads the stored TP and GP runs and the third "
+                         "model's from there")
     if args.run:
         check_writable(parser, "--out", "the study's folder", Path(args.out))
         run_rule_study(args.out, args.ablation, questions=args.questions, n_jobs=args.jobs,
@@ -73,8 +80,8 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
     if "rule" in questions:
         print("\nthe fairer rule (of the latent variance at 0.8 and the tail rule at 0.05, the lower largest "
               f"backup share of the three models, once both have every run stored): {fairest or 'not decided yet'}")
-    if args.figure and len(study.runs):
-        shown = [q for q in questions if (study.runs["question"] == q).any()]
+    if args.figure and len(study.runs) and (study.runs["question"].isin(questions)).any():
+        shown = [q for q in questions if len(study.runs) and (study.runs["question"] == q).any()]
         figure, axes = _figure(len(shown), 3, (14, 1.2 + 0.55 * len(study.runs.drop_duplicates("setting"))))
         for row, question in zip(axes.reshape(len(shown), 3), shown):
             plot_rule_study(row, study.runs[study.runs["question"] == question])

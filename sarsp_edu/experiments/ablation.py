@@ -157,13 +157,20 @@ def setting_folder(name: str) -> str:
     return re.sub(r"[^a-z0-9]+", "-", name.lower()).strip("-")[:80]
 
 
-def _t_interval(values: np.ndarray, level: float = 0.95) -> tuple:
+#: each measure's range, to which its interval is cut (a few runs far apart can overshoot it)
+MEASURE_RANGES = {"total_cost": (0.0, math.inf), "task_success_rate": (0.0, 100.0), "backup_share": (0.0, 100.0),
+                  "mean_steps": (0.0, math.inf), "cost_rate": (0.0, math.inf)}
+
+
+def _t_interval(values: np.ndarray, level: float = 0.95, measure: str | None = None) -> tuple:
+    """The mean's t-interval, cut to ``measure``'s range (:data:`MEASURE_RANGES`) where one is named."""
     values = np.asarray(values, dtype=float)
     values = values[np.isfinite(values)]
     if len(values) < 2:
         return (math.nan, math.nan)
     half = stats.t.ppf((1 + level) / 2, len(values) - 1) * values.std(ddof=1) / math.sqrt(len(values))
-    return (values.mean() - half, values.mean() + half)
+    low, high = MEASURE_RANGES.get(measure, (-math.inf, math.inf))
+    return (max(values.mean() - half, low), min(values.mean() + half, high))
 
 
 def run_measures(result) -> dict:
@@ -221,7 +228,7 @@ class AblationResults:
         for (name, model), group in runs.groupby(["setting", "model"], sort=False):
             row = {"setting": name, "model": model, "runs": len(group)}
             for metric in ("task_success_rate", "mean_steps", "total_cost", "cost_rate", "backup_share"):
-                low, high = _t_interval(group[metric])
+                low, high = _t_interval(group[metric], measure=metric)
                 row[metric] = group[metric].mean()
                 row[f"{metric} 95% CI"] = f"[{low:.3g}, {high:.3g}]"
             row["trapped failures"] = f"{group['trapped_failures'].sum()} of {group['failures'].sum()}"

@@ -170,8 +170,6 @@ def run_rule_study(results_dir, ablation_dir, *, questions=None, n_jobs: int = 1
 
 #: what the study's tables give per setting and model, each with its 95% interval over the runs
 STUDY_MEASURES = ("total_cost", "task_success_rate", "backup_share")
-#: the range of each measure, to which its interval is cut
-_RANGES = {"total_cost": (0.0, float("inf")), "task_success_rate": (0.0, 100.0), "backup_share": (0.0, 100.0)}
 
 
 def _fitted(result) -> dict:
@@ -255,17 +253,18 @@ class RuleStudy:
         cut to the measure's range (a share and a rate lie in [0, 100], a cost is at least 0), which six runs
         far apart can overshoot.
         """
-        import numpy as np
         import pandas as pd
 
         from .ablation import _t_interval
 
-        here = self.runs[self.runs["question"] == question] if len(self.runs) else self.runs
+        if not len(self.runs):
+            return pd.DataFrame()
+        here = self.runs[self.runs["question"] == question]
         out = []
         for (setting, model), group in here.groupby(["setting", "model"], sort=False):
             row = {"setting": setting, "model": model, "runs": f"{len(group)} of {self.planned}"}
             for measure in STUDY_MEASURES:
-                low, high = np.clip(_t_interval(group[measure]), *_RANGES[measure])
+                low, high = _t_interval(group[measure], measure=measure)
                 row[measure] = float(group[measure].mean())
                 row[f"{measure} 95% CI"] = f"[{low:.3g}, {high:.3g}]"
             for fitted in ("cost noise variance", "cost nu", "cost gradient norm"):
@@ -279,7 +278,9 @@ class RuleStudy:
         lower total cost and the higher TSR ("k of n"), and the mean differences (first minus second)."""
         import pandas as pd
 
-        here = self.runs[self.runs["question"] == question] if len(self.runs) else self.runs
+        if not len(self.runs):
+            return pd.DataFrame()
+        here = self.runs[self.runs["question"] == question]
         keys, out = ["m", "p", "nss", "seed"], []
         for setting, runs in here.groupby("setting", sort=False):
             models = list(dict.fromkeys(runs["model"]))

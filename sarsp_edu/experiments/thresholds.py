@@ -141,7 +141,7 @@ class ThresholdStudy:
                 row = {"threshold": threshold, "model": model, "runs": len(group)}
                 for measure in THRESHOLD_MEASURES:
                     row[measure] = float(group[measure].mean())
-                    row[f"{measure} low"], row[f"{measure} high"] = _t_interval(group[measure])
+                    row[f"{measure} low"], row[f"{measure} high"] = _t_interval(group[measure], measure=measure)
                 out.append(row)
         return pd.DataFrame(out).set_index(["threshold", "model"])
 
