@@ -25,7 +25,10 @@ def test_tables_write_markdown_only_to_a_regular_file(tmp_path, capsys):
     assert link.is_symlink() and target.read_text() == "someone's notes\n"
     err = usage_error(["tables", str(SWEEP), "--markdown", os.devnull], capsys)
     assert f"--markdown {os.devnull} is not a regular file (a device, a pipe or a socket)" in err
-    assert main(["tables", str(SWEEP), "--markdown", str(target)]) == 0  # a regular file: regenerated, as asked
+    err = usage_error(["tables", str(SWEEP), "--markdown", str(target)], capsys)  # someone's file: kept
+    assert f"--markdown {target} exists; add --overwrite to replace it, or give a new name" in err
+    assert target.read_text() == "someone's notes\n"
+    assert main(["tables", str(SWEEP), "--markdown", str(target), "--overwrite"]) == 0  # regenerated, as asked
     assert target.read_text().startswith("#")
 
 

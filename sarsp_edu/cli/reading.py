@@ -23,6 +23,20 @@ def _tables(args, parser) -> int:
                          "it could replace; write the tables outside it")
         check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
 
+    if (Path(args.results_dir) / "paired" / "ablation.json").is_file():  # a rule study's folder: its tables
+        from ..experiments.rules import RuleStudy
+        from .study import show_study
+
+        if args.markdown is not None:
+            parser.error("--markdown is not written for a rule study's folder: its tables print; --figure draws it")
+        _check_figure(parser, args.figure, args.overwrite)
+        results = Path(args.results_dir)
+        try:  # the stored runs it is set beside: the ablation's folders next to it, as results/ holds them
+            study = RuleStudy.load(results, results.parent / "ablation", results.parent / "ablation-t-likelihood")
+        except (StoredResultError, FileNotFoundError, ValueError) as exc:
+            parser.error(str(exc))
+        show_study(study, figure=args.figure)
+        return 0
     model_sweep = (Path(args.results_dir) / "model_sweep.json").is_file()  # another model on a paired sweep's cells
     ablation = _ablation_of_model_sweeps(Path(args.results_dir))  # another model on each of an ablation's settings
     if args.figure is not None and not (model_sweep or ablation):

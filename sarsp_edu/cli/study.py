@@ -43,8 +43,7 @@ def add_rule_study(sub) -> None:
 
 def _rule_study(args, parser: argparse.ArgumentParser) -> int:
     from .._internal.io import StoredResultError
-    from ..experiments.rules import RuleStudy, run_rule_study, study_settings
-    from ..teaching.plotting import plot_rule_study
+    from ..experiments.rules import RuleStudy, run_rule_study
 
     if args.jobs < 1:
         parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
@@ -64,7 +63,17 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
         study = RuleStudy.load(args.out, args.ablation, args.models, questions=args.questions)
     except (StoredResultError, FileNotFoundError, ValueError) as exc:
         parser.error(str(exc))
-    questions = list(dict.fromkeys(setting.question for setting in study_settings(args.questions)))
+    show_study(study, args.questions, args.figure)
+    return 0
+
+
+def show_study(study, questions=None, figure=None) -> None:
+    """Print a rule study's tables per question (``questions``: those of them; default all) and draw it to
+    ``figure`` where one is named (``tables`` on the study's folder calls it too)."""
+    from ..experiments.rules import study_settings
+    from ..teaching.plotting import plot_rule_study
+
+    questions = list(dict.fromkeys(setting.question for setting in study_settings(questions)))
     for question in questions:
         table = study.table(question)
         print(f"\n== {question} ==")
@@ -80,11 +89,14 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
     if "rule" in questions:
         print("\nthe fairer rule (of the latent variance at 0.8 and the tail rule at 0.05, the lower largest "
               f"backup share of the three models, once both have every run stored): {fairest or 'not decided yet'}")
-    if args.figure and len(study.runs) and (study.runs["question"].isin(questions)).any():
+    if figure and len(study.runs) and (study.runs["question"].isin(questions)).any():
         shown = [q for q in questions if len(study.runs) and (study.runs["question"] == q).any()]
-        figure, axes = _figure(len(shown), 3, (14, 1.2 + 0.55 * len(study.runs.drop_duplicates("setting"))))
+        drawn, axes = _figure(len(shown), 3, (14, 1.2 + 0.55 * len(study.runs.drop_duplicates("setting"))))
+        counts = study.runs.groupby(["setting", "model"]).size().groupby("setting").min()
+        runs = study.runs.assign(setting=[name if counts[name] == study.planned else
+                                          f"{name} ({counts[name]} of {study.planned} runs)"
+                                          for name in study.runs["setting"]])  # a setting still running, said
         for row, question in zip(axes.reshape(len(shown), 3), shown):
-            plot_rule_study(row, study.runs[study.runs["question"] == question])
+            plot_rule_study(row, runs[runs["question"] == question])
             row[0].set_title(f"{question}: {row[0].get_title()}")
-        _save_figure(figure, args.figure)
-    return 0
+        _save_figure(drawn, figure)

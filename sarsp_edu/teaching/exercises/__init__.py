@@ -27,8 +27,8 @@ Exercise 2.1: not yet. Not written yet; replace the line raise NotImplementedErr
 ...     return amplitude**2 * np.exp(-d2 / (2 * length_scale))
 >>> check("2.1", rbf)
 Exercise 2.1: not yet. Divide the squared distance by 2 l^2: the length scale is squared too.
->>> check("3.4", "fifty")  # doctest: +NORMALIZE_WHITESPACE
-Exercise 3.4: not yet. Could not read 'fifty' as a whole number. Accepted: a whole number: 12, 12.0,
+>>> check("3.4", "a few")  # doctest: +NORMALIZE_WHITESPACE
+Exercise 3.4: not yet. Could not read 'a few' as a whole number. Accepted: a whole number: 12, 12.0,
 '12' or a numpy integer.
 """
 

@@ -178,6 +178,8 @@ def _correction_cases(rng):
         # other d: a distance of 1.2 is below d = 1.5; one of 0.7 is at least d = 0.5
         case([1.2, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.5, False),
         case([0.7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 0.5, False),
+        # both reasons at once: called safe and the most certain, chosen as safe (an 'and' slip says True too)
+        case([1.5, 0.2, 0.3, 0.4], [0.05, 0.1, 0.2, 0.3], 0, 1.0, False),
         # variances that part in their second decimal: 0.84 is not the lowest of 0.81 and 0.84
         case([0.5, 0.2, 0.3, 0.4], [0.84, 0.81, 0.9, 0.95], 0, 1.0, False),
     ]
@@ -327,8 +329,6 @@ AGENT_EXERCISES = {
         examples={"d": 1.0},
         cases=_correction_cases,
         mistakes=(
-            Mistake(lambda mu_cost, var_cost, action, d, was_backup: False,
-                    "Your test never corrects the data: after a violation, the question gives two reasons that do."),
             Mistake(lambda mu_cost, var_cost, action, d, was_backup:
                     bool(mu_cost[action] >= d or var_cost[action] <= var_cost.min()),
                     "An action taken as the backup is not corrected for being the most certain: it was not "
@@ -338,6 +338,9 @@ AGENT_EXERCISES = {
             Mistake(lambda mu_cost, var_cost, action, d, was_backup:
                     bool(mu_cost[action] >= d and var_cost[action] <= var_cost.min() and not was_backup),
                     "Either reason is enough: or, not and."),
+            # after the 'and' slip: on one input both may say False (the capstone names a part from one input)
+            Mistake(lambda mu_cost, var_cost, action, d, was_backup: False,
+                    "Your test never corrects the data: after a violation, the question gives two reasons that do."),
             Mistake(_safe_test_for_called_safe,
                     "The reference code's 'called it safe' is the predicted distance alone (at least d): a variance "
                     "above sigma*^2 does not stop the correction."),
