@@ -210,3 +210,24 @@ def test_a_cost_rate_alone_is_named_as_such():
 def test_the_pulls_replies_never_spell_the_denominator():
     said = " ".join(mistake.diagnosis for mistake in EXERCISES["2.7"].mistakes)
     assert "nu sigma_t^2 + r^2" not in said and "nu + 1, not nu" not in said
+
+
+def test_a_second_cold_pass_s_findings():
+    from sarsp_edu.teaching.exercises import CODING
+
+    assert read_side("beneath one") == "below"
+    assert read_word("not as wide", {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+    assert read_word("slimmer", {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+    with pytest.raises(Unreadable):
+        read_count("5 0")  # two numbers, not 50
+
+    def keyed_to_a_decimal(X, y, cap):
+        kept, counts = [], {}
+        for i, x in enumerate(np.asarray(X)):
+            key = tuple(np.round(x, 1))
+            if counts.get(key, 0) < cap:
+                counts[key] = counts.get(key, 0) + 1
+                kept.append(i)
+        return np.asarray(X)[kept], np.asarray(y)[kept]
+
+    assert not grade("3.1", CODING["3.1"], keyed_to_a_decimal)[0]

@@ -26,6 +26,7 @@ def _cap_cases(rng):
     # inputs that are not whole numbers: 0.2 and 0.4 are two inputs, whatever they round to
     cases.append({"X": np.array([[0.2, 1.0], [0.4, 1.0], [0.2, 1.0], [0.4, 1.0]]), "y": np.array([1.0, 2.0, 3.0, 4.0]),
                   "cap": 1})
+    cases.append({"X": np.array([[0.21, 1.0], [0.24, 1.0], [0.21, 1.0]]), "y": np.array([1.0, 2.0, 3.0]), "cap": 1})
     return cases
 
 

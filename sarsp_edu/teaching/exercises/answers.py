@@ -71,12 +71,13 @@ def _bands(*words):
                                                                        "than at nu=3", "than with nu = 3")))
 ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1",
                   "1 < factor", "beta > n", *_UP)
-BELOW = _compared(("below", "under", "less", "smaller", "lower"), "<", "< 1", "factor < 1", "1 > factor", "beta < n",
+BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower"), "<", "< 1", "factor < 1", "1 > factor",
+                  "beta < n",
                   *_DOWN)
 WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "more", ">", "more wide",
-               "less narrow", *_UP)
-NARROWER = _words(*_bands("narrower", "tighter", "thinner", "smaller", "lower"), "narrow", "narrows", "less", "<",
-                  "more narrow", "less wide", *_DOWN)
+               "less narrow", "not as narrow", *_UP)
+NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows", "less",
+                  "<", "more narrow", "less wide", "not as wide", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
                                          "the factor is", "the factor", "it gets", "it becomes", "it is", "it's",
@@ -142,6 +143,8 @@ def _number(answer, what: str) -> float:
         raise Unreadable(f"Could not read {shown(answer)} as {what}.")
     text = _text(answer)
     if text is not None:
+        if re.search(r"\d\s+\d", text):  # '5 0' is two numbers, not 50
+            raise Unreadable(f"Could not read {shown(answer)} as {what}.")
         compact = _compact(text)
         compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
                    "infinite": "inf"}.get(compact, compact)

@@ -144,8 +144,8 @@ LOOKUPS: dict[str, Exercise] = {
     "2.5": Exercise(
         "predict, then compute: without outliers, is the fitted TP's variance factor 'above' or 'below' 1?",
         _factor_without_outliers,
-        "Which of beta and n is the larger decides the side of 1: compute both for the fit on clean targets (the "
-        "model holds beta_, and n rows), and ask what the fit itself does to beta.",
+        "Compute the factor of section 3's fit on clean targets from the model's own numbers (it holds beta_, nu_ "
+        "and its rows) before you answer again.",
         _factor_without_outliers_explained,
         read=read_side,
         accepted="'above' or 'below' (also 'Above.', 'above 1', 'greater', '>', 'it goes up' or 'below 1', "
