@@ -128,3 +128,21 @@ def test_a_model_sweep_says_what_it_does_before_its_first_cell_ends(tmp_path, mo
     monkeypatch.setattr(models, "in_workers", lambda function, arguments, workers: iter(()))  # no run at all
     models.run_model_sweep(ROOT / "results" / "sweep-reduced", tmp_path / "third", n_jobs=1, report=lines.append)
     assert lines and lines[0].startswith("t-likelihood: running ") and "each fits its models, then runs its" in lines[0]
+
+
+def test_prefers_names_a_bad_summary_value_and_cannot_decide_on_nan():
+    from sarsp_edu import prefers
+
+    good = {"mean_reward": -90.0, "cost_rate": 0.02, "task_success_rate": 90.0}
+    with pytest.raises(ValueError, match=r"summary_1\['cost_rate'\] must be a number, got '0.01'"):
+        prefers({**good, "cost_rate": "0.01"}, good)
+    with pytest.raises(ValueError, match=r"summary_2\['task_success_rate'\] must be a number, got None"):
+        prefers(good, {**good, "task_success_rate": None})
+    with pytest.raises(ValueError, match=r"summary_1\['task_success_rate'\] must lie in \[0, 100\] \(a rate in %\), "
+                                         r"got 150"):
+        prefers({**good, "task_success_rate": 150}, good)
+    with pytest.raises(ValueError, match=r"summary_1\['cost_rate'\] must lie in \[0, inf\], got -0.1"):
+        prefers({**good, "cost_rate": -0.1}, good)
+    with pytest.raises(TypeError, match="summary_1 must be a mapping"):
+        prefers(None, good)
+    assert prefers({**good, "cost_rate": float("nan")}, good) is None

@@ -9,6 +9,7 @@ preference criterion (Definition 4), and the diagnostics of a run's records
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 import pandas as pd
@@ -243,7 +244,13 @@ def prefers(summary_1: dict, summary_2: dict, a: float = DEFINITION_4_A) -> bool
     -------
     bool, or None when either cost rate is undefined (see
     :func:`cost_rate_undefined`; needs ``total_cost`` in the summaries to
-    tell): Definition 4 then cannot decide.
+    tell) or NaN: Definition 4 then cannot decide.
+
+    Raises
+    ------
+    TypeError, ValueError
+        A summary that is not a mapping, lacks a value, or holds one that is not a number in its range (a
+        success rate in [0, 100] %, a cost rate at least 0), named.
 
     Notes
     -----
@@ -258,10 +265,22 @@ def prefers(summary_1: dict, summary_2: dict, a: float = DEFINITION_4_A) -> bool
     (True, False)
     """
     a_value = check_a(a)
-    for name in ("mean_reward", "cost_rate", "task_success_rate"):
-        for label, summary in (("summary_1", summary_1), ("summary_2", summary_2)):
+    ranges = {"mean_reward": (-math.inf, math.inf), "cost_rate": (0.0, math.inf), "task_success_rate": (0.0, 100.0)}
+    for label, summary in (("summary_1", summary_1), ("summary_2", summary_2)):
+        if not hasattr(summary, "__getitem__") or isinstance(summary, (str, bytes)):  # a dict, a pandas row ...
+            raise TypeError(f"{label} must be a mapping of mean_reward, cost_rate and task_success_rate, got "
+                            f"{type(summary).__name__}")
+        for name, (low, high) in ranges.items():
             if name not in summary:
                 raise ValueError(f"{label} lacks '{name}'; it needs mean_reward, cost_rate and task_success_rate")
+            value = summary[name]
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+                raise ValueError(f"{label}['{name}'] must be a number, got {value!r}")
+            if not (math.isnan(value) or low <= value <= high):
+                unit = " (a rate in %)" if name == "task_success_rate" else ""
+                raise ValueError(f"{label}['{name}'] must lie in [{low:g}, {high:g}]{unit}, got {value!r}")
+    if any(math.isnan(summary["cost_rate"]) for summary in (summary_1, summary_2)):
+        return None  # a cost rate not known: Definition 4 cannot decide
     if any("total_cost" in summary and cost_rate_undefined(summary) for summary in (summary_1, summary_2)):
         return None
     if not summary_1["cost_rate"] < summary_2["cost_rate"]:
