@@ -68,8 +68,18 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
 
 
 def show_study(study, questions=None, figure=None) -> None:
-    """Print a rule study's tables per question (``questions``: those of them; default all) and draw it to
-    ``figure`` where one is named (``tables`` on the study's folder calls it too)."""
+    """Print a rule study's tables per question and draw it where a figure is named (``tables`` on the study's
+    folder calls it too).
+
+    Parameters
+    ----------
+    study : RuleStudy
+        The stored runs (:meth:`~sarsp_edu.experiments.rules.RuleStudy.load`).
+    questions : iterable of str, optional
+        Only these questions; default all.
+    figure : path-like, optional
+        Draw each question's settings, runs and means to this file.
+    """
     from ..experiments.rules import study_settings
     from ..teaching.plotting import plot_rule_study
 
