@@ -231,3 +231,14 @@ def test_a_second_cold_pass_s_findings():
         return np.asarray(X)[kept], np.asarray(y)[kept]
 
     assert not grade("3.1", CODING["3.1"], keyed_to_a_decimal)[0]
+
+
+def test_a_third_cold_pass_s_findings():
+    from sarsp_edu.teaching.exercises import is_right
+
+    for answer in ([float("inf"), 1, 0], (float("inf"), 1, 0), "inf, 1, 0",
+                   {"lambda < 1": "diverges", "lambda = 1": 1, "lambda > 1": 0}):
+        assert is_right("1.4", answer), answer
+    assert not is_right("1.4", [0, 1, float("inf")])  # in the question's order: the other way round is wrong
+    with pytest.raises(Unreadable):
+        read_limits([1, 0])

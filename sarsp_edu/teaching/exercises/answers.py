@@ -147,7 +147,7 @@ def _number(answer, what: str) -> float:
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
         compact = _compact(text)
         compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
-                   "infinite": "inf"}.get(compact, compact)
+                   "infinite": "inf", "diverges": "inf", "itdiverges": "inf"}.get(compact, compact)
         compact = re.sub(r"(cells|states|unsafestates)$", "", compact)  # '50 cells', 'fifty unsafe states'
         fraction = re.fullmatch(r"(-?\d+)/(\d+)", compact)  # '1/3'
         if fraction and int(fraction.group(2)):
@@ -207,7 +207,15 @@ def _limit_key(key) -> str | None:
 
 
 def read_limits(answer) -> dict:
-    """A dict of the three limits, keyed '<1', '=1', '>1' (floats, inf allowed); raises :class:`Unreadable`."""
+    """A dict of the three limits, keyed '<1', '=1', '>1' (floats, inf allowed); raises :class:`Unreadable`.
+
+    Three limits in the question's order (lambda < 1, = 1, > 1) are read too: a list, a tuple or text such as
+    'inf, 1, 0'."""
+    text = _text(answer)
+    if text is not None and len([part for part in re.split(r"[,;]", text) if part.strip()]) == 3:
+        answer = [part.strip() for part in re.split(r"[,;]", text) if part.strip()]
+    if isinstance(answer, (list, tuple)) and len(answer) == 3:
+        answer = dict(zip(("lambda < 1", "lambda = 1", "lambda > 1"), answer))
     if not isinstance(answer, dict):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits.")
     limits = {}
