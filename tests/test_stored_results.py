@@ -391,9 +391,9 @@ def test_reproduction_md_holds_the_three_model_tables_of_the_cells_stored(tmp_pa
 
 @pytest.mark.parametrize("folder", sorted(p.name for p in RESULTS.iterdir() if p.is_dir()))
 def test_every_shipped_results_folder_loads_with_tables(folder, capsys):
-    """Every folder under results/ loads: a sweep's tables (older formats read in today's terms), an ablation's
-    table."""
-    assert main(["tables", str(RESULTS / folder)]) == 0
+    """Every folder under results/ loads: a sweep's tables (older formats read in today's terms; a sweep still
+    running across sessions, its stored cells), an ablation's table, a rule study's tables."""
+    assert main(["tables", str(RESULTS / folder), "--allow-partial"]) == 0
     out = capsys.readouterr().out
     assert ("TP" in out and "GP" in out) and "error" not in out.lower()
 
