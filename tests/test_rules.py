@@ -14,7 +14,7 @@ from sarsp_edu.agent.decision import choose_action
 from sarsp_edu.agent.sarsp import SARSPAgent
 from sarsp_edu.models.linalg import distinct_rows
 from sarsp_edu.models.optimizers import RESTART_OFFSETS, best_of_starts, projected_gradient_norm, restart_points
-from sarsp_edu.models.processes.laplace import laplace_gradient
+from sarsp_edu.models.processes.laplace_gradient import laplace_gradient
 from sarsp_edu.models.processes.predictive import probability_below
 from sarsp_edu.models.processes.robust import nu_log_prior
 from sarsp_edu.models.processes.settings import make_model

@@ -177,3 +177,14 @@ def check_training(X, y):
         raise ValueError(f"y must be finite (no NaN or inf), got y[{i}]={y[i]}")
     check_scale("y", y)
     return X, y
+
+
+def check_positive_pair(name: str, value) -> tuple:
+    """A pair ``(low, high)`` of finite numbers with ``0 < low < high`` (a box of hyperparameters)."""
+    try:
+        low, high = (float(b) for b in value)
+    except (TypeError, ValueError):
+        low = high = math.nan
+    if not (0 < low < high < math.inf):
+        raise ValueError(f"{name} must be a pair (low, high) with 0 < low < high, got {name}={value!r}")
+    return low, high

@@ -11,7 +11,8 @@ import threading
 
 from .._version import __version__
 from .arguments import add_config_arguments
-from .commands import _ablation, _cache, _compare, _course, _info, _model_sweep, _prefit, _run, _sweep
+from .commands import _ablation, _cache, _compare, _info, _model_sweep, _prefit, _run, _sweep
+from .course import _course
 from .reading import _check_cell, _tables, _threshold_study
 from .study import add_rule_study
 

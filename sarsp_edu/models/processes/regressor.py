@@ -17,7 +17,14 @@ from sklearn.exceptions import NotFittedError
 from sklearn.utils.validation import validate_data
 
 from ..._internal.rng import as_generator, draw_subset
-from ..._internal.validation import check_choice, check_int, check_positive, check_training, check_X
+from ..._internal.validation import (
+    check_choice,
+    check_int,
+    check_positive,
+    check_positive_pair,
+    check_training,
+    check_X,
+)
 from ...config import ADAM_STEPS, HYPERPARAMETER_BOUNDS, LEARNING_RATE, OPTIMIZERS, PRIORS
 from ..kernels import RBF, DistanceLevels, squared_distances, whole_distance_bound
 from ..linalg import cholesky, cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
@@ -82,16 +89,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         check_choice("prior", self.prior, PRIORS)
         check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
         check_int("n_restarts", self.n_restarts, 0)
-        try:
-            low, high = (float(b) for b in self.bounds)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"bounds must be a pair (low, high) with 0 < low < high, got bounds={self.bounds!r}"
-            ) from None
-        if not (0 < low < high < math.inf):
-            raise ValueError(
-                f"bounds must be a pair (low, high) with 0 < low < high, got bounds={self.bounds!r}"
-            )
+        check_positive_pair("bounds", self.bounds)
         if not isinstance(self.rng, np.random.Generator):
             as_generator(self.rng)  # raises a clear error for anything else
 
@@ -147,21 +145,19 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
                 value, grad = self._log_joint(theta, D2, data, work, levels)
                 return -value, -grad
 
+            steps = ADAM_STEPS if self.max_iter is None else self.max_iter
             if self.optimizer == "adam":
-                steps = ADAM_STEPS if self.max_iter is None else self.max_iter
                 self._warn_out_of_reach(y, steps)
 
-                def search(start):
+            def search(start):  # one start's search (several with n_restarts, the best kept)
+                if self.optimizer == "adam":
                     return adam(negative, start, bounds, self.learning_rate, steps)
-            else:
-                def search(start):
-                    return lbfgs(negative, start, bounds, self.max_iter, len(idx))
+                return lbfgs(negative, start, bounds, self.max_iter, len(idx))
+
             theta, trace, n_iter, finals = best_of_starts(search, restart_points(theta0, bounds, self.n_restarts))
             trace = [-v for v in trace]
-            #: the final log joint of each start's search (the first the constructor's values), the best kept
-            self.start_objectives_ = -np.asarray(finals)
-            #: the log joint's gradient norm where the search ended (components at a bound, pointing out, left out)
-            self.gradient_norm_ = projected_gradient_norm(negative(theta)[1], theta, bounds)
+            self.start_objectives_, self.gradient_norm_ = -np.asarray(finals), projected_gradient_norm(
+                negative(theta)[1], theta, bounds)
             self._warn_on_bounds(theta, bounds)
         self.theta_ = np.asarray(theta, dtype=float)
         self.kernel_, self.noise_variance_, extra = self._unpack(self.theta_)

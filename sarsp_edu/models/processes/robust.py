@@ -47,12 +47,12 @@ from ..optimizers import adam, best_of_starts, projected_gradient_norm, restart_
 from .laplace import (
     MAX_NEWTON,
     answering_mode,
-    laplace_gradient,
     laplace_predict,
     laplace_predict_batch,
     noise_variance,
     student_t_log_likelihood,
 )
+from .laplace_gradient import laplace_gradient
 
 __all__ = ["StudentTLikelihoodGP", "nu_log_prior", "student_t_log_likelihood"]
 
@@ -97,7 +97,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         Fit the amplitude, the length scale and ``scale`` by maximising the
         Laplace approximation of the marginal likelihood (plus the log priors
         with ``prior="lognormal"``) over their logs, with its exact gradient
-        (:func:`~sarsp_edu.models.processes.laplace.laplace_gradient`):
+        (:func:`~sarsp_edu.models.processes.laplace_gradient.laplace_gradient`):
         L-BFGS-B to convergence, or ``max_iter`` Adam steps of
         ``learning_rate`` from the given values (as the SARSP agent fits its
         GP and TP); None keeps the given ones.

@@ -174,8 +174,7 @@ class LiveRun:
 
     # -- stepping from the caller's thread -----------------------------------------------
     def _refuse_while_animating(self, what: str) -> None:
-        """Stepping from a cell while the agents walk would step one experiment from two threads; a closed run
-        steps no more."""
+        """Stepping from a cell while the agents walk would step one experiment from two threads (or a closed run)."""
         if self.closed:
             raise RuntimeError(f"{what} after close(): this run is closed; make a new dashboard to run again")
         if self.running:
@@ -329,8 +328,7 @@ class LiveRun:
                 self._begin({})
 
     def _await_side(self, name, generation):
-        """A side's run, waiting for its models to be fitted if they are not yet (its header says how far); None
-        where the run was discarded meanwhile."""
+        """A side's run, waited for until its models are fitted (its header says how far); None if discarded since."""
         with self.lock:
             experiments = self.experiments if self._current(generation) else None
         if experiments is None:
