@@ -151,19 +151,23 @@ def test_a_move_guarded_one_cell_short_of_a_wall_is_refused():
     assert not grade("3.3", EXERCISES["3.3"], one_short)[0]
 
 
-def test_rows_keyed_by_their_rounded_inputs_are_refused():
-    from sarsp_edu.teaching.exercises import CODING
-
-    def by_rounded_key(X, y, cap):
+def capped_by_rounded_keys(decimals: int):
+    """A duplicate cap (exercise 3.1) that keys each input by its rounding to ``decimals``: a slip."""
+    def cap_duplicates(X, y, cap):
         kept, counts = [], {}
         for i, x in enumerate(np.asarray(X)):
-            key = tuple(np.round(x).astype(int))
+            key = tuple(np.round(x, decimals))
             if counts.get(key, 0) < cap:
                 counts[key] = counts.get(key, 0) + 1
                 kept.append(i)
         return np.asarray(X)[kept], np.asarray(y)[kept]
+    return cap_duplicates
 
-    assert not grade("3.1", CODING["3.1"], by_rounded_key)[0]
+
+def test_rows_keyed_by_their_rounded_inputs_are_refused():
+    from sarsp_edu.teaching.exercises import CODING
+
+    assert not grade("3.1", CODING["3.1"], capped_by_rounded_keys(0))[0]
 
 
 def test_a_corrective_test_that_never_corrects_or_rounds_the_variances_is_refused():
@@ -221,16 +225,7 @@ def test_a_second_cold_pass_s_findings():
     with pytest.raises(Unreadable):
         read_count("5 0")  # two numbers, not 50
 
-    def keyed_to_a_decimal(X, y, cap):
-        kept, counts = [], {}
-        for i, x in enumerate(np.asarray(X)):
-            key = tuple(np.round(x, 1))
-            if counts.get(key, 0) < cap:
-                counts[key] = counts.get(key, 0) + 1
-                kept.append(i)
-        return np.asarray(X)[kept], np.asarray(y)[kept]
-
-    assert not grade("3.1", CODING["3.1"], keyed_to_a_decimal)[0]
+    assert not grade("3.1", CODING["3.1"], capped_by_rounded_keys(1))[0]
 
 
 def test_a_third_cold_pass_s_findings():
