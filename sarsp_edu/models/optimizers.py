@@ -16,7 +16,7 @@ import numpy as np
 from scipy import optimize
 
 __all__ = ["RESTART_OFFSETS", "adam", "best_of_starts", "lbfgs", "projected_gradient_norm", "reporting_steps",
-           "restart_points"]
+           "restart_points", "searcher"]
 
 #: called after each step of a search (a progress bar's update), where :func:`reporting_steps` sets one
 _STEP_HOOK: contextvars.ContextVar = contextvars.ContextVar("sarsp_edu_step_hook", default=None)
@@ -130,6 +130,30 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
 #: that starts at wide noise may never reach the regime where the outliers are discounted.  A second round
 #: moves twice as far, a third three times.
 RESTART_OFFSETS = ((2, -4.0), (2, 4.0), (1, -2.0), (1, 2.0), (0, -2.0), (0, 2.0))
+
+
+def searcher(optimizer: str, fun, bounds, learning_rate: float, steps: int, max_iter, scale: float):
+    """``search(theta0) -> (theta, trace, n_iter)``: the named optimiser's search from one start, minimising
+    ``fun`` (``"adam"``: ``steps`` steps of ``learning_rate``; else L-BFGS-B with ``max_iter`` and ``scale``, as
+    :func:`lbfgs`), for :func:`best_of_starts`.
+
+    Parameters
+    ----------
+    optimizer : {"adam", "lbfgs"}
+    fun : callable
+        ``fun(theta) -> (value, gradient)``.
+    bounds : ndarray of shape (k, 2)
+    learning_rate : float
+    steps : int
+        Adam's steps.
+    max_iter : int or None
+        L-BFGS-B's ``maxiter``.
+    scale : float
+        L-BFGS-B's divisor of the objective (the number of points).
+    """
+    if optimizer == "adam":
+        return lambda start: adam(fun, start, bounds, learning_rate, steps)
+    return lambda start: lbfgs(fun, start, bounds, max_iter, scale)
 
 
 def restart_points(theta0, bounds, n_restarts: int) -> list:

@@ -28,7 +28,7 @@ from ..._internal.validation import (
 from ...config import ADAM_STEPS, HYPERPARAMETER_BOUNDS, LEARNING_RATE, OPTIMIZERS, PRIORS
 from ..kernels import RBF, DistanceLevels, squared_distances, whole_distance_bound
 from ..linalg import cholesky, cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
-from ..optimizers import adam, best_of_starts, lbfgs, projected_gradient_norm, restart_points
+from ..optimizers import best_of_starts, projected_gradient_norm, restart_points, searcher
 from .objective import Objective
 
 __all__ = ["NotFittedError", "ProcessRegressor"]
@@ -148,12 +148,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             steps = ADAM_STEPS if self.max_iter is None else self.max_iter
             if self.optimizer == "adam":
                 self._warn_out_of_reach(y, steps)
-
-            def search(start):  # one start's search (several with n_restarts, the best kept)
-                if self.optimizer == "adam":
-                    return adam(negative, start, bounds, self.learning_rate, steps)
-                return lbfgs(negative, start, bounds, self.max_iter, len(idx))
-
+            search = searcher(self.optimizer, negative, bounds, self.learning_rate, steps, self.max_iter, len(idx))
             theta, trace, n_iter, finals = best_of_starts(search, restart_points(theta0, bounds, self.n_restarts))
             trace = [-v for v in trace]
             self.start_objectives_, self.gradient_norm_ = -np.asarray(finals), projected_gradient_norm(
