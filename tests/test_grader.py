@@ -237,3 +237,46 @@ def test_a_third_cold_pass_s_findings():
     assert not is_right("1.4", [0, 1, float("inf")])  # in the question's order: the other way round is wrong
     with pytest.raises(Unreadable):
         read_limits([1, 0])
+
+
+# -- the fourth cold pass: a tolerance taken for a tie, a formula's 0/0 hiding its mistake, eq. 8 as printed -------
+@pytest.mark.parametrize("rtol", [1e-3, 1e-2])
+def test_a_tie_within_a_tolerance_is_not_the_most_certain_action(rtol):
+    def tolerant(mu_cost, var_cost, action, d, was_backup):
+        return bool(mu_cost[action] >= d or (np.isclose(var_cost[action], var_cost.min(), rtol=rtol)
+                                             and not was_backup))
+
+    right, reply = grade("4.3", EXERCISES["4.3"], tolerant)
+    assert not right and "a tie is equality" in reply
+
+
+def test_numpys_default_closeness_still_reads_a_tie_as_equality():
+    def with_isclose(mu_cost, var_cost, action, d, was_backup):
+        return bool(mu_cost[action] >= d or (np.isclose(var_cost[action], var_cost.min()) and not was_backup))
+
+    assert grade("4.3", EXERCISES["4.3"], with_isclose)[0]
+
+
+def test_a_wrong_percent_difference_is_named_before_its_division_by_zero_at_0_0():
+    right, reply = grade("5.1", EXERCISES["5.1"], lambda a, b: abs(a - b) / abs(b) * 100)
+    assert not right and reply.startswith("On a = 28, b = 58, it gives other values than the package (yours: 51.7241).")
+    assert reply.endswith("Your function raised ZeroDivisionError: float division by zero (on a = 0, b = 0).")
+    right, reply = grade("5.1", EXERCISES["5.1"], lambda a, b: 200 * abs(a - b) / abs(a + b))
+    assert not right and reply.startswith("Right while a and b share a sign")
+
+
+def test_eq_8_as_printed_is_named_as_printed():
+    def printed(x, lam, nu):
+        x = np.asarray(x, dtype=float)
+        return ((1 + lam * x**2 / nu) / (1 + x**2 / nu)) ** (-(nu + 1) / 2)
+
+    right, reply = grade("1.2", EXERCISES["1.2"], printed)
+    assert not right and reply.startswith("That is eq. 8 as printed")
+
+
+def test_capstone_values_that_differ_are_shown_to_the_digits_where_they_differ():
+    from sarsp_edu.teaching.exercises.parting import _apart
+
+    yours, ours = _apart([0.16412345, 0.0654], [0.16412349, 0.0654])
+    assert yours != ours and yours == "[0.16412345, 0.0654]"
+    assert _apart([1.0, 2.0], [1.5, 2.0]) == ("[1, 2]", "[1.5, 2]")

@@ -183,6 +183,9 @@ def _correction_cases(rng):
         case([1.5, 0.2, 0.3, 0.4], [0.05, 0.1, 0.2, 0.3], 0, 1.0, False),
         # variances that part in their second decimal: 0.84 is not the lowest of 0.81 and 0.84
         case([0.5, 0.2, 0.3, 0.4], [0.84, 0.81, 0.9, 0.95], 0, 1.0, False),
+        # and in their fourth: 0.5004 is not tied with 0.5 (a tie is equality; np.isclose's defaults tell them
+        # apart too, a tolerance of a thousandth or more does not)
+        case([0.5, 0.2, 0.3, 0.4], [0.5004, 0.5, 0.9, 0.95], 0, 1.0, False),
     ]
     for _ in range(6):
         cases.append(case(rng.uniform(0, 2, 4), rng.uniform(0, 1.5, 4), int(rng.integers(0, 4)),
@@ -352,6 +355,11 @@ AGENT_EXERCISES = {
                     bool(mu_cost[action] >= d or (action == int(np.argmin(var_cost)) and not was_backup)),
                     "When several actions tie for the lowest variance, each of them is the most certain "
                     "(np.argmin names only the first): compare the action's variance with the minimum."),
+            Mistake(lambda mu_cost, var_cost, action, d, was_backup:
+                    bool(mu_cost[action] >= d or (np.isclose(var_cost[action], var_cost.min(), rtol=1e-3)
+                                                  and not was_backup)),
+                    "A variance a little above the lowest is not tied with it: the most certain action has the "
+                    "lowest variance itself (a tie is equality), not one within a tolerance of it."),
         ),
         hint="Redo the case above by hand, one reason for a correction at a time, as the question states them.",
         explanation="Only then did the model mislead the agent: its stored cost is overwritten by what was seen.",

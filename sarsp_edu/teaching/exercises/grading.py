@@ -244,11 +244,9 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
             return False, (f"Your function {exc} (on {describe(case)}), so the check stopped waiting: is there a "
                            "loop that never ends?")
         except (Exception, SystemExit) as exc:  # the student's code may raise anything: say what and where
-            if failed is not None:  # wrong before it raised: a usual mistake that explains those answers says more
-                mistake = known_mistake(exercise, cases[:len(answers)], answers)
-                if mistake is not None:
-                    return False, mistake
             said_ = f"Your function raised {raised(exc)} (on {describe(case)})."
+            if failed is not None:  # wrong before it raised: what was wrong first says more
+                return False, f"{_diagnosis(exercise, cases[:len(answers)], answers, failed)} {said_}"
             if isinstance(exc, np.linalg.LinAlgError) and exercise.on_linalg_error:
                 said_ = f"{said_} {exercise.on_linalg_error}"
             return False, said_

@@ -176,8 +176,12 @@ MODEL_EXERCISES = {
         reference=_tail_ratio,
         cases=_ratio_cases,
         mistakes=(
+            Mistake(lambda x, lam, nu: ((1 + lam * np.asarray(x, float) ** 2 / nu) / (1 + np.asarray(x, float) ** 2
+                                                                                     / nu)) ** (-(nu + 1) / 2),
+                    "That is eq. 8 as printed (section 2's printed_eq8_limit): lambda x^2 where (lambda x)^2 "
+                    "belongs, the density at sqrt(lambda) x; the ratio takes it at lambda x."),
             Mistake(lambda x, lam, nu: np.exp(stats.t.logpdf(lam * np.asarray(x) ** 2, nu) - stats.t.logpdf(x, nu)),
-                    "That is eq. 8 as printed, with lambda x^2 inside the density: the argument is lambda x."),
+                    "Your numerator is the density at lambda x^2; the ratio takes it at lambda x."),
             Mistake(lambda x, lam, nu: 1 / _tail_ratio(x, lam, nu), "It is upside down: f(lambda x) over f(x)."),
             Mistake(lambda x, lam, nu: np.full(np.shape(x), float(lam) ** (-nu - 1)),
                     "That is the limit as x grows (eq. 8), the same at every x; the exercise asks for the ratio "

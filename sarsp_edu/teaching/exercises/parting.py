@@ -155,8 +155,8 @@ def _difference(mine, theirs, rounding_only: bool = False) -> str | None:
     ours, yours = mine.decision, theirs.decision
     for field, label in _LABELS.items():
         if not rounding_only and not same(getattr(yours, field), getattr(ours, field)):
-            return (f"the {label} of the four actions differ: yours {said(np.round(getattr(yours, field), 4))}, "
-                    f"the package's {said(np.round(getattr(ours, field), 4))}")
+            shown_yours, shown_ours = _apart(getattr(yours, field), getattr(ours, field))
+            return f"the {label} of the four actions differ: yours {shown_yours}, the package's {shown_ours}"
     if (yours.action != ours.action or yours.backup != ours.backup
             or not np.array_equal(yours.safe, ours.safe)):
         return f"your agent took {_action_words(yours)}, the package's {_action_words(ours)}"
@@ -164,6 +164,16 @@ def _difference(mine, theirs, rounding_only: bool = False) -> str | None:
         return (f"after the violation, your agent {'corrected' if theirs.outcome.corrected else 'did not correct'} "
                 f"the cost model's data, the package's {'did' if mine.outcome.corrected else 'did not'}")
     return None
+
+
+def _apart(yours, ours) -> tuple:
+    """Both arrays in words, to 4 significant digits or as many more as it takes for them to read apart."""
+    yours, ours = np.ravel(np.asarray(yours, dtype=float)), np.ravel(np.asarray(ours, dtype=float))
+    for digits in range(4, 18):
+        shown = tuple("[" + ", ".join(f"{v:.{digits}g}" for v in values) + "]" for values in (yours, ours))
+        if shown[0] != shown[1]:
+            return shown
+    return shown
 
 
 def _failed(failed, where: str) -> str:

@@ -17,12 +17,13 @@ __all__ = ["RECORD_EXERCISES"]
 
 # -- Tutorial 5: Table 1's % difference ------------------------------------------------------------
 def _symmetric_cases(rng):
-    return [{"a": 28.0, "b": 58.0}, {"a": 58.0, "b": 28.0}, {"a": 5.0, "b": 5.0}, {"a": 0.0, "b": 0.0},
+    return [{"a": 28.0, "b": 58.0}, {"a": 58.0, "b": 28.0}, {"a": 5.0, "b": 5.0},
             {"a": float(rng.uniform(1, 100)), "b": float(rng.uniform(1, 100))},
             {"a": 0.0, "b": 4.0},                                                 # one total of 0
             {"a": -28.0, "b": -58.0},                                             # rewards: both negative
             {"a": -float(rng.uniform(50, 150)), "b": -float(rng.uniform(50, 150))},
-            {"a": -3.0, "b": 5.0}]                                                # signs differ
+            {"a": -3.0, "b": 5.0},                                                # signs differ
+            {"a": 0.0, "b": 0.0}]  # last: a formula's other mistakes are named before its 0/0
 
 
 def _symmetric(a, b):
@@ -199,8 +200,8 @@ RECORD_EXERCISES = {
             *(Mistake(lambda a, b, size=size: abs(a - b) / ((size(a) + size(b)) / 2),
                       "Your values are those of a fraction; Table 1 prints a percentage.") for size in (float, abs)),
         ),
-        hint="Redo 28 against 58 by hand (Table 1 prints 69.8%, rounded), then one of the other cases: "
-             "check the numerator, the denominator and the factor 100.",
+        hint="Redo the case named above by hand: 28 against 58 gives Table 1's 69.8% (rounded), a = b gives 0 "
+             "(0 against 0 included); check the numerator, the denominator and the factor 100.",
         explanation="For the paper's (40, 0.2, 2) row, 28 against 58 gives the 69.8% it prints.",
     ),
     "6.1": CodingExercise(
