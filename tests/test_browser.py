@@ -555,16 +555,13 @@ def test_the_live_agents_start_at_once_and_neither_side_freezes_silently(tmp_pat
         page.wait_for_function("() => /Paused|Stopped|Finished/.test(document.body.innerText)", timeout=30_000)
         (shots / "projector-agent-run.json").write_text(json.dumps(measured, indent=1))
         assert all(side["steps"] > 10 for side in sides.values()), sides  # both sides moved
-        # a long wait on one side is said on that side, and the other side went on, unless it said it retrains
-        # too: both sides retrain at once at times (seen once on a 2-core machine: the TP waited 4.4 s, 8 GP
-        # steps shown in it, then the GP 3.9 s inside the TP's wait), and then neither steps
+        # one thread steps both sides (the live run's owner), so a retrain of one side's cost model holds both:
+        # a long wait on either side is said, on the side that retrains, while it lasts
         assert watched["headers"] == 2, watched["headers"]
         retraining = dict(zip(sides, watched["retraining"]))
-        for (name, side), other in zip(sides.items(), reversed(sides)):
+        for name, side in sides.items():
             if side["longest_freeze_s"] > 1.0:
-                assert said_retraining(side, retraining[name]), (name, sides)
-                assert side["other_side_steps_meanwhile"] > 0 or said_retraining(side, retraining[other]), \
-                    (name, sides)
+                assert any(said_retraining(side, shown) for shown in retraining.values()), (name, sides)
     finally:
         stop(server)
 

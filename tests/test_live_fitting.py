@@ -56,9 +56,9 @@ def test_fits_in_worker_processes_give_the_runs_a_fit_in_the_kernel_gives(cache)
 def test_settings_fitted_before_are_loaded_and_a_newer_request_stops_the_fits_it_replaces(monkeypatch, tmp_path):
     monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits"))
     started = []
-    plain = fitting.take_worker
-    monkeypatch.setattr(fitting, "take_worker", lambda: started.append(plain()) or started[-1])
     queue = FitQueue(dict(TP_AND_GP))
+    plain = queue._take_worker  # a worker of the queue's pool, or a new one
+    monkeypatch.setattr(queue, "_take_worker", lambda: started.append(plain()) or started[-1])
     fitted = ExperimentConfig(**SMALL)
     prepared_runs(queue, fitted)
     abandoned = fitted.replace(n_switch_states=2, optimizer_steps=2000)  # a fit that would take minutes
@@ -203,7 +203,7 @@ def test_stepping_from_a_cell_while_the_agents_walk_is_refused_and_close_stops_e
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
     live = agent_dashboard(episodes=100, n_switch_states=1, config=config, steps_per_second=5)
-    thread = live.play_in_background()
+    launched = live.play_in_background()
     deadline = time.monotonic() + 60
     while live.frames < 2 and time.monotonic() < deadline:
         time.sleep(0.05)
@@ -212,35 +212,22 @@ def test_stepping_from_a_cell_while_the_agents_walk_is_refused_and_close_stops_e
         with pytest.raises(RuntimeError, match="while the agents are running: press Stop"):
             call()
     live.close()
-    thread.join(timeout=30)
-    assert not thread.is_alive() and not live.running and live.experiments is None
+    assert launched.result(0) is True and not live.running and live.experiments is None
     assert live.run.fits._thread is None or not live.run.fits._thread.is_alive()
 
 
 def test_a_slider_moved_while_a_run_claims_its_fits_leaves_no_stale_run(monkeypatch):
-    """The claim checks that the sliders did not move, then takes the fits: a move between the two must
-    not leave the old settings' run to animate at the next Run."""
-    import threading
-
+    """Run claims the fits of the sliders' settings; a slider moved meanwhile must not leave the old settings'
+    run to animate (the move is taken by the run's thread after the claim, or before it: never within)."""
     from sarsp_edu.teaching.live import agent_dashboard
 
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
     config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
     live = agent_dashboard(episodes=2, n_switch_states=1, config=config)
-    plain_begin, between = live.run._begin, threading.Event()
-
-    def slow_begin(experiments):  # the claim is between its check and its write
-        between.set()
-        time.sleep(0.5)
-        plain_begin(experiments)
-
-    monkeypatch.setattr(live.run, "_begin", slow_begin)
-    claim = threading.Thread(target=live.run._claim, args=(live.run._token(),))
-    claim.start()
-    assert between.wait(60)
+    launched = live.play_in_background()  # claims the nss = 1 fits, still under way
     live.controls["n_switch_states"].value = 2  # a slider move meanwhile
-    claim.join(60)
-    assert live.experiments is None  # the old run is not kept: the next Run builds nss = 2
+    assert launched.result(60) is True
+    assert live.experiments is None and not live.running  # the old run is not kept: the next Run builds nss = 2
     live.build_runs()
     assert all(len(e.env.moved_indices) == 2 for e in live.experiments.values())
 

@@ -40,29 +40,3 @@ def one_blas_thread():
             if _STATE["depth"] == 0:
                 _STATE["limiter"].restore_original_limits()
                 _STATE["limiter"] = None
-
-
-class DaemonCall(threading.Thread):
-    """``target(*args)`` in a daemon thread (a script or kernel that ends does not wait for it); ``result()``
-    waits for it and raises what it raised, as a future would."""
-
-    def __init__(self, target, *args):
-        super().__init__(name="sarsp-edu-side", daemon=True)
-        self._call, self._args, self._error = target, args, None
-        self.start()
-
-    def run(self) -> None:
-        try:
-            self._call(*self._args)
-        except BaseException as exc:  # handed to whoever waits
-            self._error = exc
-
-    def done(self) -> bool:
-        """Whether the call has ended."""
-        return not self.is_alive()
-
-    def result(self) -> None:
-        """Wait for the call to end; raise what it raised."""
-        self.join()
-        if self._error is not None:
-            raise self._error

@@ -179,6 +179,9 @@ class SARSPAgent:
         #: ``model.fit``); the capstone's check lets an agent whose data equal another's take that one's refit,
         #: the live run watches it to say that a side waits for a retrain
         self.refit_model = None
+        #: callables told of each corrective update's refit of the cost model, as ``listener("begin")`` before it
+        #: and ``listener("end")`` after it (in the thread that called ``learn``): the live run says "retraining"
+        self.retrain_listeners: list = []
 
     @property
     def parts(self) -> DecisionParts:
@@ -427,8 +430,14 @@ class SARSPAgent:
             changed = outcome.buffer_update != "unchanged"
             if self.retrain == "always" or (self.retrain == "if_changed" and changed):
                 start = time.perf_counter()
-                with one_blas_thread():  # as the offline fit: the same bits wherever learn is called from
-                    self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
+                for listener in self.retrain_listeners:
+                    listener("begin")
+                try:
+                    with one_blas_thread():  # as the offline fit: the same bits wherever learn is called from
+                        self._fit(self.cost_model, self.cost_data, self.cost_fit_points, self.refit_model)
+                finally:
+                    for listener in self.retrain_listeners:
+                        listener("end")
                 outcome.retrain_seconds = time.perf_counter() - start
                 outcome.retrained = True
                 self.retrains += 1

@@ -6,18 +6,19 @@ printed algorithm and as the reference code run it.  The runs of
 side fitted before is loaded from :mod:`sarsp_edu.teaching.live.fitcache`, the others are
 fitted at once, each in a process of its own (:mod:`.fitting`), and a slider
 move stops the fits nobody waits for; :func:`prefit` fills the cache before
-class.  :class:`LiveRun` (:mod:`.controller`) runs the agents with no widgets:
-each side steps in a daemon thread of its own, so the notebook stays
-responsive and one side's retrain of its cost model does not stop the other;
+class.  :class:`LiveRun` (:mod:`.controller`) runs the agents with no widgets,
+in one thread of its own that alone steps and draws them (the buttons, the
+sliders and the notebook's cells send it commands), so the notebook stays
+responsive;
 :class:`AgentDashboard` (:mod:`.view`) is its view, whose pictures come from :mod:`sarsp_edu.teaching.plotting`
 (``plot_live_metrics``) and :mod:`sarsp_edu.teaching.live.markup` (``gridworld_svg``,
 ``decision_table_html``).
 """
 
 from .background import changed_settings, prefit, slider_config
-from .controller import WAIT_SHOWN_AFTER, LiveRun
+from .controller import LiveRun
 from .snapshot import AUTOPLAY_VARIABLE, SNAPSHOT_VARIABLE
 from .view import TP_AND_GP, AgentDashboard, agent_dashboard
 
-__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "WAIT_SHOWN_AFTER", "AgentDashboard", "LiveRun",
+__all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "TP_AND_GP", "AgentDashboard", "LiveRun",
            "agent_dashboard", "changed_settings", "prefit", "slider_config"]

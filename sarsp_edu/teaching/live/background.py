@@ -100,17 +100,20 @@ def prefit(n_switch_states=(2, 10), *, nu=NU, magnitude=DataSettings.outlier_mag
 
     queue = FitQueue(dict(TP_AND_GP if sides is None else sides))
     done = []
-    for nss in values:
-        settings = slider_config(base, nu=nu, magnitude=magnitude, proportion=proportion, n_switch_states=nss,
-                                 seed=seed, episodes=episodes)
-        queue.request(settings)
-        fits = queue.claim(settings)
-        for name in queue.sides:
-            experiment = fits.wait_for(name)
-            what = ("stored before" if experiment.loaded_from_cache
-                    else f"fitted in {experiment.timings['offline_fit_seconds']:.1f} s")
-            done.append((nss, name, what))
-            report(f"nss = {nss}, {queue.sides[name][0]}: {what}")
+    try:
+        for nss in values:
+            settings = slider_config(base, nu=nu, magnitude=magnitude, proportion=proportion, n_switch_states=nss,
+                                     seed=seed, episodes=episodes)
+            queue.request(settings)
+            fits = queue.claim(settings)
+            for name in queue.sides:
+                experiment = fits.wait_for(name)
+                what = ("stored before" if experiment.loaded_from_cache
+                        else f"fitted in {experiment.timings['offline_fit_seconds']:.1f} s")
+                done.append((nss, name, what))
+                report(f"nss = {nss}, {queue.sides[name][0]}: {what}")
+    finally:
+        queue.close()  # its processes end with it
     return done
 
 
@@ -186,10 +189,13 @@ class FitQueue:
     settings are requested.
     """
 
-    def __init__(self, sides: dict, offline: dict | None = None):
+    def __init__(self, sides: dict, offline: dict | None = None, on_news=None):
         self.sides = sides
         self._offline = {} if offline is None else offline  # seed -> offline world and data (shared with the view)
         self._condition = threading.Condition()
+        self._on_news = on_news  # told (no arguments, under the condition) whenever a fit advances or ends
+        self._idle = []  # this queue's workers that wait for a fit (their imports done); ended by close()
+        self._closed = False
         self._wanted = None
         self._pending = False
         self._pending_fits = {}  # key -> PendingFits (the latest only)
@@ -202,18 +208,35 @@ class FitQueue:
         return repr(config)
 
     def close(self) -> None:
-        """Abandon what is under way (its fitting processes stopped at once) and keep nothing."""
+        """Abandon what is under way (its fitting processes stopped at once), end the queue's thread and every
+        process it started, and keep nothing; starts no process."""
         with self._condition:
+            self._closed = True
             self._wanted, self._pending = None, True  # the thread sees newer wishes: it stops its fits
             self._pending_fits = {}
-            self._condition.notify_all()
+            self._tell()
+            thread = self._thread
+        if thread is not None and thread is not threading.current_thread():
+            thread.join()
+        with self._condition:
+            idle, self._idle = self._idle, []
+        for worker in idle:
+            worker.terminate()
         if self._handover is not None:
             self._handover.cleanup()
             self._handover = None
 
     def request(self, config) -> None:
-        """Fit the runs of ``config`` (again); fits under way of other settings are abandoned."""
+        """Fit the runs of ``config`` (again); fits under way of other settings are abandoned.
+
+        Parameters
+        ----------
+        config : ExperimentConfig
+            The settings whose runs (one per side) are fitted.
+        """
         with self._condition:
+            if self._closed:
+                raise RuntimeError("this queue of fits is closed")
             self._wanted, self._pending = config, True
             if self._thread is None:
                 self._thread = threading.Thread(target=self._work, name="sarsp-edu-fit-queue", daemon=True)
@@ -259,13 +282,19 @@ class FitQueue:
                 fits.error = exc
             with self._condition:
                 fits.done = True
-                self._condition.notify_all()
+                self._tell()
+
+    def _tell(self) -> None:
+        """Under the condition: wake whoever waits on it, and tell the owner of the fits (``on_news``)."""
+        self._condition.notify_all()
+        if self._on_news is not None:
+            self._on_news()
 
     def _hand_over(self, fits, name, experiment) -> None:
         with self._condition:
             fits.experiments[name] = experiment
             fits.progress.pop(name, None)
-            self._condition.notify_all()
+            self._tell()
 
     def _fit_settings(self, config, fits) -> None:
         from ...world.preparation import offline_world, prepare
@@ -315,7 +344,7 @@ class FitQueue:
             with self._condition:
                 fits.progress[name] = (f"fitting its models here: step {taken[0]}" + (f" of {total}" if total else "")
                                        + f", {time.perf_counter() - began:.0f} s")
-                self._condition.notify_all()
+                self._tell()
 
         with self._condition:
             fits.progress[name] = "fitting its models here"
@@ -338,14 +367,11 @@ class FitQueue:
             self._handover = tempfile.TemporaryDirectory(prefix="sarsp-edu-fits-")
         return self._handover.name
 
-    @staticmethod
-    def _workers(sides: dict, folder) -> dict | None:
-        from .fitting import take_worker
-
+    def _workers(self, sides: dict, folder) -> dict | None:
         workers = {}
         try:
             for name, side in sides.items():
-                workers[name] = take_worker()
+                workers[name] = self._take_worker()
                 workers[name].submit(side, folder)
         except OSError:  # no process can be started here (or its pipe broke at once)
             for worker in workers.values():
@@ -353,10 +379,37 @@ class FitQueue:
             return None
         return workers
 
+    def _take_worker(self):
+        """An idle worker of this queue's, or a new one."""
+        from . import fitting
+
+        with self._condition:
+            while self._idle:
+                worker = self._idle.pop()
+                if worker.alive:
+                    return worker
+        return fitting.take_worker()
+
+    def _give_back(self, worker, finished: bool) -> None:
+        """Keep a worker whose fit ``finished`` for the next fits (at most ``IDLE_WORKERS``); terminate one whose
+        fit was abandoned, and start a fresh one in its place unless the queue is closed."""
+        from . import fitting
+
+        if not finished:
+            worker.terminate()
+            with self._condition:
+                if self._closed:
+                    return
+            worker = fitting.take_worker()
+        with self._condition:
+            if not self._closed and len(self._idle) < fitting.IDLE_WORKERS and worker.alive:
+                self._idle.append(worker)
+                return
+        worker.terminate()
+
     def _follow(self, workers, sides, prepared, folder, fits) -> None:
         """Hand each side over as its worker ends; terminate them all if newer settings are wanted."""
         from . import fitcache
-        from .fitting import give_back
 
         try:
             while workers:
@@ -365,12 +418,14 @@ class FitQueue:
                 for name, worker in list(workers.items()):
                     answer = worker.answer(timeout=0.1 / len(workers))
                     with self._condition:
-                        fits.progress[name] = _describe(worker, sides[name])
-                        self._condition.notify_all()
+                        progress = _describe(worker, sides[name])
+                        if fits.progress.get(name) != progress:
+                            fits.progress[name] = progress
+                            self._tell()
                     if answer is None:
                         continue
                     del workers[name]
-                    give_back(worker, finished=True)
+                    self._give_back(worker, finished=True)
                     word, text = answer
                     if word == "error":
                         raise RuntimeError(f"fitting the {sides[name].model.upper()} side's models failed: {text}")
@@ -386,7 +441,5 @@ class FitQueue:
                         experiment.timings["offline_fit_seconds"] = float(seconds)
                     self._hand_over(fits, name, experiment)
         finally:
-            with self._condition:
-                closed = self._wanted is None and self._pending  # close(): no fit will follow, no worker is kept
             for worker in workers.values():  # abandoned or failed: stopped at once
-                give_back(worker, finished=False, replace=not closed)
+                self._give_back(worker, finished=False)

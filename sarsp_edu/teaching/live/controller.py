@@ -1,9 +1,21 @@
-"""The live run without its widgets: the sides' runs, who steps them, one lock, a cancel event, ``close()``.
+"""The live run without its widgets: one thread owns it, every other thread sends it commands.
 
-:class:`LiveRun` holds what the live dashboard runs, and runs it: each side steps in a daemon thread of its own,
-one lock orders the steps' results and every change of the run (a slider move, *Stop*, *New run*), and an event
-cancels the sides' threads at once.  It draws nothing: it tells a *view*
-(:class:`~sarsp_edu.teaching.live.view.AgentDashboard`, or a test's recorder) what to show, through five methods::
+:class:`LiveRun` holds what the live dashboard runs, and runs it.  Who owns what:
+
+- **The run's thread** (``sarsp-edu-live``, started with the run, ended by :meth:`LiveRun.close`) owns both
+  sides' experiments, what is on show (``experiments``, ``last``, the frame counts) and the view: it alone
+  steps an experiment and it alone calls the view.  It takes commands from one queue, between two steps, so
+  *Stop* ends the step under way and no command ever meets a half-taken step.
+- **Every other thread** (a button's or a slider's handler, a notebook cell, a test) only puts commands on that
+  queue (:meth:`LiveRun.submit`); the synchronous ones (``step_pair``, ``run_steps``, ``fast_forward``,
+  ``build``, :meth:`LiveRun.call`) wait for the run's thread to have done them and raise what it raised.
+  Such a thread may read ``experiments``, ``running``, ``frames`` and ``finished`` as a snapshot of a moment
+  ago, never to decide to step.  ``steps_per_second`` is a float any thread may replace.
+- **The fits** are :class:`~sarsp_edu.teaching.live.background.FitQueue`'s (its thread and its processes):
+  it posts a message on the run's queue whenever a side's fit advances or ends, and the run's thread takes
+  the fitted sides from it.
+
+The view is told what to show through five methods, always from the run's thread::
 
     view.show_side(name)                # a side's run changed: its grid, its numbers, its decision
     view.show_metrics(throttle)         # an episode may have ended: the metric curves
@@ -11,22 +23,24 @@ cancels the sides' threads at once.  It draws nothing: it tells a *view*
     view.say(html)                      # the status line
     view.preview()                      # no run: the world the settings imply
 
-Every call into the view is made under :attr:`LiveRun.lock`, so a view need not lock anything itself.
+A view's own work that touches what the run shows (a redraw at another size, a slider's new world) is handed
+to the run's thread with :meth:`LiveRun.call`: the one hand-off between the two.
 """
 
 from __future__ import annotations
 
 import html
-import threading
 import time
+from concurrent.futures import Future
 
-from ..._internal.threads import DaemonCall, one_blas_thread
-from .background import FitQueue, changed_settings
+from ..._internal.owner import Closed, Owner
+from ..._internal.threads import one_blas_thread
+from .background import FitQueue
 
-__all__ = ["WAIT_SHOWN_AFTER", "LiveRun", "QuietView"]
+__all__ = ["LiveRun", "QuietView"]
 
-#: a side whose step has taken this long shows why it waits (a retrain of its cost model, usually)
-WAIT_SHOWN_AFTER = 0.25
+#: how often (s) the run's thread looks at a fit's progress while a synchronous command waits for it
+_PROGRESS_EVERY = 0.25
 
 
 class QuietView:
@@ -54,7 +68,7 @@ class QuietView:
         """Nothing: the world the settings imply."""
 
 
-class LiveRun:
+class LiveRun(Owner):
     """Two agents run paired on one world, live, with no widgets: the live dashboard's controller.
 
     Parameters
@@ -70,7 +84,7 @@ class LiveRun:
     view : optional
         What shows the run (see the module's docstring); default :class:`QuietView`.
     steps_per_second : float, default 30
-        Animation speed per side; the view may change it at any time.
+        Animation speed (paired steps per second); any thread may change it at any time.
     """
 
     def __init__(self, sides: dict, config, *, parts=None, offline=None, view=None, steps_per_second=30.0):
@@ -79,131 +93,37 @@ class LiveRun:
         self.parts = dict(parts or {})
         self.view = QuietView() if view is None else view
         self.steps_per_second = float(steps_per_second)
-        #: one lock around every change of the run and every call into the view
-        self.lock = threading.RLock()
-        self.fits = FitQueue(sides, offline=offline)
-        self.generation = 0  # counts the run's discards: a thread of an older generation ends quietly
-        self._launches = 0  # counts launches: a thread of an earlier launch (Stop, then Run) ends quietly too
-        self._step_locks = {name: threading.Lock() for name in sides}  # one stepper per side, whoever launched it
-        self._cancel = threading.Event()  # set when the run is stopped or discarded: sleeping sides wake up
-        self.pending = None  # the fits under way for the current settings (FitQueue.claim)
-        self.experiments = None
-        self.running = False
+        self.fits = FitQueue(sides, offline=offline, on_news=self.post_news)
+        # -- the run's thread's own (see the module's docstring) --
+        self.experiments = None  # side name -> its Experiment on show (those fitted so far); None: no run
+        self.running = False  # animating (Run) or fast-forwarding (the button), until Stop, the end or a discard
         self.closed = False
-        #: name -> True while that side's agent refits its cost model after a correction
+        self._pending = None  # the fits this run waits for (FitQueue.claim)
+        self._forward_left = None  # episodes the Fast-forward button has left to run; None: animating
+        self._launch = None  # (future, on_end) of the animation or fast-forward under way
+        self._next_frame = 0.0
+        self._said_waiting = {}
+        #: name -> True while that side's agent refits its cost model after a correction (its event says so)
         self.retraining = dict.fromkeys(sides, False)
-        self._begin({})
-        self.experiments = None
+        self._begin(None)
+        self._start_owner("sarsp-edu-live")
 
-    # -- the run's state -------------------------------------------------------------
-    def _begin(self, experiments) -> None:
-        """Show these runs (all sides, or those fitted so far) from their start."""
-        for name, experiment in experiments.items():
-            self._adopt(name, experiment)
-        self.experiments = experiments
-        self.last = dict.fromkeys(self.sides)
-        self.frames = 0
-        self.frame_times = {name: [] for name in self.sides}
-        self.stepping_since = dict.fromkeys(self.sides)
-        self.longest_wait_seconds = dict.fromkeys(self.sides, 0.0)
-
-    def _adopt(self, name, experiment):
-        """The side's run, its agent given the side's parts and its refits watched (the view says "retraining")."""
-        if experiment is None:
-            return None
-        agent = experiment.agent
-        if name in self.parts:
-            agent.parts = self.parts[name]
-        inner = agent.refit_model
-        if getattr(inner, "watched_by", None) is self:  # adopted before (by an earlier launch's thread)
-            return experiment
-
-        def watched(model, X, y):
-            self.retraining[name] = True
-            try:
-                model.fit(X, y) if inner is None else inner(model, X, y)
-            finally:
-                self.retraining[name] = False
-
-        watched.watched_by = self
-        agent.refit_model = watched
-        return experiment
-
-    def discard(self) -> None:
-        """Stop and forget the runs (settings changed); fits still under way are discarded when they end."""
-        with self.lock:
-            self.generation += 1
-            self._cancel.set()
-            self.running = False
-            self._begin({})
-            self.experiments = None
-
+    # -- commands: any thread (submit, call and settle are Owner's) -----------------------------
     def request_fits(self) -> None:
         """Start fitting the current settings' runs in the background (a newer request replaces an older one)."""
         self.fits.request(self.config())
 
     def build(self) -> None:
-        """The runs of the current settings, now: those fitted ahead, waited for, or fitted here."""
-        from ...experiments.experiment import experiments_on_one_world
-        from . import fitcache
+        """The runs of the current settings, now: those fitted ahead, or waited for until they are fitted."""
+        self.call(self._build)
 
-        config = self.config()
-        pending = self.fits.claim(config)
-        experiments = None if pending is None else {name: pending.wait_for(name) for name in self.sides}
-        if experiments is None or None in experiments.values():  # not fitted ahead, or abandoned part-way
-            with one_blas_thread():
-                experiments = experiments_on_one_world(config, changed_settings(self.sides), cache=fitcache)
-        with self.lock:
-            self._begin(experiments)
-
-    @property
-    def finished(self) -> bool:
-        """Whether every side has run all its episodes."""
-        return (self.experiments is not None and len(self.experiments) == len(self.sides)
-                and all(e.finished for e in self.experiments.values()))
-
-    @property
-    def displayed_steps_per_second(self) -> float:
-        """Steps shown per second over the current animation, on the slower side (NaN before two frames)."""
-        rates = []
-        for times in self.frame_times.values():
-            if len(times) < 2 or times[-1] == times[0]:
-                return float("nan")
-            rates.append((len(times) - 1) / (times[-1] - times[0]))
-        return min(rates)
-
-    # -- stepping from the caller's thread -----------------------------------------------
-    def _refuse_while_animating(self, what: str) -> None:
-        """Stepping from a cell while the agents walk would step one experiment from two threads (or a closed run)."""
-        if self.closed:
-            raise RuntimeError(f"{what} after close(): this run is closed; make a new dashboard to run again")
-        if self.running:
-            raise RuntimeError(f"{what} while the agents are running: press Stop (or call stop()) first")
-
-    def _every_side(self) -> None:
-        """Every side's run: built here if none is on show, waited for if one is still being fitted."""
-        if self.experiments is None:
-            self.build()
-        for name in self.sides:
-            if name not in self.experiments:
-                self._await_side(name, self._token())
+    def discard(self) -> Future:
+        """Stop and forget the runs (the settings changed); the fits still under way go on for the new ones."""
+        return self.submit(self._discard)
 
     def step_pair(self, draw: bool = True) -> None:
         """One step of each agent that has episodes left (refused while the agents are animated)."""
-        self._refuse_while_animating("step_pair")
-        self._every_side()
-        with one_blas_thread(), self.lock:
-            for name, experiment in self.experiments.items():
-                if not experiment.finished:
-                    with self._step_locks[name]:  # a stopped side's thread ends the step it was in first
-                        self.last[name] = experiment.step()
-            if draw:
-                now = time.perf_counter()
-                for name in self.sides:
-                    self.frame_times[name].append(now)
-                    self.view.show_side(name)
-                self.frames += 1
-                self.view.show_metrics(throttle=True)
+        self.call(self._synchronous, "step_pair", self._step_pair, draw)
 
     def run_steps(self, n: int, draw: bool = True) -> None:
         """``n`` paired steps, synchronously (refused while the agents are animated).
@@ -215,210 +135,248 @@ class LiveRun:
         draw : bool, default True
             Show each step, as :meth:`step_pair` does.
         """
-        self._refuse_while_animating("run_steps")
-        for _ in range(n):
-            if self.finished:
-                break
-            self.step_pair(draw=draw)
+        self.call(self._synchronous, "run_steps", self._run_steps, n, draw)
 
     def fast_forward(self, episodes: int = 10) -> None:
-        """Whole episodes of every side, synchronously, drawn once at the end (refused while animated)."""
-        self._refuse_while_animating("fast_forward")
-        self._every_side()
-        self._forward_quietly(episodes)
-        with self.lock:
-            self._show_all()
+        """Whole episodes of every side, synchronously, drawn once at the end (refused while animated).
 
-    def _forward_quietly(self, episodes) -> None:
-        with one_blas_thread():
-            for name, experiment in self.experiments.items():
-                target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
-                with self._step_locks[name]:  # a side's thread still ending its step after Stop ends it first
-                    while len(experiment.episodes) < target:
-                        experiment.run_episode()
+        Parameters
+        ----------
+        episodes : int, default 10
+            Episodes of each side at most (fewer where its run ends first).
+        """
+        self.call(self._synchronous, "fast_forward", self._fast_forward, episodes)
 
-    def _show_all(self) -> None:
-        for name in self.sides:
-            if name in self.experiments:  # a side still being fitted keeps its message
-                self.view.show_side(name)
-        self.view.show_metrics()
+    def launch(self, episodes: int | None = None, on_end=None) -> Future | None:
+        """Animate (or fast-forward ``episodes`` episodes, with progress) in the run's thread.
 
-    # -- running in the background ------------------------------------------------------
-    def launch(self, episodes: int | None = None, on_end=None) -> threading.Thread | None:
-        """Animate (or fast-forward ``episodes`` episodes) in a daemon thread; None if a run is under way.
+        Returns once the run's thread has begun it (at most a step's wait): a future that holds True once the
+        run ends (finished, stopped or discarded); None if a run was under way already (the status line then
+        says so) or the run is closed.
 
         Parameters
         ----------
         episodes : int, optional
-            Fast-forward this many episodes, episode by episode; None: animate step by step until stopped or finished.
+            Fast-forward this many episodes, episode by episode; None: animate step by step until stopped or
+            finished.
         on_end : callable, optional
-            Called without arguments when the thread ends, however it ends.
+            Called without arguments (in the run's thread) when the run ends, however it ends.
         """
-        with self.lock:
-            if self.running or self.closed:
-                return None
-            self.running = True
-            self._cancel.clear()
-            self._launches += 1
-            generation = self._token()
-        thread = threading.Thread(target=self._launched, args=(generation, episodes, on_end),
-                                  name="sarsp-edu-live-run", daemon=True)
-        thread.start()
-        return thread
-
-    def _launched(self, generation, episodes, on_end) -> None:
+        if self.closed:
+            return None
+        future = Future()
         try:
-            if episodes is None:
-                self._play(generation)
-            else:
-                self._forward(generation, episodes)
-        except Exception as exc:  # a background thread has nobody to raise to: the view says it
-            with self.lock:
-                if self._current(generation):  # an error of a run discarded meanwhile is no longer news
-                    self.view.say(f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>")
-        finally:
-            with self.lock:
-                if self._current(generation):
-                    self.running = False
-            if on_end is not None:
-                on_end()
+            launched = self.call(self._start, episodes, future, on_end)
+        except Closed:
+            return None
+        return future if launched else None
 
-    def stop(self) -> None:
-        """Pause: each side ends the step it is in and steps no more (*Run* continues)."""
-        with self.lock:  # a side ending its step after this finds the run stopped, and says nothing more
-            self.running = False
-            self._cancel.set()
-            if self.experiments is not None:
-                self.view.say("Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders.")
+    def stop(self) -> Future:
+        """Pause: the step under way ends and no other follows (*Run* continues)."""
+        return self.submit(self._stop)
 
     def close(self) -> None:
-        """Stop the agents and the fits under way for good (the sides' threads end after their step)."""
-        with self.lock:
-            self.closed = True
-        self.discard()
-        self.fits.close()
+        """Stop the agents and the fits for good: the run's thread, the fits' thread and their processes end."""
+        if self.closed:
+            return
+        self.fits.close()  # first: a synchronous command waiting for a fit is released
+        self.submit(self._close)
+        self._join_owner()
 
-    def _token(self) -> tuple:
-        """What a thread of the run now carries: the settings' generation and the launch."""
-        return self.generation, self._launches
+    # -- what other threads may read -----------------------------------------------------------------
+    @property
+    def finished(self) -> bool:
+        """Whether every side has run all its episodes."""
+        experiments = self.experiments
+        return (experiments is not None and len(experiments) == len(self.sides)
+                and all(e.finished for e in experiments.values()))
 
-    def _current(self, generation) -> bool:
-        """Whether a thread carrying ``generation`` (a :meth:`_token`) still belongs to the run on show."""
-        return generation == self._token() and not self.closed
+    @property
+    def displayed_steps_per_second(self) -> float:
+        """Steps shown per second over the current animation, on the slower side (NaN before two frames)."""
+        rates = []
+        for times in list(self.frame_times.values()):
+            if len(times) < 2 or times[-1] == times[0]:
+                return float("nan")
+            rates.append((len(times) - 1) / (times[-1] - times[0]))
+        return min(rates)
 
-    def _claim(self, generation) -> None:
-        """Take the runs fitted (or being fitted) for the current settings; each side joins when fitted."""
+    # -- the run's thread ----------------------------------------------------------------------------
+    def _news(self) -> None:
+        self._take_fitted()
+
+    def _due(self) -> float | None:
+        """Seconds until the run's thread has work of its own (None: none until a command or the fits' news)."""
+        if not self.running:
+            return None
+        if self._forward_left is not None:
+            return 0 if self._all_sides() else None  # fast-forward needs every side: it waits for their fits
+        if not self.experiments:
+            return None  # no side fitted yet
+        return max(0.0, self._next_frame - time.perf_counter())
+
+    def _advance(self) -> None:
+        """One unit of the launched run: a paired frame of the animation, or one step of the fast-forward."""
+        if not self.running:
+            return
+        try:
+            if self._forward_left is None:
+                self._frame()
+            else:
+                self._forward_step()
+        except Exception as exc:  # nobody to raise to: the view says it, and the run ends
+            self.view.say(f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>")
+            self._end_launch()
+
+    closed_message = "this run is closed; make a new dashboard to run again"
+
+    def _begin(self, experiments) -> None:
+        """Show these runs (all sides, or those fitted so far; None: no run) from their start."""
+        self.experiments = experiments
+        self.last = dict.fromkeys(self.sides)
+        self.frames = 0
+        self.frame_times = {name: [] for name in self.sides}
+        self.longest_wait_seconds = dict.fromkeys(self.sides, 0.0)
+        self._said_waiting = {}
+
+    def _adopt(self, name, experiment) -> None:
+        """A side joins the run: its agent given the side's parts, its retrains said while they last."""
+        agent = experiment.agent
+        if name in self.parts:
+            agent.parts = self.parts[name]
+
+        def retraining(event: str) -> None:  # the agent's event, in this thread: it steps here
+            self.retraining[name] = event == "begin"
+            if event == "begin":
+                self.view.show_waiting(name, "retraining its cost model")
+
+        agent.retrain_listeners.append(retraining)
+        self.experiments[name] = experiment
+        self.view.show_side(name)
+
+    def _all_sides(self) -> bool:
+        return self.experiments is not None and len(self.experiments) == len(self.sides)
+
+    def _claim(self) -> None:
+        """The runs of the current settings, fitted ahead or being fitted: each side joins when fitted."""
         if self.experiments is not None:
             return
         config = self.config()
-        if not self.fits.busy_with(config):
-            self.fits.request(config)
-        with self.lock:
-            if self._current(generation):
-                self.view.say("Preparing: each agent starts as soon as its models are fitted (progress above its "
-                              "grid).")
-        pending = self.fits.claim(config)
-        with self.lock:  # a slider move (which takes the lock) comes wholly before this, or wholly after
-            if not self._current(generation):  # the settings changed meanwhile: those fits are stale
-                return
-            if pending is None:  # not found (never expected): built here instead
-                self.build()
-            else:
-                self.pending = pending
-                self._begin({})
-
-    def _await_side(self, name, generation):
-        """A side's run, waited for until its models are fitted (its header says how far); None if discarded since."""
-        with self.lock:
-            experiments = self.experiments if self._current(generation) else None
-        if experiments is None:
-            return None
-        if name in experiments:
-            return experiments[name]
-        pending, said = self.pending, None
-        while not pending.ready(name) and self._current(generation):
-            progress = pending.progress.get(name, "waiting for its fit to begin")
-            if progress != said:
-                with self.lock:
-                    if self._current(generation):
-                        self.view.show_waiting(name, progress)
-                said = progress
-            pending.wait_for(name, timeout=0.25)
-        experiment = self._adopt(name, pending.wait_for(name, timeout=0))
-        if experiment is None:  # abandoned part-way: only when newer settings were asked for, so stale
-            return None
-        with self.lock:
-            if self._current(generation):
-                self.experiments[name] = experiment
-                self.view.show_side(name)
-                if self.running and len(self.experiments) == len(self.sides):
-                    self.view.say("Running: both agents step.")
-                elif self.running:
-                    self.view.say(f"Running: the {html.escape(self.sides[name][0])} agent steps, the other "
-                                  "starts when its models are fitted.")
-        return experiment
-
-    def _play(self, generation) -> None:
-        """Animate until stopped or finished: each side steps in a daemon thread of its own."""
-        self._claim(generation)
-        if not self._current(generation):
-            return
-        with self.lock:
-            self.frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
-            self.frames = 0
-        sides = [DaemonCall(self._run_side, name, generation) for name in self.sides]
-        watch = DaemonCall(self._show_waits, generation, sides)
-        for side in [*sides, watch]:
-            side.result()
-        self._say_where_it_stands(generation)
-
-    def _forward(self, generation, episodes) -> None:
-        self._claim(generation)
-        for name in self.sides:  # fast-forward needs every side
-            if not self._current(generation) or self._await_side(name, generation) is None:
-                return
-        for done in range(episodes):  # one episode at a time: progress shown, Stop obeyed
-            if not self.running or self.finished or not self._current(generation):
+        for _ in range(2):  # a second time where a newer request (another thread's) took the first one's place
+            if not self.fits.busy_with(config):
+                self.fits.request(config)
+            self._pending = self.fits.claim(config)
+            if self._pending is not None:
                 break
-            with self.lock:
-                self.view.say(f"Fast-forwarding: episode {done + 1} of {episodes} ...")
-            self._forward_quietly(1)
-            with self.lock:
-                if not self._current(generation):
-                    return
-                self._show_all()
-        self._say_where_it_stands(generation)
+        else:
+            raise RuntimeError("the fits of these settings were taken by another run; move a slider or press "
+                               "New run")
+        self._begin({})
+        self._take_fitted()
 
-    def _say_where_it_stands(self, generation) -> None:
-        with self.lock:
-            if not self._current(generation):
-                return
-            self.view.show_metrics()
-            if self.finished:
-                self.view.say("Finished every episode. <b>New run</b> starts again from the sliders.")
-            elif self.running:
-                self.view.say("Paused. <b>Run</b> continues.")
-
-    def _run_side(self, name, generation) -> None:
-        experiment = self._await_side(name, generation)
-        if experiment is None:
+    def _take_fitted(self) -> None:
+        """Every side fitted since last time joins; those still fitting say how far they are."""
+        pending = self._pending
+        if pending is None or self.experiments is None:
             return
-        while self.running and self._current(generation) and not experiment.finished:
-            start = time.perf_counter()
-            with self._step_locks[name]:  # an earlier launch's thread ends its step first
-                if not self._current(generation):
-                    return
-                self.stepping_since[name] = start
-                try:
-                    with one_blas_thread():  # per step: the notebook's own cells keep every BLAS thread meanwhile
-                        record = experiment.step()
-                finally:
-                    self.stepping_since[name] = None
-            with self.lock:
-                if not self._current(generation):  # the settings changed: the preview is on show now
-                    return
-                self._count_frame(name, record)
-            self._cancel.wait(max(0.0, 1.0 / self.steps_per_second - (time.perf_counter() - start)))
+        for name in self.sides:
+            if name in self.experiments:
+                continue
+            if pending.ready(name):
+                experiment = pending.wait_for(name, timeout=0)  # raises what its fit raised
+                if experiment is None:  # abandoned (the fits were closed): never joins
+                    continue
+                self._adopt(name, experiment)
+                if self.running and self._forward_left is None:
+                    self.view.say("Running: both agents step." if self._all_sides() else
+                                  f"Running: the {html.escape(self.sides[name][0])} agent steps, the other "
+                                  "starts when its models are fitted.")
+            else:
+                progress = pending.progress.get(name, "waiting for its fit to begin")
+                if self._said_waiting.get(name) != progress:
+                    self._said_waiting[name] = progress
+                    self.view.show_waiting(name, progress)
+
+    def _build(self) -> None:
+        """Wait (saying how far each side's fit is) until every side of the current settings is fitted."""
+        self._claim()
+        while not self._all_sides():
+            name = next(name for name in self.sides if name not in self.experiments)
+            self._pending.wait_for(name, timeout=_PROGRESS_EVERY)  # raises what its fit raised
+            self._take_fitted()
+            if self._pending.ready(name) and name not in self.experiments:
+                raise RuntimeError("the fits of this run were abandoned (the run was closed, or other settings "
+                                   "were asked for) before every side was fitted")
+
+    def _synchronous(self, what, function, *args) -> None:
+        """A cell's command: refused while the agents are launched, else done on every side's run."""
+        if self.running:
+            raise RuntimeError(f"{what} while the agents are running: press Stop (or call stop()) first")
+        self._build()
+        with one_blas_thread():
+            function(*args)
+
+    def _step_pair(self, draw: bool) -> None:
+        for name, experiment in self.experiments.items():
+            if not experiment.finished:
+                self.last[name] = experiment.step()
+        if draw:
+            now = time.perf_counter()
+            for name in self.sides:
+                self.frame_times[name].append(now)
+                self.view.show_side(name)
+            self.frames += 1
+            self.view.show_metrics(throttle=True)
+
+    def _run_steps(self, n, draw) -> None:
+        for _ in range(n):
+            if self.finished:
+                break
+            self._step_pair(draw)
+
+    def _fast_forward(self, episodes) -> None:
+        for name, experiment in self.experiments.items():
+            target = min(len(experiment.episodes) + episodes, experiment.config.episodes)
+            while len(experiment.episodes) < target:
+                self.last[name] = experiment.step()
+        self._show_all()
+
+    def _show_all(self) -> None:
+        for name in self.sides:
+            if name in (self.experiments or {}):  # a side still being fitted keeps its message
+                self.view.show_side(name)
+        self.view.show_metrics()
+
+    def _start(self, episodes, future, on_end) -> bool:
+        if self.closed:
+            return False
+        if self.running:
+            self.view.say("Already running: press <b>Stop</b> first, then "
+                          + ("<b>Fast-forward</b>." if episodes is not None else "<b>Run</b>."))
+            return False
+        if self.experiments is None:
+            self.view.say("Preparing: each agent starts as soon as its models are fitted (progress above its grid).")
+        self._claim()
+        self.running, self._forward_left, self._launch = True, episodes, (future, on_end)
+        self._forward_from, self._forward_shown = None, 0
+        self.frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
+        self.frames = 0
+        self._next_frame = time.perf_counter()
+        if self.finished:
+            self._end_launch()
+        return True
+
+    def _frame(self) -> None:
+        """A paired frame of the animation: each side fitted so far takes a step, and is drawn."""
+        start = time.perf_counter()
+        with one_blas_thread():  # per step: the notebook's own cells keep every BLAS thread meanwhile
+            for name, experiment in list(self.experiments.items()):
+                if not experiment.finished:
+                    self._count_frame(name, experiment.step())
+        self._next_frame = start + 1.0 / self.steps_per_second
+        self.view.show_metrics(throttle=True)
+        if self.finished:
+            self._end_launch()
 
     def _count_frame(self, name, record) -> None:
         """A side's step is shown: its picture, its frame time, every tenth common step the rate."""
@@ -432,18 +390,59 @@ class LiveRun:
         steps = min(len(t) for t in self.frame_times.values())
         if steps > self.frames:
             self.frames = steps
-            if steps % 10 == 0 and self.running:  # not over "Stopped" when Stop came mid-step
+            if steps % 10 == 0:
                 self.view.say(f"Running: {steps} steps shown, {self.displayed_steps_per_second:.1f} steps per second.")
-        self.view.show_metrics(throttle=True)
 
-    def _show_waits(self, generation, sides) -> None:
-        """Every tenth of a second: a side whose step has taken over WAIT_SHOWN_AFTER says why it waits."""
-        while self._current(generation) and not all(side.done() for side in sides):
-            now = time.perf_counter()
-            for name, since in list(self.stepping_since.items()):
-                if since is not None and now - since > WAIT_SHOWN_AFTER and name in (self.experiments or {}):
-                    why = "retraining its cost model" if self.retraining[name] else "deciding"
-                    with self.lock:
-                        if self._current(generation):
-                            self.view.show_waiting(name, f"{why} ({now - since:.1f} s)")
-            time.sleep(0.1)
+    def _forward_step(self) -> None:
+        """One step of the fast-forward (commands are taken between its steps); each episode's end drawn."""
+        wanted = self._forward_left
+        if self._forward_from is None:
+            self._forward_from = {name: len(e.episodes) for name, e in self.experiments.items()}
+            self.view.say(f"Fast-forwarding: episode 1 of {wanted} ...")
+        target = {name: min(self._forward_from[name] + wanted, e.config.episodes)
+                  for name, e in self.experiments.items()}
+        behind = [name for name, e in self.experiments.items() if len(e.episodes) < target[name]]
+        with one_blas_thread():
+            for name in behind:
+                self.last[name] = self.experiments[name].step()
+        done = min(len(e.episodes) - self._forward_from[name] if len(e.episodes) < target[name] else wanted
+                   for name, e in self.experiments.items())
+        if done > self._forward_shown:  # an episode of every side has ended: drawn, the progress said
+            self._forward_shown = done
+            self._show_all()
+            if done < wanted:
+                self.view.say(f"Fast-forwarding: episode {done + 1} of {wanted} ...")
+        if done >= wanted:
+            self._end_launch()
+
+    def _end_launch(self) -> None:
+        """The launched run has ended (finished, or its fast-forward done): said, and its future settled."""
+        self.view.show_metrics()
+        if self.finished:
+            self.view.say("Finished every episode. <b>New run</b> starts again from the sliders.")
+        else:
+            self.view.say("Paused. <b>Run</b> continues.")
+        self._settle_launch()
+
+    def _settle_launch(self) -> None:
+        self.running, self._forward_left = False, None
+        if self._launch is not None:
+            (future, on_end), self._launch = self._launch, None
+            if on_end is not None:
+                on_end()
+            future.done() or future.set_result(True)
+
+    def _stop(self) -> None:
+        if self.experiments is not None:  # said before the launch's end is told: its waiter reads it then
+            self.view.say("Stopped. <b>Run</b> continues, <b>New run</b> starts again from the sliders.")
+        self._settle_launch()
+
+    def _discard(self) -> None:
+        self._settle_launch()
+        self._pending = None
+        self._begin(None)
+
+    def _close(self) -> None:
+        self._discard()
+        self.closed = True
+        self._end_owner()

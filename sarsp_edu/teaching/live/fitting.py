@@ -31,12 +31,11 @@ import threading
 import time
 import weakref
 
-__all__ = ["FitWorker", "give_back", "take_worker"]
+__all__ = ["IDLE_WORKERS", "FitWorker", "take_worker"]
 
-#: idle workers kept for the next fits (a warm worker saves its start, about 1.3 s of imports)
+#: idle workers a queue of fits keeps for its next fits (a warm worker saves its start, about 1.3 s of imports)
 IDLE_WORKERS = 2
-_IDLE: list = []
-_IDLE_LOCK = threading.Lock()
+#: every worker alive, so that a script's end ends them (an ``atexit`` hook): the module's one piece of state
 _ALL = weakref.WeakSet()
 
 
@@ -50,7 +49,9 @@ class FitWorker:
         self.steps = (0, 0)  # steps taken, steps in all (0: not known)
         self.started_at = None  # when the fit itself began (imports and data done)
         self._answers = queue.Queue()
-        threading.Thread(target=self._read, name="sarsp-edu-fit-reader", daemon=True).start()
+        #: the one reader of the process's answers (it owns the pipe, and hands each answer over by a queue)
+        self._reader = threading.Thread(target=self._read, name="sarsp-edu-fit-reader", daemon=True)
+        self._reader.start()
         _ALL.add(self)
 
     def _read(self) -> None:
@@ -93,10 +94,12 @@ class FitWorker:
             return None
 
     def terminate(self) -> None:
-        """Kill the process (if it still runs), wait for it and close its pipes."""
+        """Kill the process (if it still runs), wait for it and its reader thread, and close its pipes."""
         if self.alive:
             self.process.kill()
         self.process.wait()
+        if self._reader is not threading.current_thread():
+            self._reader.join()  # it reads to the end of the pipe, which the process's end closes
         for stream in (self.process.stdin, self.process.stdout):
             try:
                 stream.close()
@@ -105,41 +108,8 @@ class FitWorker:
 
 
 def take_worker() -> FitWorker:
-    """An idle worker, or a new one."""
-    with _IDLE_LOCK:
-        while _IDLE:
-            worker = _IDLE.pop()
-            if worker.alive:
-                return worker
+    """A new worker (a queue of fits keeps its idle ones itself: ``FitQueue``)."""
     return FitWorker()
-
-
-def give_back(worker: FitWorker, finished: bool, replace: bool = True) -> None:
-    """Keep a worker whose fit ``finished`` for the next fits; terminate one whose fit was abandoned (and start a
-    fresh one in its place, so that the next fit does not wait for imports).
-
-    At most ``IDLE_WORKERS`` are kept; a worker beyond them, or one whose process has ended, is terminated.
-
-    Parameters
-    ----------
-    worker : FitWorker
-        Its fit ended or was abandoned; the caller no longer uses it.
-    finished : bool
-        True: its fit ended (an answer came); False: abandoned, so the worker may still be fitting.
-    replace : bool, default True
-        Start a fresh worker in place of an abandoned one; False where nothing will be fitted any more (the queue
-        is closed), so that closing starts no process.
-    """
-    if not finished:
-        worker.terminate()
-        if not replace:
-            return
-        worker = FitWorker()
-    with _IDLE_LOCK:
-        if len(_IDLE) < IDLE_WORKERS and worker.alive:
-            _IDLE.append(worker)
-            return
-    worker.terminate()
 
 
 @atexit.register

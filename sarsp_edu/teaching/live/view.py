@@ -58,12 +58,13 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
     metrics of both agents, growing episode by episode.
 
     The dashboard is a view of a :class:`~sarsp_edu.teaching.live.controller.LiveRun`
-    (``dashboard.run``), which runs the agents with no widgets: each side
-    steps in its own worker thread; when a corrective update makes one agent
-    refit its cost model (a second or more), that side says so and the other
-    goes on.  ``run_steps`` and ``fast_forward`` do the same work
-    synchronously and in step, for scripts and tests (refused while the
-    agents are animated).
+    (``dashboard.run``), which runs the agents with no widgets in one thread
+    of its own, the only one that steps them or draws them: the buttons and
+    sliders send it commands, taken between two steps; when a corrective
+    update makes one agent refit its cost model (a second or more), that
+    side says so while both wait.  ``run_steps`` and ``fast_forward`` do the
+    same work synchronously, for scripts and tests (refused while the agents
+    are animated).
 
     Parameters
     ----------
@@ -192,7 +193,7 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         self._size_metrics_figure()
         for control in self.controls.values():
             control.observe(self._on_setting, names="value")
-        self.preview()
+        self.run.call(self.preview)
         self._fit_ahead()
 
     # -- configuration ------------------------------------------------------
@@ -250,12 +251,15 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
             self.run.request_fits()
 
     def _on_setting(self, change) -> None:
-        """A slider moved: stop what runs, show the new world, prepare its runs, say the agents start on it at Run."""
+        """A slider moved: stop what runs, show the new world, prepare its runs, say the agents start on it at Run
+        (in the run's thread, between two steps: the step under way ends first)."""
+        self.run.call(self._new_settings, change)
+
+    def _new_settings(self, change) -> None:
         interrupted = self.running or self.experiments is not None
         try:
-            with self.run.lock:  # a side's thread drawing its last step draws before this, or not at all
-                self._discard_run()
-                self.preview()
+            self._discard_run()
+            self.preview()
         except ValueError as exc:  # a combination the world cannot hold: said, not raised
             self.status.value = f"<span style='color:#b00020'>{html.escape(str(exc))}</span>"
             return
@@ -272,7 +276,10 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         self.metrics_image.layout.display = "none"
 
     def build_runs(self) -> None:
-        """Build the paired runs of the sliders' settings now: fitted ahead, waited for, or fitted here."""
+        """Build the paired runs of the sliders' settings now: fitted ahead, or waited for until fitted."""
+        self.run.call(self._build_runs)
+
+    def _build_runs(self) -> None:
         self.run.build()
         self._drawn_key = None
 
@@ -317,18 +324,14 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
 
         loop = asyncio.get_event_loop()
         done = loop.create_future()
-        thread = self.run.launch(episodes, on_end=lambda: loop.call_soon_threadsafe(
+        launched = self.run.launch(episodes, on_end=lambda: loop.call_soon_threadsafe(
             lambda: done.done() or done.set_result(None)))
-        if thread is None:
-            self.status.value = ("Already running: press <b>Stop</b> first, then "
-                                 + ("<b>Fast-forward</b>." if episodes is not None else "<b>Run</b>."))
-            return None
-        return done
+        return None if launched is None else done  # None: the run's thread said why (already running)
 
     def play_in_background(self):
         """Animate in a thread of its own, the agents moving while the notebook runs other cells (*Run* waits
         for the kernel, which handles a click only between cells); ``autoplay=True`` calls it when the dashboard
-        is first shown.  Returns the thread, or None if a run is already under way."""
+        is first shown.  Returns the run's future (done when it ends), or None if a run is already under way."""
         return self.run.launch()
 
     def stop(self) -> None:
@@ -337,9 +340,11 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
 
     def reset(self) -> None:
         """*New run*: forget the runs and start again from the sliders."""
-        with self.run.lock:
-            self._discard_run()
-            self.preview()
+        self.run.call(self._reset)
+
+    def _reset(self) -> None:
+        self._discard_run()
+        self.preview()
         self._fit_ahead()
         self.status.value = "Press <b>Run</b> to start both agents."
 
@@ -366,13 +371,15 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         self.headers[name].value = self._header(name, f"<span style='color:#a04c00'>{html.escape(why)}</span>")
 
     def _resize_pictures(self) -> None:
+        self.run.call(self._redraw)
+
+    def _redraw(self) -> None:
         self._size_metrics_figure()
-        with self.run.lock:
-            if self.experiments is None:
-                self.preview()
-            else:
-                self._drawn_key = None
-                self.run._show_all()
+        if self.experiments is None:
+            self.preview()
+        else:
+            self._drawn_key = None
+            self.run._show_all()
 
     # -- drawing ------------------------------------------------------------
     def show_side(self, name) -> None:
