@@ -146,3 +146,22 @@ def test_prefers_names_a_bad_summary_value_and_cannot_decide_on_nan():
     with pytest.raises(TypeError, match="summary_1 must be a mapping"):
         prefers(None, good)
     assert prefers({**good, "cost_rate": float("nan")}, good) is None
+
+
+def test_a_distance_threshold_beyond_the_grid_is_warned_of(capsys):
+    from sarsp_edu.cli import main
+
+    assert main(["run", "--grid-size", "4", "--n-unsafe", "2", "--episodes", "1", "--offline-episodes", "4",
+                 "--optimizer-steps", "2", "--d", "100", "--quiet"]) == 0
+    assert ("warning: --d 100 is beyond every distance on a 4x4 grid (at most 6): no action is ever predicted safe, "
+            "every decision is the backup") in capsys.readouterr().err
+
+
+def test_a_sweep_with_fewer_unsafe_states_than_the_presets_nss_runs_its_own_nss(tmp_path, capsys):
+    from sarsp_edu.cli import main
+
+    out = tmp_path / "one"
+    assert main(["sweep", "--grid-size", "4", "--n-unsafe", "1", "--nss", "1", "--m", "40", "--p", "0.2",
+                 "--episodes", "1", "--offline-episodes", "2", "--optimizer-steps", "2", "--reward-fit-points", "20",
+                 "--k-prior", "10", "--out", str(out), "--quiet"]) == 0
+    assert [cell.name for cell in (out / "cells").iterdir()] == ["m40_p0.2_nss1_seed0"]

@@ -129,6 +129,11 @@ def config_from_args(parser: argparse.ArgumentParser, args: argparse.Namespace, 
         ignored = {k: v for k, v in ignored.items() if k not in ("nu", "noise_convention")}
     for name in sorted(set(values) & set(ignored)):
         print(f"warning: --{name.replace('_', '-')} is ignored: {ignored[name]}", file=sys.stderr)
+    farthest = 2 * (config.grid_size - 1)  # the Manhattan distance across the grid, corner to corner
+    if config.d > farthest:
+        print(f"warning: --d {config.d:g} is beyond every distance on a {config.grid_size}x{config.grid_size} grid "
+              f"(at most {farthest}): no action is ever predicted safe, every decision is the backup",
+              file=sys.stderr)
     return config
 
 

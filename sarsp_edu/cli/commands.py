@@ -179,6 +179,11 @@ def _sweep(args, parser) -> int:
         except ValueError as exc:
             parser.error(str(exc))
     resume_settings = stored is not None and not config_flags(args) and args.preset is None
+    if args.nss and getattr(args, "n_unsafe", None) is not None:
+        from ..config import ExperimentConfig
+
+        if ExperimentConfig.from_preset(args.preset or "default").n_switch_states > args.n_unsafe:
+            vars(args)["n_switch_states"] = min(args.nss)  # the preset's nss does not fit; each cell sets its own
     config = config_from_args(parser, args, base=stored[0] if resume_settings else None)
     check_out(parser, args.out, "sweep")
     if args.scheduler and not _dask_installed():
