@@ -158,3 +158,28 @@ def test_the_names_lent_lazily_are_the_names_type_checkers_see():
     assert seen == lazy
     for name, module in lazy.items():
         assert getattr(sarsp_edu, name) is getattr(importlib.import_module(f"sarsp_edu.{module}"), name)
+
+
+def test_the_readmes_module_table_names_only_modules_that_exist():
+    """Each row of README's module table: its module imports, and each `name` in parentheses that names a
+    module of it (a lower-case word) is one of its submodules."""
+    import importlib
+    import re
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    rows = [line for line in readme.splitlines() if re.match(r"^\|[^|]*\| `sarsp_edu[.\w]*` \|", line)]
+    assert len(rows) > 20, len(rows)
+    missing = []
+    for row in rows:
+        path = re.search(r"\| `(sarsp_edu[.\w]*)` \|", row).group(1)
+        module = importlib.import_module(path)
+        folder = Path(module.__file__).parent
+        if not module.__file__.endswith("__init__.py"):
+            continue
+        exported = [getattr(module, name) for name in getattr(module, "__all__", ())]
+        for name in re.findall(r"\(`([a-z_]+)`[,)]", row) + re.findall(r", `([a-z_]+)`[,)]", row):
+            if any(hasattr(thing, name) for thing in exported):  # a method named, `score` say
+                continue
+            if not ((folder / f"{name}.py").exists() or (folder / name / "__init__.py").exists()):
+                missing.append(f"{path}: ({name})")
+    assert missing == [], missing

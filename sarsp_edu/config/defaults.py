@@ -17,6 +17,8 @@ __all__ = [
     "REWARD_DUPLICATES",
     "NU",
     "LIKELIHOOD_NU",
+    "LIKELIHOOD_SCALE",
+    "AGENT_NOISE_START",
     "MODEL_TITLES",
     "MODELS",
     "OPTIMIZERS",
@@ -181,6 +183,10 @@ NU_PRIOR = (2.0, 0.1)
 #: the degrees of freedom of model="t-likelihood"'s Student-t noise: the TP's value, so that the comparison
 #: moves the heavy tail from the process to the noise without making it heavier or lighter
 LIKELIHOOD_NU = 3.0
+#: the starting scale of the Student-t noise: of a ``StudentTLikelihoodGP`` made by hand (its fit moves it), and
+#: of the agent's (``make_model``), which starts every model's noise at 1 (the GP's and TP's noise variance)
+LIKELIHOOD_SCALE = 0.5
+AGENT_NOISE_START = 1.0
 
 #: how outliers are made (section 5.3): rows whose inputs and targets are multiplied by m (the paper's text
 #: and the reference code: far-away, high-leverage rows), or rows whose targets alone are, at their clean

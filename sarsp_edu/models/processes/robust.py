@@ -40,7 +40,7 @@ from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import validate_data
 
 from ..._internal.validation import check_choice, check_int, check_positive, check_X
-from ...config import ADAM_STEPS, LEARNING_RATE, LIKELIHOOD_NU, NU_PRIOR, PRIORS
+from ...config import ADAM_STEPS, LEARNING_RATE, LIKELIHOOD_NU, LIKELIHOOD_SCALE, NU_PRIOR, PRIORS
 from ..kernels import RBF
 from ..linalg import distinct_rows
 from ..optimizers import adam, best_of_starts, projected_gradient_norm, restart_points
@@ -148,7 +148,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         Newton steps of the mode search, the fit's only iterations.
     """
 
-    def __init__(self, kernel: RBF | None = None, *, nu: float = LIKELIHOOD_NU, scale: float = 0.5,
+    def __init__(self, kernel: RBF | None = None, *, nu: float = LIKELIHOOD_NU, scale: float = LIKELIHOOD_SCALE,
                  optimizer: str | None = "lbfgs", learning_rate: float = LEARNING_RATE, max_iter: int | None = None,
                  prior: str | None = None, max_newton: int = MAX_NEWTON, fit_nu: bool = False, n_restarts: int = 0):
         self.kernel = kernel

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..._internal.validation import check_choice
-from ...config import FITTED_NU, LIKELIHOOD_NU, ExperimentConfig
+from ...config import AGENT_NOISE_START, FITTED_NU, LIKELIHOOD_NU, ExperimentConfig
 from ..kernels import RBF
 from .gp import GaussianProcess
 from .robust import StudentTLikelihoodGP
@@ -26,7 +26,7 @@ def make_model(config: ExperimentConfig, role: str = "cost"):
     settings = config.model_settings
     kind = settings.model if role == "cost" or settings.reward_model is None else settings.reward_model
     common = dict(
-        noise_variance=1.0,
+        noise_variance=AGENT_NOISE_START,
         optimizer=settings.optimizer,
         learning_rate=settings.learning_rate,
         max_iter=settings.optimizer_steps,
@@ -39,7 +39,7 @@ def make_model(config: ExperimentConfig, role: str = "cost"):
     if kind == "t-likelihood":  # the noise's scale starts at 1, as the others' noise variance
         fitted = settings.likelihood_nu == FITTED_NU  # then nu's search starts at the fixed value's default
         return StudentTLikelihoodGP(RBF(1.0, 1.0), nu=LIKELIHOOD_NU if fitted else settings.likelihood_nu,
-                                    fit_nu=fitted, scale=1.0, optimizer=settings.optimizer,
+                                    fit_nu=fitted, scale=AGENT_NOISE_START, optimizer=settings.optimizer,
                                     learning_rate=settings.learning_rate, max_iter=settings.optimizer_steps,
                                     prior=settings.prior, n_restarts=settings.fit_restarts)
     return GaussianProcess(RBF(1.0, 1.0), **common)
