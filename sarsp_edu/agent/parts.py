@@ -39,6 +39,7 @@ import numpy as np
 from ..config import TAIL_DELTA
 from ..models.kernels import squared_distances
 from ..models.linalg import cholesky_with_jitter, solve_cholesky, solve_lower
+from ..models.processes.equations import tp_variance_factor
 from .decision import choose_action, choose_with_backup, corrects, safe_actions
 
 __all__ = [
@@ -125,7 +126,7 @@ def tp_factor(K, y, noise_variance, nu):
     y = np.asarray(y, dtype=float)
     L, _ = cholesky_with_jitter(np.asarray(K, dtype=float) + noise_variance * np.eye(len(y)))
     beta = float(y @ solve_cholesky(L, y))
-    return (nu + beta - 2.0) / (nu + len(y) - 2.0)
+    return tp_variance_factor(len(y), beta, nu)
 
 
 #: the exercise in which the tutorials ask for each part
