@@ -288,7 +288,7 @@ class RBF:
         else:
             top = int(whole_bound)
         key = (self.amplitude, self.length_scale)  # a table is only valid for its hyperparameters
-        key_then, table = self.__dict__.get("_table", (None, None))
+        key_then, table = getattr(self, "_table", (None, None))  # the last table, kept on the kernel
         if key_then != key or table.shape[0] <= top:
             size = min(max(1024, 2 * (top + 1)), _TABLE_MAX_SIZE)
             table = np.multiply(np.arange(size, dtype=float), -0.5 * (1.0 / self.length_scale**2))
