@@ -111,5 +111,6 @@ def test_the_scan_finds_what_it_looks_for():
     """The scan itself: each kind it looks for is found in a module written here."""
     source = ("import contextvars\nCACHE = {}\nSEEN = []\nCOUNT = 0\nHOOK = contextvars.ContextVar('h')\n"
               "FIXED = {'a': 1}\n"
-              "def f(k):\n    CACHE[k] = 1\n    SEEN.append(k)\n    global COUNT\n    COUNT += 1\n    return FIXED[k]\n")
+              "def f(k):\n    CACHE[k] = 1\n    SEEN.append(k)\n    global COUNT\n    COUNT += 1\n"
+              "    return FIXED[k]\n")
     assert _module_state(ast.parse(source)) == {"CACHE", "SEEN", "COUNT", "HOOK"}
