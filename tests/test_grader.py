@@ -280,3 +280,70 @@ def test_capstone_values_that_differ_are_shown_to_the_digits_where_they_differ()
     yours, ours = _apart([0.16412345, 0.0654], [0.16412349, 0.0654])
     assert yours != ours and yours == "[0.16412345, 0.0654]"
     assert _apart([1.0, 2.0], [1.5, 2.0]) == ("[1, 2]", "[1.5, 2]")
+
+
+# -- the fifth cold pass: a tolerance at the knife edges, wordings with an aside, the capstone's one input ------
+TOLERANT = {
+    "4.1": lambda m, v, k, d, t: ((v <= t) | np.isclose(v, t)) & ((m >= d) | np.isclose(m, d)) & ~k,
+    "6.3": lambda m, v, d, thresholds: np.array([100.0 * np.mean(~(((v <= t) | np.isclose(v, t))
+                                                                    & (m >= d - 1e-3)).any(axis=1))
+                                                 for t in thresholds]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(TOLERANT))
+def test_a_safe_set_with_a_tolerance_at_its_thresholds_is_refused(name):
+    right, reply = grade(name, EXERCISES[name], TOLERANT[name])
+    assert not right, reply
+
+
+def test_rounding_to_three_decimals_or_a_slack_below_d_is_refused_where_the_rule_is_exact():
+    def rounded(mu_cost, var_cost, known_unsafe, d, variance_threshold):
+        return (np.round(var_cost, 3) <= variance_threshold) & (np.round(mu_cost, 3) >= d) & ~known_unsafe
+
+    def slack(mu_cost, var_cost, action, d, was_backup):
+        return bool(mu_cost[action] >= d - 1e-6 or (var_cost[action] == var_cost.min() and not was_backup))
+
+    right, reply = grade("4.1", EXERCISES["4.1"], rounded)
+    assert not right and "0.9999999" in reply  # a hair below d, shown as it is (not rounded to 1)
+    assert not grade("4.3", EXERCISES["4.3"], slack)[0]
+
+
+@pytest.mark.parametrize("answer, side", [("falls below 1", "below"), ("stays under one", "below"),
+                                          ("above 1, as beta > n", "above")])
+def test_a_side_said_with_a_verb_or_an_aside_is_read(answer, side):
+    assert read_side(answer) == side
+
+
+@pytest.mark.parametrize("answer, word", [("the band shrinks as nu grows", NARROWER),
+                                          ("Narrower: the factor falls towards 1", NARROWER),
+                                          ("less wide than at nu = 3", NARROWER),
+                                          ("narrower - the factor shrinks", NARROWER)])
+def test_a_direction_said_with_an_aside_or_a_comparison_is_read(answer, word):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == (
+        "narrower" if word is NARROWER else "wider")
+
+
+@pytest.mark.parametrize("answer", ["narrower, not wider", "narrower, but wider at first", "not wider"])
+def test_an_aside_that_negates_or_disagrees_is_still_refused_not_flipped(answer):
+    with pytest.raises(Unreadable):
+        read_word(answer, {"wider": WIDER, "narrower": NARROWER})
+
+
+def test_a_count_with_an_aside_in_brackets_is_read():
+    assert read_count("50 (a checkerboard)") == 50
+
+
+def test_the_capstone_names_a_parts_mistake_from_its_exercises_check_not_from_one_input():
+    from sarsp_edu.agent.parts import DecisionParts
+    from sarsp_edu.teaching.exercises.parting import _culprit
+
+    def upside_down(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold):
+        action, backup = DecisionParts().choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
+        return action, not backup
+
+    case = dict(mu_cost=np.array([0.2, 0.5, 0.9, 0.1]), var_cost=np.array([0.1, 0.2, 0.3, 0.05]),
+                mu_reward=np.array([-2.0, -2.0, -4.0, -1.0]), known_unsafe=np.array([False, True, False, False]),
+                d=1.0, variance_threshold=0.8)
+    said = _culprit([("choose", case, upside_down(*case.values()))], DecisionParts(choose=upside_down))
+    assert "the second value is upside down" in said and "The reward decides only among" not in said

@@ -122,6 +122,10 @@ def _decision_cases(rng):
         case([1.5, 2.0, 0.5, 3.0], [1.2, 1.4, 0.1, 2.0], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 1.5),
         case([1.5, 2.5, 0.7, 3.0], [0.2, 0.3, 0.1, 0.4], [-1.0, -2.0, -0.5, -3.0], [False] * 4, 2.0),
         case([0.7, 2.5, 0.3, 3.0], [0.2, 0.3, 0.1, 0.4], [-1.0, -2.0, -0.5, -3.0], [False] * 4, 0.5),
+        # just past each knife edge, the best reward there: a distance a hair below d and a variance a hair
+        # above sigma*^2 are not safe (the rule compares exact values: no tolerance, no rounding)
+        case([1.0 - 1e-7, 2.0, 0.5, 0.9996], [0.1, 0.8 + 1e-7, 0.1, 0.1], [-0.5, -0.6, -3.0, -0.7], [False] * 4),
+        case([2.0, 1.5, 0.5, 3.0], [0.8004, 0.1, 0.2, 0.3], [-0.5, -1.0, -3.0, -2.0], [False] * 4),
     ]
     for _ in range(5):
         cases.append(case(rng.uniform(0, 3, 4), rng.uniform(0, 1.5, 4), -rng.uniform(0, 5, 4), rng.random(4) < 0.2,
@@ -133,6 +137,11 @@ def _safe(mu_cost, var_cost, known_unsafe, d, variance_threshold, mu_reward=None
     from ...agent.sarsp import choose_action
 
     return choose_action(mu_cost, var_cost, np.zeros(len(mu_cost)), known_unsafe, d, variance_threshold)[1]
+
+
+#: the diagnosis of a safe set compared with a tolerance
+_EXACT = ("A distance a hair below d, or a variance a hair above sigma*^2, is not safe: the rule compares the "
+          "exact values, with no tolerance and no rounding.")
 
 
 def _safe_cases(rng):
@@ -186,6 +195,9 @@ def _correction_cases(rng):
         # and in their fourth: 0.5004 is not tied with 0.5 (a tie is equality; np.isclose's defaults tell them
         # apart too, a tolerance of a thousandth or more does not)
         case([0.5, 0.2, 0.3, 0.4], [0.5004, 0.5, 0.9, 0.95], 0, 1.0, False),
+        # a predicted distance a hair below d is not one the model called safe (no tolerance, no rounding)
+        case([1.0 - 1e-7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
+        case([0.9996, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
     ]
     for _ in range(6):
         cases.append(case(rng.uniform(0, 2, 4), rng.uniform(0, 1.5, 4), int(rng.integers(0, 4)),
@@ -286,6 +298,15 @@ AGENT_EXERCISES = {
             Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
                     ((var_cost <= variance_threshold) | (mu_cost >= d)) & ~known_unsafe,
                     "Both conditions must hold: a confident prediction and a safe distance."),
+            Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
+                    ((var_cost <= variance_threshold) | np.isclose(var_cost, variance_threshold))
+                    & ((mu_cost >= d) | np.isclose(mu_cost, d)) & ~known_unsafe, _EXACT),
+            Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
+                    (var_cost <= variance_threshold) & ((mu_cost >= d) | np.isclose(mu_cost, d)) & ~known_unsafe,
+                    _EXACT),
+            Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
+                    ((var_cost <= variance_threshold) | np.isclose(var_cost, variance_threshold))
+                    & (mu_cost >= d) & ~known_unsafe, _EXACT),
         ),
         hint="Redo the case above by hand, action by action: which of the three conditions does each meet?",
         explanation="This is the set S of Algorithm 1; an empty S sends the agent to the backup.",

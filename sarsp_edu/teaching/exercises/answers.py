@@ -128,13 +128,40 @@ def read_word(answer, options: dict) -> str:
     """
     text = _text(answer)
     if text is not None:
-        compact = _compact(re.sub(r"\s*\([^()]*\)\s*\.?\s*$", "", text))  # 'below 1 (about 0.37)': the aside dropped
-        rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
-        for option, spellings in options.items():  # every lead-in that fits is tried ('its' and 'it' + 'shrinks')
-            if any(rest in spellings for rest in rests):
-                return option
+        found = _read_clause(text, options)
+        if found is None:  # 'Narrower: the factor falls towards 1': the first clause, where no other one disagrees
+            first, *others = re.split(r"\s*[:;,(\u2013\u2014]\s*|\s+-\s+", text.strip())
+            found = _read_clause(first, options) if others and first else None
+            rest = _compact(" ".join(others))
+            negated = re.search(r"(^|[^a-z])(not|no|never|hardly)([^a-z]|$)|n't", " ".join(others).lower())
+            if found is not None and (negated or any(len(s) >= 4 and s in rest for option, spellings in
+                                                     options.items() if option != found for s in spellings)):
+                found = None
+        if found is not None:
+            return found
     names = " or ".join(repr(option) for option in options)
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
+
+
+#: what a student may add after the answer, dropped: an aside in brackets, a comparison with before or nu = 3,
+#: the change that makes it ('as nu grows')
+_TAILS = (r"\s*\([^()]*\)\s*\.?\s*$", r"\s+than\s+(before|at|with|for)\b.*$",
+          r"\s+(as|when|while|if)\s+(nu|\u03bd)\b.*$")
+#: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
+_POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends"))
+
+
+def _read_clause(text: str, options: dict) -> str | None:
+    """The option one clause names (lead-ins and tails dropped), or None."""
+    for tail in _TAILS:
+        text = re.sub(tail, "", text, flags=re.IGNORECASE)
+    compact = _compact(text)
+    rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
+    rests += [rest[len(verb):] for rest in list(rests) for verb in _POSITIONS if rest.startswith(verb)]
+    for option, spellings in options.items():  # every lead-in that fits is tried ('its' and 'it' + 'shrinks')
+        if any(rest in spellings for rest in rests):
+            return option
+    return None
 
 
 def _number(answer, what: str) -> float:
@@ -145,7 +172,7 @@ def _number(answer, what: str) -> float:
     if text is not None:
         if re.search(r"\d\s+\d", text):  # '5 0' is two numbers, not 50
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
-        compact = _compact(text)
+        compact = _compact(re.sub(r"\s*\([^()]*\)\s*\.?\s*$", "", text))  # '50 (a checkerboard)': aside dropped
         compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
                    "infinite": "inf", "diverges": "inf", "itdiverges": "inf"}.get(compact, compact)
         compact = re.sub(r"(cells|states|unsafestates)$", "", compact)  # '50 cells', 'fifty unsafe states'

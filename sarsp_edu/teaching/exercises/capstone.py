@@ -74,6 +74,7 @@ class _Recorder:
         from ...agent.parts import DecisionParts
 
         self.calls: list = []  # (name, inputs as a dict, result) of the current step, in call order
+        self.yours = parts  # as the student wrote them (their exercises' checks run these)
         self.parts = DecisionParts(**{name: self._wrap(name, getattr(parts, name)) for name in PART_FUNCTIONS})
 
     def _wrap(self, name, function):
@@ -276,13 +277,13 @@ def _lock_step(config, recorder: _Recorder, shown: _Progress) -> tuple[bool, str
         except _PartFailed as failed:
             return False, _failed(failed, _where(mine, package, decisions))
         except Exception as exc:  # a result the agent cannot use (a wrong shape, not numbers ...)
-            culprit = _culprit(recorder.calls)
+            culprit = _culprit(recorder.calls, recorder.yours)
             return False, f"{_where(mine, package, decisions)}: your agent stopped: {raised(exc)}." + (
                 f"\n{culprit}" if culprit else "")
         difference = _difference(mine, theirs)
         culprit = rounding_only = None
         if difference is not None:  # only then are the step's calls checked one by one (each costs a solve)
-            culprit = _culprit(recorder.calls)
+            culprit = _culprit(recorder.calls, recorder.yours)
             rounding_only = culprit is None and not _low_precision(recorder.calls)  # every part right to rounding
             difference = _difference(mine, theirs, rounding_only=rounding_only)
         if difference is not None:

@@ -99,11 +99,13 @@ def _agrees(name: str, case: dict, result, expected) -> bool:
         return False
 
 
-def _culprit(calls: list) -> str | None:
+def _culprit(calls: list, parts=None) -> str | None:
     """The first of the step's calls whose result differs from the package's on the same inputs (beyond the
-    rounding its inputs allow), in words."""
+    rounding its inputs allow), in words; with the student's ``parts``, the diagnosis is its exercise's check's
+    (every input of the exercise, where one input may fit two mistakes)."""
     from ...agent.parts import EXERCISE_OF, DecisionParts
     from . import CODING
+    from .grading import grade
 
     for name, case, result in calls:
         try:
@@ -113,8 +115,15 @@ def _culprit(calls: list) -> str | None:
         if _agrees(name, case, result, expected):
             continue
         exercise = EXERCISE_OF[name]
-        mistake = known_mistake(CODING[exercise], [case], [result])
-        advice = mistake or f'Run check("{exercise}", {PART_FUNCTIONS[name]}) for its own check.'
+        checked = None if parts is None else grade(exercise, CODING[exercise], getattr(parts, name))
+        if checked is not None and not checked[0]:  # wrong on its exercise's inputs too: that check's diagnosis
+            advice = f'Its own check, check("{exercise}", {PART_FUNCTIONS[name]}), says: {checked[1]}'
+        elif checked is not None:  # right there: this input is one its exercise's inputs miss
+            advice = (f'It passes its own check, check("{exercise}", {PART_FUNCTIONS[name]}): this input is one '
+                      "that check's inputs miss.")
+        else:
+            mistake = known_mistake(CODING[exercise], [case], [result])
+            advice = mistake or f'Run check("{exercise}", {PART_FUNCTIONS[name]}) for its own check.'
         return (f"{_named(name)[0].upper()}{_named(name)[1:]} gives other values than the package's on the inputs "
                 f"this step gave it ({describe(case)}): {_first_difference(result, expected)}. {advice}")
     return None

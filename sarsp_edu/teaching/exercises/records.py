@@ -141,6 +141,10 @@ def _decision_cases(rng):
         # distances exactly d pass
         {"mu_cost": np.array([[2.0, 2.0, 1.0, 1.0], [1.99, 1.99, 1.99, 1.99]]),
          "var_cost": np.full((2, 4), 0.5), "d": 2.0, "thresholds": np.array([0.5, 1.0])},
+        # a hair past each knife edge does not pass (exact comparisons: no tolerance, no rounding)
+        {"mu_cost": np.array([[1.0 - 1e-7, 0.5, 0.2, 0.9996], [2.0, 2.0, 2.0, 2.0]]),
+         "var_cost": np.array([[0.1, 0.1, 0.1, 0.1], [0.8 + 1e-7, 0.8004, 0.9, 0.95]]), "d": 1.0,
+         "thresholds": np.array([0.8, 2.0])},
     ]
     for n in (7, 250):
         mu = rng.integers(-1, 5, (n, 4)).astype(float) + np.where(rng.random((n, 4)) < 0.5, 0.0, rng.random((n, 4)))

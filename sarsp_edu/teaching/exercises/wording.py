@@ -81,7 +81,10 @@ def said(value) -> str | None:
     if isinstance(value, (int, np.integer)):
         return str(value) if abs(int(value)) < 10**15 else None
     if isinstance(value, (float, np.floating)):
-        return f"{float(value):.6g}"
+        short = f"{float(value):.6g}"
+        if float(short) != float(value) and len(short.lstrip("-").replace(".", "").strip("0")) <= 3:
+            return f"{float(value):.10g}"  # a hair from a round number (1 - 1e-7) is not shown as the round one
+        return short
     if isinstance(value, dict):
         items = [(key, said(item)) for key, item in value.items()]
         return "{" + ", ".join(f"{key}: {text}" for key, text in items) + "}" if all(t for _, t in items) else None
