@@ -131,3 +131,15 @@ def test_a_hostile_pass_s_losses_and_tracebacks_are_refusals_now(tmp_path, capsy
     assert usage_error(["rule-study", "--out", str(tmp_path / "s"), "--ablation", str(tmp_path)], capsys).endswith(
         "is not an ablation results folder (no ablation.json); the study reads the stored TP and GP runs and the "
         "third model's from there")
+
+
+def test_two_commands_writing_one_new_markdown_file_do_not_replace_each_other_silently(tmp_path):
+    from sarsp_edu._internal.io import atomic_write_text
+
+    target = tmp_path / "tables.md"
+    atomic_write_text(target, "first\n", replace=False)
+    with pytest.raises(FileExistsError):  # the second writer finds it made meanwhile
+        atomic_write_text(target, "second\n", replace=False)
+    assert target.read_text() == "first\n" and sorted(p.name for p in tmp_path.iterdir()) == ["tables.md"]
+    atomic_write_text(target, "second\n")  # --overwrite: replaced
+    assert target.read_text() == "second\n"

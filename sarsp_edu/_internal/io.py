@@ -118,16 +118,19 @@ def publish_folder(final, write, marker: str) -> Path:
     return final
 
 
-def atomic_write_text(path, text: str) -> Path:
+def atomic_write_text(path, text: str, replace: bool = True) -> Path:
     """Write ``text`` to ``path`` through a temporary file and an atomic rename (see :func:`atomic_write_bytes`)."""
-    return atomic_write_bytes(path, text.encode("utf-8"))
+    return atomic_write_bytes(path, text.encode("utf-8"), replace=replace)
 
 
-def atomic_write_bytes(path, data: bytes) -> Path:
+def atomic_write_bytes(path, data: bytes, replace: bool = True) -> Path:
     """Write ``data`` to ``path`` through a temporary file and an atomic rename.
 
     The temporary file lives in the same folder (a rename is atomic only
-    within one file system) and is removed if anything fails.
+    within one file system) and is removed if anything fails.  With
+    ``replace=False`` the file is linked into place only if ``path`` does not
+    exist, atomically: ``FileExistsError`` if another writer made it first
+    (two commands writing one new file: neither is lost silently).
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -138,7 +141,11 @@ def atomic_write_bytes(path, data: bytes) -> Path:
             handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
-        os.replace(tmp, path)
+        if replace:
+            os.replace(tmp, path)
+        else:
+            os.link(tmp, path)  # fails if path exists, whoever made it
+            os.unlink(tmp)
     except BaseException:
         try:
             os.unlink(tmp)

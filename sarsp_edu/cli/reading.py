@@ -9,7 +9,7 @@ from .commands import _format_table
 def _tables(args, parser) -> int:
     from pathlib import Path
 
-    from .._internal.io import StoredResultError, atomic_write_text
+    from .._internal.io import StoredResultError
     from ..experiments.sweep import SweepResults, describe_cells, stored_sweep
     from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
@@ -82,7 +82,7 @@ def _tables(args, parser) -> int:
         markdown = tables_markdown(tables)
         for title, frame in sections:
             markdown += f"\n## {title[0].upper()}{title[1:]}\n\n{frame_to_markdown(_flat(frame))}\n"
-        atomic_write_text(args.markdown, markdown + "\n")
+        _write_markdown(parser, args, markdown + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     return 0
 
@@ -185,7 +185,7 @@ def _ablation_table(args, parser) -> int:
     """``tables`` on an ablation's folder: its stored runs' table (``--markdown`` writes it too)."""
     from pathlib import Path
 
-    from .._internal.io import StoredResultError, atomic_write_text, read_json
+    from .._internal.io import StoredResultError, read_json
     from ..experiments.ablation import AblationResults
     from ..experiments.tables import frame_to_markdown
 
@@ -201,7 +201,7 @@ def _ablation_table(args, parser) -> int:
         print(f"\npartial: {len(short)} setting(s) hold fewer than the {planned} runs the ablation plans "
               f"({', '.join(short)}); rerun its command to complete them")
     if args.markdown:
-        atomic_write_text(args.markdown, frame_to_markdown(table.reset_index()) + "\n")
+        _write_markdown(parser, args, frame_to_markdown(table.reset_index()) + "\n")
         print(f"\nMarkdown table written to {args.markdown}")
     return 0
 
@@ -245,11 +245,10 @@ def _model_tables(args, parser) -> int:
     print(f"\nDefinition 4 in each configuration\n{_format_table(tables['definition4'])}")
     print(f"\nEach configuration: the mean over its seeds run\n{_format_table(tables['configurations'])}")
     if args.markdown:
-        from .._internal.io import atomic_write_text
         from ..experiments.tables import frame_to_markdown
 
         digits = {"mean": 3, "tests": 3, "definition4": 3, "configurations": 1}
-        atomic_write_text(args.markdown, "\n\n".join(frame_to_markdown(_flat(tables[key], places), places)
+        _write_markdown(parser, args, "\n\n".join(frame_to_markdown(_flat(tables[key], places), places)
                                                       for key, places in digits.items()) + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     if args.figure:
@@ -260,7 +259,7 @@ def _model_tables(args, parser) -> int:
         for ax, metric in zip(axes, ("task_success_rate", "total_cost")):
             plot_model_curves(ax, model_sweep_curves(paired, runs, metric), metric=metric, settle=10,
                               title=f"mean over the {len(runs)} cells run")
-        _save_figure(figure, args.figure)
+        _save_figure(figure, args.figure, args.overwrite)
     return 0
 
 
@@ -297,8 +296,9 @@ def _figure(rows: int, columns: int, size: tuple):
     return plt.subplots(rows, columns, figsize=size, layout="constrained")
 
 
-def _save_figure(figure, path) -> None:
-    """Write ``figure`` to ``path`` (its suffix the format) through a temporary file, and close it."""
+def _save_figure(figure, path, overwrite: bool = True) -> None:
+    """Write ``figure`` to ``path`` (its suffix the format) through a temporary file, and close it; without
+    ``overwrite`` a file another command made meanwhile is refused, not replaced."""
     import io
     from pathlib import Path
 
@@ -309,7 +309,11 @@ def _save_figure(figure, path) -> None:
     buffer = io.BytesIO()
     figure.savefig(buffer, format=Path(path).suffix.lower()[1:], dpi=110)
     plt.close(figure)
-    atomic_write_bytes(path, buffer.getvalue())
+    try:
+        atomic_write_bytes(path, buffer.getvalue(), replace=overwrite)
+    except FileExistsError:
+        raise SystemExit(f"sarsp-edu tables: error: --figure {path} was written by another command meanwhile; "
+                         "--overwrite replaces it") from None
     print(f"figure written to {path}")
 
 
@@ -317,7 +321,7 @@ def _threshold_study(args, parser) -> int:
     """``threshold-study``: the three models against sigma*^2, from an ablation's folder and the third model's."""
     from pathlib import Path
 
-    from .._internal.io import StoredResultError, atomic_write_text
+    from .._internal.io import StoredResultError
     from ..experiments.ablation import setting_folder
     from ..experiments.tables import frame_to_markdown
     from ..experiments.thresholds import ThresholdStudy, threshold_settings
@@ -362,7 +366,7 @@ def _threshold_study(args, parser) -> int:
           + ", ".join(f"{model} {value:g}" if value == value else f"{model} at none of them"
                       for model, value in left.items()))
     if args.markdown:
-        atomic_write_text(args.markdown, frame_to_markdown(shown.round(2).reset_index()) + "\n\n"
+        _write_markdown(parser, args, frame_to_markdown(shown.round(2).reset_index()) + "\n\n"
                           + frame_to_markdown(pairs.round(2).reset_index()) + "\n")
         print(f"\nMarkdown tables written to {args.markdown}")
     if args.figure:
@@ -370,7 +374,7 @@ def _threshold_study(args, parser) -> int:
 
         figure, axes = _figure(1, 3, (13, 4.2))
         plot_threshold_study(axes, study.runs)
-        _save_figure(figure, args.figure)
+        _save_figure(figure, args.figure, args.overwrite)
     return 0
 
 
@@ -403,3 +407,14 @@ def _check_models_folder(parser, folder) -> None:
     if (folder / "model_sweep.json").is_file():
         parser.error(f"--models {folder} is one model sweep; give the folder that holds one per setting (its parent, "
                      f"{folder.parent})")
+
+
+def _write_markdown(parser, args, text: str) -> None:
+    """Write ``--markdown``: a file made meanwhile by another command is refused, not replaced (unless
+    ``--overwrite``)."""
+    from .._internal.io import atomic_write_text
+
+    try:
+        atomic_write_text(args.markdown, text, replace=args.overwrite)
+    except FileExistsError:
+        parser.error(f"--markdown {args.markdown} was written by another command meanwhile; --overwrite replaces it")
