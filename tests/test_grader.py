@@ -250,11 +250,39 @@ def test_a_tie_within_a_tolerance_is_not_the_most_certain_action(rtol):
     assert not right and "a tie is equality" in reply
 
 
-def test_numpys_default_closeness_still_reads_a_tie_as_equality():
+def test_a_tie_within_numpys_default_closeness_is_no_tie_either():
     def with_isclose(mu_cost, var_cost, action, d, was_backup):
         return bool(mu_cost[action] >= d or (np.isclose(var_cost[action], var_cost.min()) and not was_backup))
 
-    assert grade("4.3", EXERCISES["4.3"], with_isclose)[0]
+    assert not grade("4.3", EXERCISES["4.3"], with_isclose)[0]
+
+
+@pytest.mark.parametrize("name", ["5.2", "5.3"])
+def test_a_tie_found_with_a_tolerance_is_refused(name):
+    from scipy import stats
+
+    def agreement(tp_1, gp_1, tp_2, gp_2):
+        first = np.where(np.isclose(tp_1, gp_1), 0, np.sign(np.subtract(tp_1, gp_1)))
+        second = np.where(np.isclose(tp_2, gp_2), 0, np.sign(np.subtract(tp_2, gp_2)))
+        return 100.0 * float(np.mean((first == second) & (first != 0)))
+
+    def sign_test(tp, gp):
+        differ = ~np.isclose(tp, gp)
+        n = int(differ.sum())
+        return 1.0 if n == 0 else float(stats.binomtest(int((np.asarray(tp) > gp)[differ].sum()), n).pvalue)
+
+    assert not grade(name, EXERCISES[name], agreement if name == "5.2" else sign_test)[0]
+
+
+def test_a_backup_over_the_raw_rewards_when_every_action_is_known_unsafe_is_refused():
+    def raw(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold):
+        from sarsp_edu.agent.parts import DecisionParts
+
+        if known_unsafe.all():
+            return int(np.argmax(mu_reward)), True
+        return DecisionParts().choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold)
+
+    assert not grade("4.2", EXERCISES["4.2"], raw)[0]
 
 
 def test_a_wrong_percent_difference_is_named_before_its_division_by_zero_at_0_0():
@@ -347,3 +375,35 @@ def test_the_capstone_names_a_parts_mistake_from_its_exercises_check_not_from_on
                 d=1.0, variance_threshold=0.8)
     said = _culprit([("choose", case, upside_down(*case.values()))], DecisionParts(choose=upside_down))
     assert "the second value is upside down" in said and "The reward decides only among" not in said
+
+
+# -- the sixth cold pass: an aside in brackets that disagrees, a count said in a sentence ------------------------
+@pytest.mark.parametrize("answer", ["narrower (no, wider)", "narrower (the band widens)", "narrower (not wider)"])
+def test_an_aside_in_brackets_that_negates_or_disagrees_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_word(answer, {"wider": WIDER, "narrower": NARROWER})
+
+
+@pytest.mark.parametrize("answer", ["below (not below)", "below (it goes up)"])
+def test_a_side_with_a_disagreeing_aside_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+@pytest.mark.parametrize("answer", ["narrower at nu = 30", "the band is narrower at nu = 30",
+                                    "it decreases toward the GP band"])
+def test_a_direction_at_the_questions_own_nu_is_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["It is 50", "the answer is 50", "half the grid: 50", "50, half the grid",
+                                    "50: one colour of a checkerboard", "50 unsafe cells",
+                                    "50 (half of 100, a checkerboard)"])
+def test_a_count_said_in_a_sentence_is_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("answer", ["50 (or 25)", "50 (not 50)", "50 (half? no, a quarter: 25)"])
+def test_a_count_with_a_doubting_aside_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)

@@ -115,8 +115,10 @@ def _decision_cases(rng):
         # nothing safe, and the known-unsafe action has the best reward: the backup passes it over; the best
         # reward allowed (0), the lowest variance (3), the largest distance (1) and S_u forgotten (2) all differ
         case([0.2, 0.5, 0.9, 0.1], [0.1, 0.2, 0.3, 0.05], [-1.0, -3.0, -0.5, -2.0], [False, False, True, False]),
-        # every action known unsafe: every reward is -inf, and the backup takes action 0
+        # every action known unsafe: every reward is -inf, and the backup takes action 0 (whichever reward
+        # was the best before the override)
         case([2.0] * 4, [0.1] * 4, [-1.0, -2.0, -3.0, -4.0], [True] * 4),
+        case([2.0] * 4, [0.1] * 4, [-4.0, -3.0, -2.0, -1.0], [True] * 4),
         # other thresholds and distances than the notebook's sigma*^2 = 0.8 and d = 1, each deciding the choice
         case([1.5, 2.0, 0.5, 3.0], [0.5, 0.2, 0.1, 0.9], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 0.4),
         case([1.5, 2.0, 0.5, 3.0], [1.2, 1.4, 0.1, 2.0], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 1.5),
@@ -192,9 +194,10 @@ def _correction_cases(rng):
         case([1.5, 0.2, 0.3, 0.4], [0.05, 0.1, 0.2, 0.3], 0, 1.0, False),
         # variances that part in their second decimal: 0.84 is not the lowest of 0.81 and 0.84
         case([0.5, 0.2, 0.3, 0.4], [0.84, 0.81, 0.9, 0.95], 0, 1.0, False),
-        # and in their fourth: 0.5004 is not tied with 0.5 (a tie is equality; np.isclose's defaults tell them
-        # apart too, a tolerance of a thousandth or more does not)
+        # and in their fourth and sixth: 0.5004 and 0.500001 are not tied with 0.5 (a tie is equality, with no
+        # tolerance, np.isclose's defaults included)
         case([0.5, 0.2, 0.3, 0.4], [0.5004, 0.5, 0.9, 0.95], 0, 1.0, False),
+        case([0.5, 0.2, 0.3, 0.4], [0.500001, 0.5, 0.9, 0.95], 0, 1.0, False),  # within np.isclose's defaults
         # a predicted distance a hair below d is not one the model called safe (no tolerance, no rounding)
         case([1.0 - 1e-7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
         case([0.9996, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),

@@ -128,25 +128,38 @@ def read_word(answer, options: dict) -> str:
     """
     text = _text(answer)
     if text is not None:
-        found = _read_clause(text, options)
-        if found is None:  # 'Narrower: the factor falls towards 1': the first clause, where no other one disagrees
-            first, *others = re.split(r"\s*[:;,(\u2013\u2014]\s*|\s+-\s+", text.strip())
-            found = _read_clause(first, options) if others and first else None
-            rest = _compact(" ".join(others))
-            negated = re.search(r"(^|[^a-z])(not|no|never|hardly)([^a-z]|$)|n't", " ".join(others).lower())
-            if found is not None and (negated or any(len(s) >= 4 and s in rest for option, spellings in
-                                                     options.items() if option != found for s in spellings)):
-                found = None
+        main, asides = _clauses(text)
+        found = _read_clause(main, options)
+        if found is None and not asides:
+            found = _read_clause(text, options)
+        rest = _compact(" ".join(asides))
+        if found is not None and (_NEGATION.search(" ".join(asides).lower()) or any(
+                len(s) >= 4 and s in rest for option, spellings in options.items() if option != found
+                for s in spellings)):
+            found = None  # 'narrower (no, wider)', 'narrower, not wider': refused, never flipped
         if found is not None:
             return found
     names = " or ".join(repr(option) for option in options)
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
 
 
-#: what a student may add after the answer, dropped: an aside in brackets, a comparison with before or nu = 3,
-#: the change that makes it ('as nu grows')
-_TAILS = (r"\s*\([^()]*\)\s*\.?\s*$", r"\s+than\s+(before|at|with|for)\b.*$",
-          r"\s+(as|when|while|if)\s+(nu|\u03bd)\b.*$")
+#: a word that negates what follows it, or a doubt: an aside holding one is not read past
+_NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or)([^a-z]|$)|n't|\?")
+
+
+def _clauses(text: str) -> tuple:
+    """The answer's first clause, and its asides: what stands in brackets, and each clause after a colon, a
+    semicolon, a comma or a dash ('Narrower: the factor falls' -> 'Narrower', ['the factor falls'])."""
+    asides = re.findall(r"\(([^()]*)\)", text)
+    bare = re.sub(r"\s*\([^()]*\)\s*", " ", text).strip()
+    first, *others = re.split(r"\s*(?:[:;\u2013\u2014]|,(?!\d))\s*|\s+-\s+", bare)  # not '1,000'
+    return first.strip(), [*asides, *(clause for clause in others if clause.strip())]
+
+
+#: what a student may add after the answer, dropped: a comparison with before or nu = 3, the question's own
+#: nu = 30, the change that makes it ('as nu grows'), where it heads ('towards the GP's band')
+_TAILS = (r"\s+than\s+(before|at|with|for)\b.*$", r"\s+(at|for|with)\s+(nu|\u03bd)\s*=\s*30\b.*$",
+          r"\s+(as|when|while|if)\s+(nu|\u03bd)\b.*$", r"\s+towards?\b.*$")
 #: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
 _POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends"))
 
@@ -172,10 +185,21 @@ def _number(answer, what: str) -> float:
     if text is not None:
         if re.search(r"\d\s+\d", text):  # '5 0' is two numbers, not 50
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
-        compact = _compact(re.sub(r"\s*\([^()]*\)\s*\.?\s*$", "", text))  # '50 (a checkerboard)': aside dropped
+        main, asides = _clauses(text)
+        if _NEGATION.search(" ".join(asides).lower()):  # '50 (or 25)', '50 (not 50)': refused
+            raise Unreadable(f"Could not read {shown(answer)} as {what}.")
+        numbered = [clause for clause in (main, *asides) if re.search(r"\d", clause) or _number_word(
+            _compact(clause)) is not None]
+        # '50 (a checkerboard)', '50, half the grid': the first clause; 'half the grid: 50': the one with a number
+        text = main if re.search(r"\d", main) or _number_word(_compact(main)) is not None or len(numbered) != 1 \
+            else numbered[0]
+        compact = _compact(text)
+        for lead in ("theansweris", "answer:", "itis", "it's", "thereare"):
+            if compact.startswith(lead):
+                compact = compact[len(lead):]
         compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
                    "infinite": "inf", "diverges": "inf", "itdiverges": "inf"}.get(compact, compact)
-        compact = re.sub(r"(cells|states|unsafestates)$", "", compact)  # '50 cells', 'fifty unsafe states'
+        compact = re.sub(r"(unsafecells|cells|unsafestates|states|squares)$", "", compact)  # '50 cells'
         fraction = re.fullmatch(r"(-?\d+)/(\d+)", compact)  # '1/3'
         if fraction and int(fraction.group(2)):
             return int(fraction.group(1)) / int(fraction.group(2))

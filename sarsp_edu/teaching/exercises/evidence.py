@@ -31,6 +31,9 @@ def _agreement_cases(rng):
         {"tp_1": np.array([1.0, 2.0]), "gp_1": np.array([1.0, 2.0]),
          "tp_2": np.array([1.0, 2.0]), "gp_2": np.array([1.0, 2.0])},  # ties everywhere: no better model
         {"tp_1": np.array([3.0]), "gp_1": np.array([2.0]), "tp_2": np.array([4.0]), "gp_2": np.array([1.0])},  # one
+        # values a hair apart are not tied: a tie is equality (no tolerance)
+        {"tp_1": np.array([1.0 + 1e-9, 2.0]), "gp_1": np.array([1.0, 1.0]),
+         "tp_2": np.array([3.0, 2.0]), "gp_2": np.array([1.0, 1.0])},
     ]
     for n in (9, 45):
         tp_1, tp_2 = rng.normal(90, 5, n).round(1), rng.normal(90, 5, n).round(1)
@@ -51,6 +54,8 @@ def _sign_cases(rng):
         {"tp": np.array([1.0, 2.0, 3.0, 4.0]), "gp": np.array([1.0, 1.0, 4.0, 4.0])},  # two ties
         {"tp": np.array([5.0, 5.0]), "gp": np.array([5.0, 5.0])},  # only ties: no evidence either way
         {"tp": np.array([2.0]), "gp": np.array([3.0])},  # one pair
+        # values a hair apart are not tied: a tie is equality (no tolerance)
+        {"tp": np.array([1.0 + 1e-9, 2.0 + 1e-9, 3.0 + 1e-9, 4.0]), "gp": np.array([1.0, 2.0, 3.0, 1.0])},
     ]
     for n in (12, 45):
         gp = rng.normal(58, 2, n).round()
