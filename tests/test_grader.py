@@ -407,3 +407,22 @@ def test_a_count_said_in_a_sentence_is_read(answer):
 def test_a_count_with_a_doubting_aside_is_refused(answer):
     with pytest.raises(Unreadable):
         read_count(answer)
+
+
+# -- the seventh cold pass: a number beside the word on the other side, a count in a longer sentence -------------
+@pytest.mark.parametrize("answer", ["below 1 (about 3.3)", "below, about 3.3", "above 1 (about 0.37)"])
+def test_a_side_whose_number_says_the_other_side_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+@pytest.mark.parametrize("answer", ["The grid can hold 50 unsafe cells.", "at most 50", "50 unsafe cells at most",
+                                    "50 of the 100 cells", "half of 100, so 50"])
+def test_a_count_in_a_longer_sentence_is_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("answer", ["50 or 51", "not 49", "0.5 of 100"])
+def test_a_sentence_with_a_doubt_or_no_whole_count_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)

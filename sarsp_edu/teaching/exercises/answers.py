@@ -223,7 +223,7 @@ def read_side(answer) -> str:
     """'above' or 'below' 1: a word (:func:`read_word` with :data:`ABOVE` and :data:`BELOW`), or a number on
     that side of 1 (0.37 is 'below'); raises :class:`Unreadable`, for 1 itself too."""
     try:
-        return read_word(answer, {"above": ABOVE, "below": BELOW})
+        side = read_word(answer, {"above": ABOVE, "below": BELOW})
     except Unreadable:
         try:
             value = _number(answer, "a number")
@@ -233,14 +233,35 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1."
                              ) from None
         return "above" if value > 1 else "below"
+    # a number said beside the word must be on its side: 'below 1 (about 3.3)' says both
+    numbers = [float(n) for n in re.findall(r"-?\d+(?:\.\d+)?", " ".join(_clauses(_text(answer))[1]))]
+    if any(value != 1 and (value > 1) != (side == "above") for value in numbers):
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': its number is on the other side.")
+    return side
 
 
 def read_count(answer) -> int:
     """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
-    value = _number(answer, "a whole number")
+    try:
+        value = _number(answer, "a whole number")
+    except Unreadable:
+        value = _count_in_words(answer)
     if not math.isfinite(value) or value != int(value):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
     return int(value)
+
+
+def _count_in_words(answer) -> float:
+    """The one number a sentence gives as its count ('The grid can hold 50 unsafe cells', 'at most 50', '50 of
+    the 100 cells': a number after 'of' is a total, not the count); raises :class:`Unreadable`."""
+    text = _text(answer)
+    if text is None or _NEGATION.search(text.lower()):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    counts = [float(m.group(2)) for m in re.finditer(r"(\bof\s+(?:the\s+)?)?(?<![\w.])(\d+(?:\.\d+)?)(?![\w.]*\d)",
+                                                       text) if m.group(1) is None]
+    if len(set(counts)) != 1:
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    return counts[0]
 
 
 def _limit_key(key) -> str | None:
