@@ -155,7 +155,9 @@ WRONG = {
     "1.1": [(lambda x, nu: -(nu + 1) / 2 * np.log1p(np.asarray(x) ** 2 / nu), "normalising constant is missing"),
             (lambda x, nu: np.exp(student_t_logpdf(x, nu)), "These are densities")],
     "1.2": [(lambda x, lam, nu: np.exp(student_t_logpdf(lam * np.asarray(x) ** 2, nu) - student_t_logpdf(x, nu)),
-             "eq. 8 as printed"),
+             "the density at lambda x^2"),
+            (lambda x, lam, nu: ((1 + lam * np.asarray(x, float) ** 2 / nu) / (1 + np.asarray(x, float) ** 2 / nu))
+             ** (-(nu + 1) / 2), "eq. 8 as printed"),
             (lambda x, lam, nu: 1 / tail_ratio(x, lam, nu), "upside down")],
     "1.3": [(lambda residual, nu: (np.asarray(residual) ** 2 / 2,
                                     (nu + 1) / 2 * np.log1p(np.asarray(residual) ** 2 / nu)),
@@ -647,9 +649,9 @@ def test_replies_do_not_give_the_answer_away(capsys):
     ("2.2", lambda K, K_star, k_star_star, y, noise_variance: tuple(
         np.round(r, 3) for r in gp_posterior(K, K_star, k_star_star, y, noise_variance)), "rounded (to 3 decimals)"),
     ("1.2", lambda x, lam, nu: np.exp(student_t_logpdf(lam * np.asarray(x) ** 2, nu) - student_t_logpdf(x, nu)),
-     "eq. 8 as printed, with lambda x^2"),
+     "the density at lambda x^2"),
     ("1.2", lambda x, lam, nu: np.exp(stats.t.logpdf(lam * np.asarray(x) ** 2, nu) - stats.t.logpdf(x, nu)),
-     "eq. 8 as printed, with lambda x^2"),
+     "the density at lambda x^2"),
 ])
 def test_the_misdiagnoses_seen_get_the_right_diagnosis(name, answer, diagnosis):
     """Hole 6: 6.2 with a = 100 or TSR / 100, 2.4's sign slip, 5.1 rounded, and 1.2's misprint (the tutorial's

@@ -72,10 +72,6 @@ def _wait_until(condition, seconds=120):
     return condition()
 
 
-def _live_threads() -> list:
-    return sorted(t.name for t in threading.enumerate() if t.name.startswith("sarsp-edu") and t.is_alive())
-
-
 def test_stepping_gives_the_paired_comparisons_runs_and_only_the_runs_thread_calls_the_view(run):
     run.run_steps(1000)  # stops at the last episode
     assert run.finished
@@ -108,8 +104,7 @@ def test_a_launched_run_steps_both_sides_and_stops_when_told(run):
 def test_close_ends_every_thread_and_process_it_started_starts_none_and_refuses_what_follows(run, monkeypatch):
     from sarsp_edu.teaching.live import fitting
 
-    before = _live_threads()
-    assert before == [OWNER], before  # no other run is alive in this process
+    before = set(threading.enumerate()) - {run._owner_thread}  # other tests' runs may live in this process
     launched = run.launch()  # claims the fits begun for the settings, and steps each side once fitted
     assert _wait_until(lambda: run.frames >= 1)
     started = []
@@ -117,7 +112,8 @@ def test_close_ends_every_thread_and_process_it_started_starts_none_and_refuses_
     monkeypatch.setattr(fitting, "take_worker", lambda: started.append(1))
     run.close()
     assert launched.result(0) is True and not run.running and run.experiments is None
-    assert _live_threads() == [] and started == []
+    assert not run._owner_thread.is_alive() and started == []
+    assert [t.name for t in set(threading.enumerate()) - before if t.is_alive()] == []  # every thread it started
     assert run.launch() is None
     for call in (lambda: run.run_steps(1), lambda: run.fast_forward(1), lambda: run.step_pair(), run.build):
         with pytest.raises(RuntimeError, match=r"this run is closed"):  # nothing rebuilt, nothing stepped
@@ -359,6 +355,7 @@ def test_closing_the_fit_queue_starts_no_process(monkeypatch):
     from sarsp_edu.teaching.live.background import FitQueue
 
     monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    before = set(threading.enumerate())  # other tests' queues may live in this process
     queue = FitQueue(dict(TP_AND_GP))
     queue.request(SMALL.replace(optimizer_steps=400))  # long enough to be under way when closed
     assert _wait_until(lambda: any(fits.progress for fits in list(queue._pending_fits.values())))
@@ -374,4 +371,4 @@ def test_closing_the_fit_queue_starts_no_process(monkeypatch):
     thread = queue._thread
     queue.close()
     assert not thread.is_alive() and started == []  # was: one replacement process per abandoned worker
-    assert not [t for t in threading.enumerate() if t.name == "sarsp-edu-fit-reader"]
+    assert [t.name for t in set(threading.enumerate()) - before if t.is_alive()] == []  # readers ended too

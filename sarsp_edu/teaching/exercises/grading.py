@@ -245,10 +245,10 @@ def grade(name: str, exercise: CodingExercise, function, rng=None) -> tuple[bool
                            "loop that never ends?")
         except (Exception, SystemExit) as exc:  # the student's code may raise anything: say what and where
             said_ = f"Your function raised {raised(exc)} (on {describe(case)})."
-            if failed is not None:  # wrong before it raised: what was wrong first says more
-                return False, f"{_diagnosis(exercise, cases[:len(answers)], answers, failed)} {said_}"
             if isinstance(exc, np.linalg.LinAlgError) and exercise.on_linalg_error:
                 said_ = f"{said_} {exercise.on_linalg_error}"
+            if failed is not None:  # wrong before it raised: what was wrong first says more
+                return False, f"{_diagnosis(exercise, cases[:len(answers)], answers, failed)} {said_}"
             return False, said_
         moved = [key for (key, before), after in zip(case.items(), copies) if changed(before, after)]
         if moved:
