@@ -426,3 +426,24 @@ def test_a_count_in_a_longer_sentence_is_read(answer):
 def test_a_sentence_with_a_doubt_or_no_whole_count_is_refused(answer):
     with pytest.raises(Unreadable):
         read_count(answer)
+
+
+# -- the eighth cold pass: rewards a hair apart, a side said with 'will be' or a reason -------------------------
+def test_rewards_rounded_or_compared_with_a_tolerance_are_refused():
+    from sarsp_edu.agent.parts import DecisionParts
+
+    choose = DecisionParts().choose
+    for slip in (lambda m, v, r, k, d, t: choose(m, v, np.round(r, 6), k, d, t),
+                 lambda m, v, r, k, d, t: choose(m, v, np.where(np.isclose(r, np.max(r)), np.max(r), r), k, d, t)):
+        assert not grade("4.2", EXERCISES["4.2"], slip)[0]
+
+
+@pytest.mark.parametrize("answer", ["it comes out below 1", "it will be below 1", "it is going to be below 1",
+                                    "below 1 because the clean targets sit within the priors' scale"])
+def test_a_side_said_in_the_future_or_with_its_reason_is_read(answer):
+    assert read_side(answer) == "below"
+
+
+def test_an_as_inside_a_comparison_is_no_clause_break():
+    options = {"wider": WIDER, "narrower": NARROWER}
+    assert read_word("not as wide", options) == "narrower" and read_word("it will be narrower", options) == "narrower"

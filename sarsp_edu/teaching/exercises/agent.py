@@ -119,6 +119,8 @@ def _decision_cases(rng):
         # was the best before the override)
         case([2.0] * 4, [0.1] * 4, [-1.0, -2.0, -3.0, -4.0], [True] * 4),
         case([2.0] * 4, [0.1] * 4, [-4.0, -3.0, -2.0, -1.0], [True] * 4),
+        # rewards a hair apart are no tie: the higher wins (no tolerance, no rounding)
+        case([2.0, 1.5, 1.2, 3.0], [0.1, 0.2, 0.3, 0.4], [-1.0000001, -1.0, -3.0, -4.0], [False] * 4),
         # other thresholds and distances than the notebook's sigma*^2 = 0.8 and d = 1, each deciding the choice
         case([1.5, 2.0, 0.5, 3.0], [0.5, 0.2, 0.1, 0.9], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 0.4),
         case([1.5, 2.0, 0.5, 3.0], [1.2, 1.4, 0.1, 2.0], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 1.5),

@@ -152,7 +152,8 @@ def _clauses(text: str) -> tuple:
     semicolon, a comma or a dash ('Narrower: the factor falls' -> 'Narrower', ['the factor falls'])."""
     asides = re.findall(r"\(([^()]*)\)", text)
     bare = re.sub(r"\s*\([^()]*\)\s*", " ", text).strip()
-    first, *others = re.split(r"\s*(?:[:;\u2013\u2014]|,(?!\d))\s*|\s+-\s+", bare)  # not '1,000'
+    # not '1,000'; 'below 1 because ...': the reason is an aside too
+    first, *others = re.split(r"\s*(?:[:;\u2013\u2014]|,(?!\d))\s*|\s+-\s+|\s+(?:because|since)\s+", bare)
     return first.strip(), [*asides, *(clause for clause in others if clause.strip())]
 
 
@@ -161,7 +162,9 @@ def _clauses(text: str) -> tuple:
 _TAILS = (r"\s+than\s+(before|at|with|for)\b.*$", r"\s+(at|for|with)\s+(nu|\u03bd)\s*=\s*30\b.*$",
           r"\s+(as|when|while|if)\s+(nu|\u03bd)\b.*$", r"\s+towards?\b.*$")
 #: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
-_POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends"))
+_POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends",
+                                         "rises", "climbs", "comes out", "will be", "will get", "is going to be",
+                                         "going to be", "will end up", "would be", "'ll be"))
 
 
 def _read_clause(text: str, options: dict) -> str | None:
