@@ -1,0 +1,46 @@
+"""Units that fit their time: each tutorial states its minutes, its prose keeps to 40 words a minute of them (1,800
+for a 45-minute unit, exercises' prompts counted), and the lecturer's guide states their sum."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+TUTORIALS = Path(__file__).resolve().parents[1] / "tutorials"
+STUDENT = sorted(TUTORIALS.glob("0*.ipynb"))
+#: words of markdown a minute of a unit may hold (1,800 for 45 minutes)
+WORDS_PER_MINUTE = 40
+
+
+def words(notebook: dict) -> int:
+    """The words of a notebook's markdown cells (a word: a run of letters or digits, with ' . - inside)."""
+    return sum(len(re.findall(r"[A-Za-z0-9][\w'.-]*", "".join(cell["source"])))
+               for cell in notebook["cells"] if cell["cell_type"] == "markdown")
+
+
+def minutes(notebook: dict) -> int:
+    """The minutes the unit states in its first cell: '**Time.** About N minutes'."""
+    found = re.search(r"\*\*Time\.\*\* About (\d+) minutes", "".join(notebook["cells"][0]["source"]))
+    assert found, "the first cell states no '**Time.** About N minutes'"
+    return int(found.group(1))
+
+
+@pytest.mark.parametrize("path", STUDENT, ids=[p.stem for p in STUDENT])
+def test_a_units_prose_fits_its_minutes(path):
+    notebook = json.loads(path.read_text(encoding="utf-8"))
+    budget = WORDS_PER_MINUTE * minutes(notebook)
+    assert words(notebook) <= budget, f"{path.name}: {words(notebook)} words of prose for {budget}"
+
+
+def test_the_guide_states_the_sum_of_the_units_minutes():
+    stated = [minutes(json.loads(path.read_text(encoding="utf-8"))) for path in STUDENT]
+    guide = (TUTORIALS / "LECTURER.md").read_text(encoding="utf-8")
+    assert f"{' + '.join(map(str, stated))} = {sum(stated)}" in guide
+
+
+def test_the_word_count_counts_what_a_reader_reads():
+    cell = {"cell_type": "markdown", "source": ["The TP's factor, (nu + beta - 2) / (nu + n - 2), is 1.08."]}
+    assert words({"cells": [cell, {"cell_type": "code", "source": ["x = 1 + 2"]}]}) == 11
