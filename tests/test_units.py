@@ -44,3 +44,28 @@ def test_the_guide_states_the_sum_of_the_units_minutes():
 def test_the_word_count_counts_what_a_reader_reads():
     cell = {"cell_type": "markdown", "source": ["The TP's factor, (nu + beta - 2) / (nu + n - 2), is 1.08."]}
     assert words({"cells": [cell, {"cell_type": "code", "source": ["x = 1 + 2"]}]}) == 11
+
+
+def test_the_documents_give_the_courses_counts_as_the_notebooks_have_them():
+    """The counts a reader checks first, computed from the notebooks and the exercises: tutorials, functions to
+    write (per tutorial and in all) and predictions, as README.md, tutorials/README.md, HANDOUT.md and
+    LECTURER.md state them."""
+    from sarsp_edu.teaching.exercises import CODING, EXERCISES
+
+    root = TUTORIALS.parent
+    per_tutorial = [sum(name.startswith(f"{n}.") for name in CODING) for n in range(1, 7)]
+    predictions = len([name for name in EXERCISES if name not in CODING and not name.startswith("7.")])
+    spelt = {3: "three", 4: "four", 5: "five", 6: "Six", 7: "Seven"}
+    readme = (root / "README.md").read_text(encoding="utf-8")
+    guide = (TUTORIALS / "README.md").read_text(encoding="utf-8")
+    lecturer = (TUTORIALS / "LECTURER.md").read_text(encoding="utf-8")
+    handout = (TUTORIALS / "HANDOUT.md").read_text(encoding="utf-8")
+    span = f"{spelt[min(per_tutorial)]} to {spelt[max(per_tutorial)]}"
+    assert f"({len(CODING)} functions in all, beside {spelt[predictions].lower()} predictions" in readme
+    assert f"({len(CODING)} in all, {span} in" in guide
+    assert f"({span} per tutorial)" in lecturer and f"students write {span} functions" in lecturer
+    assert f"{spelt[len(STUDENT)]} Jupyter notebooks" in handout
+    assert all(f"]({path.name})" in handout for path in STUDENT)
+    sessions = lecturer.count("**Session ")
+    assert sessions == 3 and "## Three 90-minute sessions" in lecturer
+    assert "2 x 90" not in readme + guide and "three 90-minute sessions" in readme + guide
