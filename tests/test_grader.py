@@ -447,3 +447,43 @@ def test_a_side_said_in_the_future_or_with_its_reason_is_read(answer):
 def test_an_as_inside_a_comparison_is_no_clause_break():
     options = {"wider": WIDER, "narrower": NARROWER}
     assert read_word("not as wide", options) == "narrower" and read_word("it will be narrower", options) == "narrower"
+
+
+# -- the ninth cold pass: tolerances as tight as math.isclose's, numbers that contradict, number words in a sentence
+def test_a_tolerance_as_tight_as_math_isclose_is_refused_where_the_rule_is_exact():
+    import math
+
+    def close(a, b):
+        return math.isclose(a, b)
+
+    safe = lambda m, v, k, d, t: np.array([(vv <= t or close(vv, t)) and (mm >= d or close(mm, d)) and not kk  # noqa: E731
+                                           for mm, vv, kk in zip(m, v, k)])
+    tie = lambda m, v, a, d, b: bool(m[a] >= d or (np.isclose(v[a], v.min(), rtol=1e-6, atol=0) and not b))  # noqa: E731
+    assert not grade("4.1", EXERCISES["4.1"], safe)[0]
+    assert not grade("4.3", EXERCISES["4.3"], tie)[0]
+
+
+def test_a_ratio_of_densities_that_underflows_far_out_is_refused():
+    from scipy import stats
+
+    right, reply = grade("1.2", EXERCISES["1.2"], lambda x, lam, nu: stats.t.pdf(lam * np.asarray(x), nu)
+                         / stats.t.pdf(x, nu))
+    assert not right
+
+
+@pytest.mark.parametrize("answer", ["It can hold fifty", "it holds fifty"])
+def test_a_number_word_in_a_sentence_is_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("answer", ["50, i.e. 25 per row", "50%"])
+def test_a_count_beside_another_count_or_as_a_share_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+def test_a_direction_whose_aside_trends_the_other_way_is_refused():
+    options = {"wider": WIDER, "narrower": NARROWER}
+    with pytest.raises(Unreadable):
+        read_word("narrower, the factor goes from 5.10 to 6", options)
+    assert read_word("narrower, the factor falls from 6 to 5.1", options) == "narrower"

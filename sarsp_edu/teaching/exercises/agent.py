@@ -121,6 +121,7 @@ def _decision_cases(rng):
         case([2.0] * 4, [0.1] * 4, [-4.0, -3.0, -2.0, -1.0], [True] * 4),
         # rewards a hair apart are no tie: the higher wins (no tolerance, no rounding)
         case([2.0, 1.5, 1.2, 3.0], [0.1, 0.2, 0.3, 0.4], [-1.0000001, -1.0, -3.0, -4.0], [False] * 4),
+        case([2.0, 1.5, 1.2, 3.0], [0.1, 0.2, 0.3, 0.4], [-1.0 - 1e-12, -1.0, -3.0, -4.0], [False] * 4),
         # other thresholds and distances than the notebook's sigma*^2 = 0.8 and d = 1, each deciding the choice
         case([1.5, 2.0, 0.5, 3.0], [0.5, 0.2, 0.1, 0.9], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 0.4),
         case([1.5, 2.0, 0.5, 3.0], [1.2, 1.4, 0.1, 2.0], [-1.0, -2.0, -3.0, -0.5], [False] * 4, 1.0, 1.5),
@@ -130,6 +131,7 @@ def _decision_cases(rng):
         # above sigma*^2 are not safe (the rule compares exact values: no tolerance, no rounding)
         case([1.0 - 1e-7, 2.0, 0.5, 0.9996], [0.1, 0.8 + 1e-7, 0.1, 0.1], [-0.5, -0.6, -3.0, -0.7], [False] * 4),
         case([2.0, 1.5, 0.5, 3.0], [0.8004, 0.1, 0.2, 0.3], [-0.5, -1.0, -3.0, -2.0], [False] * 4),
+        case([1.0 - 1e-12, 2.0, 0.5, 3.0], [0.1, 0.8 + 1e-12, 0.1, 0.1], [-0.5, -0.6, -3.0, -0.7], [False] * 4),
     ]
     for _ in range(5):
         cases.append(case(rng.uniform(0, 3, 4), rng.uniform(0, 1.5, 4), -rng.uniform(0, 5, 4), rng.random(4) < 0.2,
@@ -200,6 +202,8 @@ def _correction_cases(rng):
         # tolerance, np.isclose's defaults included)
         case([0.5, 0.2, 0.3, 0.4], [0.5004, 0.5, 0.9, 0.95], 0, 1.0, False),
         case([0.5, 0.2, 0.3, 0.4], [0.500001, 0.5, 0.9, 0.95], 0, 1.0, False),  # within np.isclose's defaults
+        case([0.5, 0.2, 0.3, 0.4], [0.5 + 1e-12, 0.5, 0.9, 0.95], 0, 1.0, False),  # within math.isclose's
+        case([1.0 - 1e-12, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
         # a predicted distance a hair below d is not one the model called safe (no tolerance, no rounding)
         case([1.0 - 1e-7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
         case([0.9996, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
@@ -296,7 +300,8 @@ AGENT_EXERCISES = {
                     "judged wrongly: which comparison keeps it?"),
             Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
                     (np.sqrt(var_cost) <= variance_threshold) & (mu_cost >= d) & ~known_unsafe,
-                    "sigma*^2 bounds the variance, not the standard deviation."),
+                    "sigma*^2 bounds the variance itself: compare the variance with sigma*^2 as it is (no square root, "
+                    "no square)."),
             Mistake(lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
                     (var_cost <= variance_threshold) & (mu_cost <= d) & ~known_unsafe,
                     "The cost model predicts the distance to danger: safe needs a large distance, at least d."),

@@ -135,12 +135,22 @@ def read_word(answer, options: dict) -> str:
         rest = _compact(" ".join(asides))
         if found is not None and (_NEGATION.search(" ".join(asides).lower()) or any(
                 len(s) >= 4 and s in rest for option, spellings in options.items() if option != found
-                for s in spellings)):
+                for s in spellings) or _trend_against(found, asides)):
             found = None  # 'narrower (no, wider)', 'narrower, not wider': refused, never flipped
         if found is not None:
             return found
     names = " or ".join(repr(option) for option in options)
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
+
+
+def _trend_against(found: str, asides) -> bool:
+    """Whether an aside's 'from A to B' goes the other way than the answer ('narrower, the factor goes from 5.10
+    to 6': a rise, where narrower is a fall)."""
+    down = found in ("narrower", "below")
+    for a, b in re.findall(r"from\s+(-?\d+(?:\.\d+)?)\s+to\s+(-?\d+(?:\.\d+)?)", " ".join(asides).lower()):
+        if float(a) != float(b) and (float(b) < float(a)) != down:
+            return True
+    return False
 
 
 #: a word that negates what follows it, or a doubt: an aside holding one is not read past
@@ -180,7 +190,7 @@ def _read_clause(text: str, options: dict) -> str | None:
     return None
 
 
-def _number(answer, what: str) -> float:
+def _number(answer, what: str, single: bool = False) -> float:
     """A finite or infinite real number from any numeric type or text; raises :class:`Unreadable`."""
     if isinstance(answer, (bool, np.bool_)) or answer is None:
         raise Unreadable(f"Could not read {shown(answer)} as {what}.")
@@ -196,6 +206,13 @@ def _number(answer, what: str) -> float:
         # '50 (a checkerboard)', '50, half the grid': the first clause; 'half the grid: 50': the one with a number
         text = main if re.search(r"\d", main) or _number_word(_compact(main)) is not None or len(numbered) != 1 \
             else numbered[0]
+        if "%" in text:  # a share, not a count or a value
+            raise Unreadable(f"Could not read {shown(answer)} as {what}: it is a percentage.")
+        others = {float(n) for clause in numbered if clause is not text
+                  for n in re.findall(r"(?<!of )(?<!of the )(?<![\w.])(\d+(?:\.\d+)?)", clause)}
+        mine = re.findall(r"(?<!of )(?<!of the )(?<![\w.])(\d+(?:\.\d+)?)", text)  # 'of 100' is a total
+        if single and others and mine and others - {float(mine[0])}:  # '50, i.e. 25 per row': two counts
+            raise Unreadable(f"Could not read {shown(answer)} as {what}: it gives two numbers.")
         compact = _compact(text)
         for lead in ("theansweris", "answer:", "itis", "it's", "thereare"):
             if compact.startswith(lead):
@@ -246,8 +263,10 @@ def read_side(answer) -> str:
 def read_count(answer) -> int:
     """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
     try:
-        value = _number(answer, "a whole number")
-    except Unreadable:
+        value = _number(answer, "a whole number", single=True)
+    except Unreadable as refused:
+        if "two numbers" in str(refused) or "percentage" in str(refused):
+            raise
         value = _count_in_words(answer)
     if not math.isfinite(value) or value != int(value):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
@@ -260,8 +279,12 @@ def _count_in_words(answer) -> float:
     text = _text(answer)
     if text is None or _NEGATION.search(text.lower()):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    if "%" in text:
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a percentage.")
     counts = [float(m.group(2)) for m in re.finditer(r"(\bof\s+(?:the\s+)?)?(?<![\w.])(\d+(?:\.\d+)?)(?![\w.]*\d)",
                                                        text) if m.group(1) is None]
+    counts += [word for word in (_number_word(token.replace("-", "")) for token in re.findall(
+        r"(?<!of )(?<!of the )\b[a-z]+(?:-[a-z]+)?\b", text.lower())) if word is not None]  # 'It can hold fifty'
     if len(set(counts)) != 1:
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
     return counts[0]

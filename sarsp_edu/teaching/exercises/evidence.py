@@ -34,6 +34,8 @@ def _agreement_cases(rng):
         # values a hair apart are not tied: a tie is equality (no tolerance)
         {"tp_1": np.array([1.0 + 1e-9, 2.0]), "gp_1": np.array([1.0, 1.0]),
          "tp_2": np.array([3.0, 2.0]), "gp_2": np.array([1.0, 1.0])},
+        {"tp_1": np.array([1.0 + 1e-12, 2.0]), "gp_1": np.array([1.0, 1.0]),
+         "tp_2": np.array([3.0, 2.0]), "gp_2": np.array([1.0, 1.0])},
     ]
     for n in (9, 45):
         tp_1, tp_2 = rng.normal(90, 5, n).round(1), rng.normal(90, 5, n).round(1)

@@ -42,6 +42,7 @@ def _ratio_cases(rng):
         {"x": rng.uniform(0.1, 50, 6), "lam": float(rng.uniform(1.5, 5)), "nu": float(rng.uniform(2.5, 10))},
         {"x": rng.uniform(1, 20, 4), "lam": 0.5, "nu": 1.0},
         {"x": rng.uniform(0.1, 30, (2, 3)), "lam": float(rng.uniform(1.5, 4)), "nu": 4.0},  # an array of any shape
+        {"x": np.array([1e3, 1e12]), "lam": 2.0, "nu": 30.0},  # far out, where both densities underflow to 0
     ]
 
 

@@ -105,6 +105,10 @@ def _summaries_cases(rng):
         {"summary_1": summary(-100, 0.01, 90), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # equal TSR
         {"summary_1": summary(-100, 0.01, 40), "summary_2": summary(-90, 0.02, 60), "a": 1.0},    # the lowest a
         {"summary_1": summary(-80, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # every branch
+        # a hair apart is not equal: a cost rate 1e-12 lower is lower, a rate or reward 1e-12 below is below
+        {"summary_1": summary(-90 - 1e-12, 0.01, 80), "summary_2": summary(-90, 0.01 + 1e-12, 90), "a": 100.0},
+        {"summary_1": summary(-100, 0.01, 90 - 1e-12), "summary_2": summary(-90, 0.02, 90), "a": 90.0},
+        {"summary_1": summary(-80, 0.01, 80), "summary_2": summary(-90, 0.01 + 1e-12, 90), "a": 100.0},
     ]
     for _ in range(6):
         cases.append({"summary_1": summary(-rng.uniform(50, 150), rng.uniform(0.001, 0.03), rng.uniform(50, 100)),
@@ -144,6 +148,9 @@ def _decision_cases(rng):
         # a hair past each knife edge does not pass (exact comparisons: no tolerance, no rounding)
         {"mu_cost": np.array([[1.0 - 1e-7, 0.5, 0.2, 0.9996], [2.0, 2.0, 2.0, 2.0]]),
          "var_cost": np.array([[0.1, 0.1, 0.1, 0.1], [0.8 + 1e-7, 0.8004, 0.9, 0.95]]), "d": 1.0,
+         "thresholds": np.array([0.8, 2.0])},
+        {"mu_cost": np.array([[1.0 - 1e-12, 0.5, 0.2, 0.5], [2.0, 2.0, 2.0, 2.0]]),
+         "var_cost": np.array([[0.1, 0.1, 0.1, 0.1], [0.8 + 1e-12, 0.9, 0.9, 0.95]]), "d": 1.0,
          "thresholds": np.array([0.8, 2.0])},
     ]
     for n in (7, 250):

@@ -83,7 +83,8 @@ def said(value) -> str | None:
     if isinstance(value, (float, np.floating)):
         short = f"{float(value):.6g}"
         if float(short) != float(value) and len(short.lstrip("-").replace(".", "").strip("0")) <= 3:
-            return f"{float(value):.10g}"  # a hair from a round number (1 - 1e-7) is not shown as the round one
+            longer = f"{float(value):.10g}"  # a hair from a round number (1 - 1e-7) is not shown as the round one
+            return longer if float(longer) == float(value) or longer != short else repr(float(value))
         return short
     if isinstance(value, dict):
         items = [(key, said(item)) for key, item in value.items()]
