@@ -487,3 +487,41 @@ def test_a_direction_whose_aside_trends_the_other_way_is_refused():
     with pytest.raises(Unreadable):
         read_word("narrower, the factor goes from 5.10 to 6", options)
     assert read_word("narrower, the factor falls from 6 to 5.1", options) == "narrower"
+
+
+# -- the tenth cold pass: near-duplicates, actions said in a sentence, a doubt said as 'maybe' --------------------
+def _capped(decimals):
+    """Exercise 3.1 written with a loop; its inputs compared as they are, or rounded to ``decimals``."""
+    def cap_duplicates(X, y, cap):
+        X = np.asarray(X, dtype=float)
+        kept_X, kept_y, counts = [], [], {}
+        for row, key, target in zip(X, X if decimals is None else np.round(X, decimals), y):
+            if counts.get(tuple(key), 0) < cap:
+                counts[tuple(key)] = counts.get(tuple(key), 0) + 1
+                kept_X.append(row)
+                kept_y.append(target)
+        return np.array(kept_X).reshape(-1, X.shape[1]), np.array(kept_y)
+    return cap_duplicates
+
+
+def test_duplicates_found_by_rounding_the_inputs_are_refused():
+    assert grade("3.1", EXERCISES["3.1"], _capped(None))[0]  # the same loop, comparing exactly, is right
+    assert not grade("3.1", EXERCISES["3.1"], _capped(6))[0]
+
+
+@pytest.mark.parametrize("answer", ["actions 0, 1 and 2", "RIGHT, DOWN, LEFT are safe", "0, 1, 2 (UP is not safe)",
+                                    "RIGHT (0), DOWN (1), LEFT (2)", "the safe actions are 0, 1 and 2"])
+def test_actions_said_in_a_sentence_are_read(answer):
+    assert read_actions(answer) == [0, 1, 2]
+
+
+@pytest.mark.parametrize("answer", ["0, 1, 2 or 3", "0, 1, 2 (not 3)", "0, 1, 2?"])
+def test_actions_with_a_doubt_are_refused(answer):
+    with pytest.raises(Unreadable):
+        read_actions(answer)
+
+
+def test_maybe_is_a_doubt():
+    with pytest.raises(Unreadable):
+        read_count("maybe 50")
+    assert read_count("about 50") == 50

@@ -27,6 +27,9 @@ def _cap_cases(rng):
     cases.append({"X": np.array([[0.2, 1.0], [0.4, 1.0], [0.2, 1.0], [0.4, 1.0]]), "y": np.array([1.0, 2.0, 3.0, 4.0]),
                   "cap": 1})
     cases.append({"X": np.array([[0.21, 1.0], [0.24, 1.0], [0.21, 1.0]]), "y": np.array([1.0, 2.0, 3.0]), "cap": 1})
+    # and a hair apart: 0.2 and 0.2 + 1e-12 are two inputs too (distinct is exact: no rounding, no tolerance)
+    cases.append({"X": np.array([[0.2, 1.0], [0.2 + 1e-12, 1.0], [0.2, 1.0], [0.2001, 1.0]]),
+                  "y": np.array([1.0, 2.0, 3.0, 4.0]), "cap": 1})
     return cases
 
 

@@ -154,7 +154,7 @@ def _trend_against(found: str, asides) -> bool:
 
 
 #: a word that negates what follows it, or a doubt: an aside holding one is not read past
-_NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or)([^a-z]|$)|n't|\?")
+_NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]|$)|n't|\?")
 
 
 def _clauses(text: str) -> tuple:
@@ -338,7 +338,12 @@ def read_actions(answer) -> list[int]:
     """Action numbers 0-3, sorted and once each, from a list, set, array, a 4-long boolean mask or text."""
     text = _text(answer)
     if text is not None:
-        none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]")
+        if _NEGATION.search(" ".join(_clauses(text)[1]).lower()) and not re.search(r"\bnot\s+safe\b", text, re.I):
+            raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
+        text = re.sub(r"\(([^()]*\bnot\s+safe[^()]*)\)", " ", text, flags=re.I)  # '0, 1, 2 (UP is not safe)'
+        text = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?)\b", " ", text, flags=re.I)  # 'actions 0, 1 and 2'
+        text = re.sub(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", r"\1", text, flags=re.I)  # 'RIGHT (0)'
+        none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]", "no")
         answer = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", text.strip(),
                                                             flags=re.I)
                                   if item]

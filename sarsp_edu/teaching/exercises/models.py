@@ -189,7 +189,8 @@ MODEL_EXERCISES = {
                     "at each finite x."),
             Mistake(lambda x, lam, nu: np.log(_tail_ratio(x, lam, nu)), "That is the logarithm of the ratio."),
         ),
-        hint="Evaluate the density at lambda x and at x, then divide (or subtract logarithms and exponentiate).",
+        hint="Evaluate the log density at lambda x and at x, subtract and exponentiate: a ratio of the densities "
+             "themselves underflows far out (both 0).",
         explanation="Its values approach lambda**(-nu - 1) as x grows: the regular variation of eq. 8.",
     ),
     "1.3": CodingExercise(
