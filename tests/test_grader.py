@@ -525,3 +525,19 @@ def test_maybe_is_a_doubt():
     with pytest.raises(Unreadable):
         read_count("maybe 50")
     assert read_count("about 50") == 50
+
+
+# -- the eleventh cold pass: a contradicting reason said with another verb, a count of actions in brackets --------
+@pytest.mark.parametrize("answer", ["below, because beta exceeds n", "below; beta climbs past n"])
+def test_a_side_whose_reason_says_the_other_side_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+def test_a_direction_whose_reason_climbs_is_refused():
+    with pytest.raises(Unreadable):
+        read_word("narrower, because the factor climbs", {"wider": WIDER, "narrower": NARROWER})
+
+
+def test_a_count_of_the_actions_in_brackets_is_not_an_action():
+    assert read_actions("0, 1 and 2 (three actions)") == [0, 1, 2]
