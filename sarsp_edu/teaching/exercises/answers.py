@@ -341,7 +341,8 @@ def read_actions(answer) -> list[int]:
         if _NEGATION.search(" ".join(_clauses(text)[1]).lower()) and not re.search(r"\bnot\s+safe\b", text, re.I):
             raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
         text = re.sub(r"\(([^()]*\bnot\s+safe[^()]*)\)", " ", text, flags=re.I)  # '0, 1, 2 (UP is not safe)'
-        text = re.sub(r"\(\s*(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", " ", text, flags=re.I)  # a count
+        # '0, 1 and 2 (three actions)': a count of them, not an action
+        text = re.sub(r"\(\s*(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", " ", text, flags=re.I)
         text = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?)\b", " ", text, flags=re.I)  # 'actions 0, 1 and 2'
         text = re.sub(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", r"\1", text, flags=re.I)  # 'RIGHT (0)'
         none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]", "no")
