@@ -197,7 +197,7 @@ WRONG = {
              safe_actions(mu_cost, var_cost, [False] * 4, d, variance_threshold), "never safe"),
             (lambda mu_cost, var_cost, known_unsafe, d, variance_threshold:
              safe_actions(mu_cost, np.sqrt(var_cost), known_unsafe, d, variance_threshold),
-             "not the standard deviation")],
+             "the variance itself")],
     "4.2": [(lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold:
              (int(np.argmax(np.where(known_unsafe, -np.inf, mu_reward))), False), "only among the safe actions"),
             (lambda mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold: (
