@@ -541,3 +541,27 @@ def test_a_direction_whose_reason_climbs_is_refused():
 
 def test_a_count_of_the_actions_in_brackets_is_not_an_action():
     assert read_actions("0, 1 and 2 (three actions)") == [0, 1, 2]
+
+
+# -- the twelfth cold pass: each test point's own prior variance, beta against n as a reason, a hedged limit -------
+def test_a_posterior_that_takes_one_prior_variance_for_every_test_point_is_refused():
+    from sarsp_edu.agent.parts import gp_posterior
+
+    def first_only(K, K_star, k_star_star, y, noise_variance):
+        mean, variance = gp_posterior(K, K_star, k_star_star, y, noise_variance)
+        return mean, variance - np.asarray(k_star_star) + np.asarray(k_star_star)[0]
+
+    assert grade("2.2", EXERCISES["2.2"], gp_posterior)[0]
+    assert not grade("2.2", EXERCISES["2.2"], first_only)[0]
+
+
+def test_beta_against_n_as_a_reason_must_agree_with_the_direction():
+    options = {"wider": WIDER, "narrower": NARROWER}
+    assert read_word("narrower, since beta > n", options) == "narrower"
+    with pytest.raises(Unreadable):
+        read_word("narrower, since beta < n", options)
+
+
+def test_a_hedged_limit_is_read():
+    assert read_limits({"lambda < 1": "inf", "lambda = 1": "about 1", "lambda > 1": 0}) == {"<1": np.inf, "=1": 1.0,
+                                                                                            ">1": 0.0}

@@ -75,9 +75,9 @@ BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower"), "<"
                   "beta < n",
                   *_DOWN)
 WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "more", ">", "more wide",
-               "less narrow", "not as narrow", *_UP)
+               "less narrow", "not as narrow", "beta < n", *_UP)  # beta < n: the factor rises towards 1
 NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows", "less",
-                  "<", "more narrow", "less wide", "not as wide", *_DOWN)
+                  "<", "more narrow", "less wide", "not as wide", "beta > n", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
                                          "the factor is", "the factor", "it gets", "it becomes", "it is", "it's",
@@ -214,7 +214,8 @@ def _number(answer, what: str, single: bool = False) -> float:
         if single and others and mine and others - {float(mine[0])}:  # '50, i.e. 25 per row': two counts
             raise Unreadable(f"Could not read {shown(answer)} as {what}: it gives two numbers.")
         compact = _compact(text)
-        for lead in ("theansweris", "answer:", "itis", "it's", "thereare"):
+        for lead in ("theansweris", "answer:", "itis", "it's", "thereare", "about", "around", "roughly",
+                     "approximately", "\u2248", "~"):  # a hedge: 'about 1' is 1
             if compact.startswith(lead):
                 compact = compact[len(lead):]
         compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",

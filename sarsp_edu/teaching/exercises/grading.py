@@ -342,7 +342,8 @@ def _slowness(exercise: CodingExercise, function, rng) -> str:
     if theirs > 0.5 and theirs > 30 * ours:
         took = f"{theirs:.0f} s" if theirs < running.TIME_LIMIT else f"over {running.TIME_LIMIT:g} s"
         return (f"It is right but slow: {took} on {describe(case)}, {theirs / ours:.0f} times the package's "
-                "time. Factorise once and solve for every query together, not one query at a time.")
+                "time (on a busy machine, a few times more). If it loops over the queries or factorises again, "
+                "factorise once and solve for every query together.")
     return ""
 
 

@@ -105,7 +105,9 @@ def _gp_problem(rng, n, m, d=1):
 
 
 def _gp_cases(rng):
-    return [_gp_problem(rng, 1, 1), _gp_problem(rng, 6, 3), _gp_problem(rng, 25, 9, d=2)]
+    varied = _gp_problem(rng, 6, 4)  # each test point's own prior variance (a kernel other than one RBF has them)
+    varied["k_star_star"] = varied["k_star_star"] * np.array([1.0, 1.5, 2.0, 3.0])
+    return [_gp_problem(rng, 1, 1), _gp_problem(rng, 6, 3), _gp_problem(rng, 25, 9, d=2), varied]
 
 
 def _gp_timing(rng):
