@@ -165,3 +165,21 @@ def test_a_sweep_with_fewer_unsafe_states_than_the_presets_nss_runs_its_own_nss(
                  "--episodes", "1", "--offline-episodes", "2", "--optimizer-steps", "2", "--reward-fit-points", "20",
                  "--k-prior", "10", "--out", str(out), "--quiet"]) == 0
     assert [cell.name for cell in (out / "cells").iterdir()] == ["m40_p0.2_nss1_seed0"]
+
+
+def test_check_cell_on_a_model_sweeps_folder_checks_its_model_run(monkeypatch, tmp_path, capsys):
+    from sarsp_edu.cli import main
+    from sarsp_edu.experiments.sweep import models
+    from sarsp_edu.experiments.sweep.check import SideCheck
+
+    (tmp_path / "model_sweep.json").write_text("{}")
+    seen = []
+    monkeypatch.setattr(models, "check_model_cell", lambda folder, cell: seen.append((folder, cell)) or SideCheck(
+        80, diagnostics={"reward_mse": 0.0}))
+    assert main(["check-cell", str(tmp_path), "m40_p0.2_nss2_seed0"]) == 0
+    assert seen == [(str(tmp_path), "m40_p0.2_nss2_seed0")]
+    assert "m40_p0.2_nss2_seed0: identical: all 80 episodes equal" in capsys.readouterr().out
+    monkeypatch.setattr(models, "check_model_cell", lambda folder, cell: SideCheck(
+        80, differing_columns=("episode_cost",), first_differing_episode=3, diagnostics={"reward_mse": 0.0}))
+    assert main(["check-cell", str(tmp_path), "m40_p0.2_nss2_seed0"]) == 1
+    assert "differs from episode 3 in ['episode_cost']" in capsys.readouterr().out

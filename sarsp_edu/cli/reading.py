@@ -96,9 +96,13 @@ def _flat(frame, digits=None):
 
 
 def _check_cell(args, parser) -> int:
+    from pathlib import Path
+
     from .._internal.io import StoredResultError
     from ..experiments.sweep import check_cell
 
+    if (Path(args.results_dir) / "model_sweep.json").is_file():  # another model's runs on a paired sweep's cells
+        return _check_model_cell(args, parser)
     try:
         report = check_cell(args.results_dir, args.cell, n_jobs=args.jobs)
     except StoredResultError as exc:
@@ -107,6 +111,27 @@ def _check_cell(args, parser) -> int:
         parser.error(str(exc))
     print(report)
     return 0 if report.identical else 1
+
+
+def _check_model_cell(args, parser) -> int:
+    """check-cell on a model sweep's folder: its one model's run of the cell, recomputed and compared."""
+    from .._internal.io import StoredResultError
+    from ..experiments.sweep.models import check_model_cell
+
+    try:
+        side = check_model_cell(args.results_dir, args.cell)
+    except StoredResultError as exc:
+        parser.error(f"{exc}; rerun the model sweep's command, which computes a damaged run again")
+    except (FileNotFoundError, ValueError) as exc:
+        parser.error(str(exc))
+    largest = ", ".join(f"{name} {value:.1e}" for name, value in side.diagnostics.items())
+    if side.differing_columns or any(value > 1e-7 for value in side.diagnostics.values()):
+        print(f"{args.cell}: differs from episode {side.first_differing_episode} in {list(side.differing_columns)}; "
+              f"largest difference of the prediction diagnostics relative to scale: {largest}")
+        return 1
+    print(f"{args.cell}: identical: all {side.episodes} episodes equal; largest difference of the prediction "
+          f"diagnostics relative to scale: {largest}")
+    return 0
 
 
 #: what the tables' terms mean, printed above them
