@@ -102,7 +102,6 @@ class LiveRun(Owner):
         self._forward_left = None  # episodes the Fast-forward button has left to run; None: animating
         self._launch = None  # (future, on_end) of the animation or fast-forward under way
         self._next_frame = 0.0
-        self._said_waiting = {}
         #: name -> True while that side's agent refits its cost model after a correction (its event says so)
         self.retraining = dict.fromkeys(sides, False)
         self._begin(None)
@@ -396,11 +395,12 @@ class LiveRun(Owner):
     def _forward_step(self) -> None:
         """One step of the fast-forward (commands are taken between its steps); each episode's end drawn."""
         wanted = self._forward_left
-        if self._forward_from is None:
+        if self._forward_from is None:  # the fast-forward's start and end, once
             self._forward_from = {name: len(e.episodes) for name, e in self.experiments.items()}
+            self._forward_target = {name: min(self._forward_from[name] + wanted, e.config.episodes)
+                                    for name, e in self.experiments.items()}
             self.view.say(f"Fast-forwarding: episode 1 of {wanted} ...")
-        target = {name: min(self._forward_from[name] + wanted, e.config.episodes)
-                  for name, e in self.experiments.items()}
+        target = self._forward_target
         behind = [name for name, e in self.experiments.items() if len(e.episodes) < target[name]]
         with one_blas_thread():
             for name in behind:
