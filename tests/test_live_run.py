@@ -275,10 +275,12 @@ def test_random_commands_from_two_threads_never_step_twice_lose_no_record_and_le
     uninterrupted run afterwards equals the paired comparison's."""
     monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path))  # a discard's new runs load their fits
     counts, inside, most, guard = {}, {}, [0], threading.Lock()
+    stepped = {}  # every experiment ever stepped, held alive so that no later one is given its id
     plain_step = Experiment.step
 
     def counted_step(self):
         with guard:
+            stepped[id(self)] = self
             inside[id(self)] = inside.get(id(self), 0) + 1
             most[0] = max(most[0], inside[id(self)])
         try:
@@ -290,7 +292,6 @@ def test_random_commands_from_two_threads_never_step_twice_lose_no_record_and_le
 
     monkeypatch.setattr(Experiment, "step", counted_step)
     run = LiveRun(dict(TP_AND_GP), lambda: SMALL, view=RecordingView(), steps_per_second=400)
-    seen = {}
     try:
         run.build()
         rng = random.Random(61)
@@ -305,10 +306,8 @@ def test_random_commands_from_two_threads_never_step_twice_lose_no_record_and_le
             assert errors == [], (plans, errors)
             run.stop()
             run.settle()
-            for experiment in (run.experiments or {}).values():
-                seen[id(experiment)] = experiment
         assert most[0] == 1, "an experiment was in two steps at once"
-        for key, experiment in seen.items():
+        for key, experiment in stepped.items():
             episode = experiment._episode["steps"] if experiment._observation is not None else 0
             recorded = int(sum(log["episode_steps"] for log in experiment.episodes))
             assert counts.get(key, 0) == recorded + episode, "a step taken is missing from the records"
