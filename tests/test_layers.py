@@ -109,9 +109,15 @@ def test_an_old_import_path_warns_and_gives_the_module_at_its_new_path(old, firs
     assert module is new and module.__name__ == module.__spec__.name == new_path(old_name)
 
 
-def test_a_submodule_of_a_moved_package_imports_by_its_old_path_too():
-    with pytest.warns(DeprecationWarning, match="sarsp_edu.models.processes.tp"):
+def test_a_submodule_of_a_moved_package_imports_by_its_old_path_too(monkeypatch):
+    for name in [name for name in sys.modules if name.split(".")[:2] == ["sarsp_edu", "processes"]]:
+        monkeypatch.delitem(sys.modules, name)  # as in a fresh process, whichever test imported them before
+    with pytest.warns(DeprecationWarning) as caught:
         importlib.import_module("sarsp_edu.processes.tp")
+    said = [str(warning.message) for warning in caught]
+    assert said == ["sarsp_edu.processes is now sarsp_edu.models.processes; the old path works until the next release",
+                    "sarsp_edu.processes.tp is now sarsp_edu.models.processes.tp; the old path works until the next "
+                    "release"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)
         old = importlib.import_module("sarsp_edu.processes.tp")

@@ -19,13 +19,15 @@ corrective    ``corrective(mu_cost, var_cost, action, d,            4.3
 ============  ===================================================  ==========
 
 :class:`DecisionParts` holds them; its defaults are the package's own
-functions, below.  With the package's three model parts the agent predicts
-through its cached, vectorised path (:meth:`ProcessRegressor.predict_batch`
-with a kernel table), bit for bit as without parts; with any of them
-replaced it assembles every prediction from the parts instead
-(:func:`predict_from_parts`), one strategic prior at a time.  Each part is
-called with copies of its inputs, so a part that changes its arguments in
-place cannot change the agent's data.
+functions, below.  Every prediction runs through one loop,
+:meth:`ProcessRegressor.predict_batch`
+(:mod:`~sarsp_edu.models.processes.conditioning`): a replaced kernel,
+posterior or TP factor is called there in place of the model's own step
+(:meth:`DecisionParts.conditioning_steps`), and a part left as the
+package's is the model's fast implementation of it (with the kernel table),
+bit for bit as without parts.  Each part is called with copies of its
+inputs, so a part that changes its arguments in place cannot change the
+agent's data, and its result is checked where it is used.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ import numpy as np
 from ..config import TAIL_DELTA
 from ..models.kernels import squared_distances
 from ..models.linalg import cholesky_with_jitter, solve_cholesky, solve_lower
+from ..models.processes.conditioning import ConditioningSteps
 from ..models.processes.equations import tp_variance_factor
 from .decision import choose_action, choose_with_backup, corrects, safe_actions
 
@@ -212,34 +215,24 @@ class DecisionParts:
 
     @property
     def package_models(self) -> bool:
-        """Whether the kernel, posterior and TP factor are the package's (the agent's fast path)."""
-        return not {"kernel", "posterior", "tp_factor"} & set(self.replaced())
+        """Whether the kernel, posterior and TP factor are the package's (the models' own steps)."""
+        return not self.conditioning_steps().replaced
 
+    def conditioning_steps(self) -> ConditioningSteps:
+        """The replaced kernel, posterior and TP factor, for the models' conditioning loop.
 
-def _array(value, shape: tuple, part: str, what: str) -> np.ndarray:
-    """A part's result as a float array of ``shape`` with finite entries; a ValueError naming the part otherwise."""
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"the {part} part returned {what} that is not numbers ({exc})") from None
-    if array.shape != shape:
-        raise ValueError(f"the {part} part returned {what} of shape {array.shape}, where {shape} is expected")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"the {part} part returned {what} with entries that are not finite numbers ({array!r}); "
-                         "a decision cannot use them")
-    return array
-
-
-def _rounding(K, noise_variance, k_star_star) -> np.ndarray:
-    """How far below 0 a right latent variance ``k** - k*^T K_y^-1 k*`` may round: 100 machine epsilons times
-    the condition number of ``K_y = K + noise I`` times ``k**`` (computed only where a variance is negative)."""
-    condition = np.linalg.cond(np.asarray(K, dtype=float) + noise_variance * np.eye(len(K)))
-    return 100.0 * np.finfo(float).eps * (condition if np.isfinite(condition) else 1e16) * np.maximum(
-        np.abs(k_star_star), 1.0)
+        A part that is the package's own is None there: the model runs its
+        own fast implementation of that step (a table lookup for the kernel,
+        one in-place factorisation for the posterior and the factor), the
+        same numbers as the part computes, to rounding.
+        """
+        replaced = set(self.replaced())
+        return ConditioningSteps(**{name: getattr(self, name) if name in replaced else None
+                                    for name in ("kernel", "posterior", "tp_factor")})
 
 
 def predict_from_parts(parts: DecisionParts, model, X_sets, y_sets, query_sets, include_noise: bool = False):
-    """What ``model.predict_batch`` computes, assembled from the parts' kernel, posterior and TP factor.
+    """``model.predict_batch`` with the parts' kernel, posterior and TP factor plugged into its loop.
 
     Parameters
     ----------
@@ -256,44 +249,16 @@ def predict_from_parts(parts: DecisionParts, model, X_sets, y_sets, query_sets, 
     -------
     mean, var : ndarray of shape (B, q)
     df : ndarray of shape (B,)
-        As :meth:`~sarsp_edu.models.processes.regressor.ProcessRegressor.predict_batch`.
+        As :meth:`~sarsp_edu.models.processes.regressor.ProcessRegressor.predict_batch`, which this is, with
+        :meth:`DecisionParts.conditioning_steps` (the package's own parts are its own steps).
     """
     from ..models.processes import GaussianProcess, StudentTProcess
 
     if not isinstance(model, (GaussianProcess, StudentTProcess)):
         raise TypeError(f"an agent with its own parts predicts with a GaussianProcess or a StudentTProcess, got "
                         f"{type(model).__name__}")
-    model._check_fitted()
-    amplitude, length_scale = float(model.kernel_.amplitude), float(model.kernel_.length_scale)
-    s2 = float(model.noise_variance_)
-    heavy = isinstance(model, StudentTProcess)
-    query_sets = np.asarray(query_sets, dtype=float)
-    B, q = query_sets.shape[:2]
-    mean, var, df = np.empty((B, q)), np.empty((B, q)), np.empty(B)
-    for b in range(B):
-        X, y, Q = np.asarray(X_sets[b], dtype=float), np.asarray(y_sets[b], dtype=float), query_sets[b]
-        n = len(y)
-        K = _array(parts.kernel(X.copy(), X.copy(), amplitude, length_scale), (n, n), "kernel", "a matrix")
-        K_star = _array(parts.kernel(Q.copy(), X.copy(), amplitude, length_scale), (q, n), "kernel", "a matrix")
-        K_query = _array(parts.kernel(Q.copy(), Q.copy(), amplitude, length_scale), (q, q), "kernel", "a matrix")
-        result = parts.posterior(K.copy(), K_star.copy(), np.diagonal(K_query).copy(), y.copy(), s2)
-        if not isinstance(result, (tuple, list)) or len(result) != 2:
-            raise ValueError("the posterior part must return two arrays, (mean, latent variance)")
-        mean[b] = _array(result[0], (q,), "posterior", "a mean")
-        latent = _array(result[1], (q,), "posterior", "a variance")
-        if np.any(latent < 0) and np.any(latent < -_rounding(K, s2, np.diagonal(K_query))):
-            raise ValueError(f"the posterior part returned a negative variance ({latent.min():.3g}); a variance is "
-                             "at least 0")
-        latent = np.maximum(latent, 0.0)
-        factor = 1.0
-        if heavy:
-            factor = float(_array(parts.tp_factor(K.copy(), y.copy(), s2, model.nu_), (), "tp_factor", "a factor"))
-            if factor <= 0:
-                raise ValueError(f"the tp_factor part returned {factor:.6g}; the TP's factor (nu + beta - 2) / "
-                                 "(nu + n - 2) is positive")
-        var[b] = model._predictive_variance(latent, factor, s2 if include_noise else 0.0)
-        df[b] = model.nu_ + n if heavy else math.inf
-    return mean, var, df
+    return model.predict_batch(X_sets, y_sets, query_sets, include_noise=include_noise,
+                               steps=parts.conditioning_steps())
 
 
 def _copies(*values):

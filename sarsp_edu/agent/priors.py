@@ -26,7 +26,6 @@ import numpy as np
 
 from ..models.kernels import KernelTable, whole_distance_bound
 from ..models.processes.robust import StudentTLikelihoodGP
-from .parts import predict_from_parts
 
 __all__ = ["KERNEL_TABLE_MAX_DISTINCT", "PriorPredictor"]
 
@@ -84,18 +83,16 @@ class PriorPredictor:
         if isinstance(model, StudentTLikelihoodGP):  # a Student-t likelihood: a Laplace approximation per prior
             return model.predict_batch([X[r] for r in prior_rows], [y[r] for r in prior_rows], query_sets,
                                        include_noise=include_noise)
-        if parts is not None and not parts.package_models:
-            return predict_from_parts(parts, model, [X[r] for r in prior_rows], [y[r] for r in prior_rows],
-                                      query_sets, include_noise=include_noise)
+        steps = None if parts is None else parts.conditioning_steps()
         queries = query_sets.reshape(-1, query_sets.shape[-1])
         bound = self.whole_bound(buffer, queries)
-        table = self.table(model, buffer, bound)
+        table = None if steps is not None and steps.kernel is not None else self.table(model, buffer, bound)
         kernels = None
         if table is not None:  # the matrices gathered from the buffer's kernel table: the same numbers, sooner
             cross = table.cross(queries, whole_bound=bound).reshape(*query_sets.shape[:2], -1)
             kernels = [table.gather(rows, cross[i]) for i, rows in enumerate(prior_rows)]
         return model.predict_batch([X[r] for r in prior_rows], [y[r] for r in prior_rows], query_sets,
-                                   include_noise=include_noise, whole_bound=bound, kernels=kernels)
+                                   include_noise=include_noise, whole_bound=bound, kernels=kernels, steps=steps)
 
     def whole_bound(self, buffer, queries):
         """:func:`~sarsp_edu.models.kernels.whole_distance_bound` of a buffer's inputs and the queries.

@@ -27,8 +27,9 @@ from ..._internal.validation import (
 )
 from ...config import ADAM_STEPS, HYPERPARAMETER_BOUNDS, LEARNING_RATE, OPTIMIZERS, PRIORS
 from ..kernels import RBF, DistanceLevels, squared_distances, whole_distance_bound
-from ..linalg import cholesky, cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
+from ..linalg import cholesky_with_jitter, group_rows, solve_cholesky, solve_lower
 from ..optimizers import best_of_starts, projected_gradient_norm, restart_points, searcher
+from .conditioning import ConditioningSteps, condition_sets
 from .objective import Objective
 
 __all__ = ["NotFittedError", "ProcessRegressor"]
@@ -246,7 +247,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         return other
 
     def predict_batch(self, X, y, X_query, include_noise: bool = False, *, whole_bound: float | None = None,
-                      kernels=None):
+                      kernels=None, steps: ConditioningSteps | None = None):
         """Predict from several training sets at once, with the fitted hyperparameters.
 
         SARSP conditions each model on a fresh *strategic prior* for every
@@ -269,14 +270,19 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             (:func:`~sarsp_edu.models.kernels.whole_distance_bound` of all the rows
             the sets are drawn from and the queries): the kernel is then
             looked up without checking each distance.  The numbers are the
-            same with or without it; it is not checked, so a wrong guarantee
-            gives wrong numbers.
+            same with or without it; it is checked in one pass over the rows
+            (a ValueError where it does not hold), not over every distance.
         kernels : sequence of B pairs ``(K, K_star)``, optional
             The kernel matrices of each set, ``kernel_(X_b)`` of shape
             (n_b, n_b) and ``kernel_(X_query[b], X_b)`` of shape (q, n_b),
             gathered by the caller (from a :class:`~sarsp_edu.models.kernels.KernelTable`)
             instead of built here.  Each ``K`` must be a C-ordered array of
             its own: it is overwritten by its Cholesky factor.
+        steps : ConditioningSteps, optional
+            Replacements for the kernel, the posterior or the TP factor
+            (a student's parts): the same loop calls them in place of the
+            model's own steps and checks what they return
+            (:mod:`~sarsp_edu.models.processes.conditioning`).
 
         Returns
         -------
@@ -304,37 +310,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
                 f"X_query must have shape (B, q, {d}) and X, y one training set per row of it, got "
                 f"X_query of shape {X_query.shape} with {len(X)} input and {len(y)} target sets"
             )
-        kernel, s2 = self.kernel_, self.noise_variance_
-        B, q = X_query.shape[:2]
-        mean, var, df = np.empty((B, q)), np.empty((B, q)), np.empty(B)
-        prior_var = kernel.amplitude**2  # k(x, x) of the RBF
-        for b in range(B):
-            y_b = y[b]
-            n = y_b.shape[0]
-            if kernels is None:
-                # one pass for K(X_b, X_b) and K(X*, X_b): the rows of [X_b; X*] against X_b
-                both = kernel.from_squared_distances(squared_distances(np.concatenate([X[b], X_query[b]]), X[b]),
-                                                     whole_bound=whole_bound)
-                K, K_star = both[:n], both[n:]  # (n, n) and (q, n)
-            else:
-                K, K_star = kernels[b]
-            K.flat[:: n + 1] += s2
-            # factorised in K's own memory (K is symmetric, so its transpose is K in LAPACK's order)
-            L = cholesky(K, overwrite=True)  # the fast path
-            if L is None:  # K is lost: rebuild it for the jitter's tries
-                K = kernel.from_squared_distances(squared_distances(X[b]))
-                K.flat[:: n + 1] += s2
-                L, _ = cholesky_with_jitter(K)
-            rhs = np.empty((n, q + 1))  # C order: BLAS sums the products below in the order the stored runs used
-            rhs[:, 0] = y_b
-            rhs[:, 1:] = K_star.T
-            solved = solve_cholesky(L, rhs)  # K^-1 [y, k*]
-            # paper eq. 4 and eq. 5 (Alg. 2.1, lines 4-6)
-            mean[b] = K_star @ solved[:, 0]
-            latent = np.maximum(prior_var - np.einsum("qn,nq->q", K_star, solved[:, 1:]), 0.0)
-            factor, df[b] = self._predictive_scale(n, float(y_b @ solved[:, 0]))
-            var[b] = self._predictive_variance(latent, factor, s2 if include_noise else 0.0)
-        return mean, var, df
+        return condition_sets(self, X, y, X_query, include_noise, whole_bound=whole_bound, kernels=kernels,
+                              steps=steps)
 
     def _check_fitted(self):
         if not hasattr(self, "L_"):
