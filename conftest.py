@@ -25,11 +25,12 @@ except ImportError:  # pragma: no cover
 
 ROOT = Path(__file__).parent
 
-#: test modules of the slow tier: whole runs and sweeps, worker processes, servers and browsers
+#: test modules of the slow tier: whole runs and sweeps, worker processes, servers and browsers (a fast module
+#: marks its few slow tests itself, ``@pytest.mark.slow``)
 SLOW_MODULES = {
     "test_ablation", "test_accessibility", "test_binder", "test_browser", "test_browser_live", "test_capstone",
     "test_cli", "test_cli_fuzz", "test_course", "test_dashboards", "test_experiment", "test_exercises",
-    "test_audit", "test_fitcache", "test_hostile_inputs", "test_layers", "test_likelihood_agent", "test_live_fitting",
+    "test_audit", "test_fitcache", "test_hostile_inputs", "test_likelihood_agent", "test_live_fitting",
     "test_live_run",
     "test_notebook_threads", "test_outputs", "test_pages", "test_prose", "test_stored_results", "test_sweep",
 }

@@ -19,8 +19,6 @@ PACKAGE = Path(sarsp_edu.__file__).parent
 MODULE_STATE = {
     "_internal/parallel.py": {"_WORKER": "a pool worker process's own per-process state (its initializer's)"},
     "_internal/threads.py": {"_STATE": "BLAS has one thread pool per process: one count of its users"},
-    "models/optimizers.py": {"_STEP_HOOK": "a fit's progress reported step by step (a context variable: per "
-                                           "thread and task, never shared)"},
     "teaching/dashboards/projector.py": {"_DASHBOARDS": "the dashboards alive, which one switch resizes",
                                          "_SWITCH": "the projector switch, one per kernel"},
     "teaching/dashboards/tutorials.py": {"_T_LIMIT": "a sympy limit computed once per process"},
@@ -30,8 +28,6 @@ MODULE_STATE = {
 }
 #: module -> its uses of ``__dict__`` (lines' text, stripped) and why
 DICT_USES = {
-    "agent/sarsp.py": "the agent's settings are one ExperimentConfig: its __getattr__/__setattr__ forward "
-                      "Algorithm 1's settings to it, and `parts` is checked against them as it is set",
     "teaching/exercises/capstone.py": "a student's agent takes the package's fitted models whole (a deep copy "
                                       "of their state), so that both sides decide from the same fit",
 }
@@ -114,3 +110,17 @@ def test_the_scan_finds_what_it_looks_for():
               "def f(k):\n    CACHE[k] = 1\n    SEEN.append(k)\n    global COUNT\n    COUNT += 1\n"
               "    return FIXED[k]\n")
     assert _module_state(ast.parse(source)) == {"CACHE", "SEEN", "COUNT", "HOOK"}
+
+
+def test_the_agents_settings_by_name_are_declared_one_by_one_and_are_exactly_agentsettings():
+    """No forwarding by ``__getattr__``: each of Algorithm 1's settings is a declared attribute of the agent class
+    (visible to ``dir``, ``help`` and editors), and they are the fields of ``AgentSettings``, no more, no less."""
+    import dataclasses
+
+    from sarsp_edu import SARSPAgent
+    from sarsp_edu.agent import sarsp
+    from sarsp_edu.config import AgentSettings
+
+    declared = {name for name, value in vars(SARSPAgent).items() if isinstance(value, sarsp._Setting)}
+    assert declared == {field.name for field in dataclasses.fields(AgentSettings)}
+    assert "__getattr__" not in vars(SARSPAgent) and "__setattr__" not in vars(SARSPAgent)

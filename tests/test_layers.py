@@ -97,6 +97,7 @@ def first_warnings():
     return json.loads(out.stdout)
 
 
+@pytest.mark.slow  # a fresh interpreter imports every old path
 @pytest.mark.parametrize("old", sorted(MOVED))
 def test_an_old_import_path_warns_and_gives_the_module_at_its_new_path(old, first_warnings):
     old_name = f"sarsp_edu.{old}"
@@ -109,6 +110,7 @@ def test_an_old_import_path_warns_and_gives_the_module_at_its_new_path(old, firs
     assert module is new and module.__name__ == module.__spec__.name == new_path(old_name)
 
 
+@pytest.mark.slow  # imports the package's models afresh
 def test_a_submodule_of_a_moved_package_imports_by_its_old_path_too(monkeypatch):
     for name in [name for name in sys.modules if name.split(".")[:2] == ["sarsp_edu", "processes"]]:
         monkeypatch.delitem(sys.modules, name)  # as in a fresh process, whichever test imported them before
@@ -140,6 +142,7 @@ def _code_of_the_repository():
             yield str(path.relative_to(REPOSITORY)), block
 
 
+@pytest.mark.slow  # reads every notebook and Markdown file
 def test_nothing_in_the_repository_imports_an_old_path():
     old = []
     for where, source in _code_of_the_repository():
@@ -166,6 +169,7 @@ def test_the_names_lent_lazily_are_the_names_type_checkers_see():
         assert getattr(sarsp_edu, name) is getattr(importlib.import_module(f"sarsp_edu.{module}"), name)
 
 
+@pytest.mark.slow  # imports every module the table names
 def test_the_readmes_module_table_names_only_modules_that_exist():
     """Each row of README's module table: its module imports, and each `name` in parentheses that names a
     module of it (a lower-case word) is one of its submodules."""

@@ -644,3 +644,28 @@ def test_a_nu_beyond_float64s_reach_is_refused_naming_nu_not_the_targets():
     X = np.linspace(0, 1, 10)[:, None]
     with pytest.raises(ValueError, match=r"nu must be at most 1e\+12 \(beyond it float64 loses"):
         StudentTProcess(nu=1e308).fit(X, np.sin(X[:, 0]))
+
+
+@pytest.mark.parametrize("model", [GaussianProcess(optimizer="adam", max_iter=7),
+                                   StudentTProcess(optimizer="adam", max_iter=7),
+                                   GaussianProcess(optimizer="lbfgs")])
+def test_a_fit_reports_each_step_of_its_search_to_its_own_callback(model):
+    """The progress of a fit is an argument of that fit (no hook set elsewhere): Adam calls it once per step,
+    L-BFGS-B once per iteration, and what it raises ends the fit."""
+    X, y = make_data(0)
+    calls = []
+    model.fit(X, y, on_step=lambda: calls.append(1))
+    assert len(calls) == model.n_iter_ and len(calls) > 0
+    model.fit(X, y)  # no callback: nothing else is called
+    assert len(calls) == model.n_iter_
+
+    class Enough(Exception):
+        pass
+
+    def stop_at_the_third():
+        calls.append(1)
+        if len(calls) == model.n_iter_ + 3:
+            raise Enough
+
+    with pytest.raises(Enough):
+        model.fit(X, y, on_step=stop_at_the_third)

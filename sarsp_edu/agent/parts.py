@@ -50,6 +50,7 @@ __all__ = [
     "corrective_applies",
     "decide",
     "gp_posterior",
+    "model_parts_refusal",
     "predict_from_parts",
     "rbf",
     "tail_rule_refusal",
@@ -326,6 +327,29 @@ def tail_rule_refusal(parts: DecisionParts) -> str:
     mine = [name for name in ("safe_set", "choose") if name in parts.replaced()]
     return (f"safe_rule='tail' cannot use the replaced parts {mine}: they take the variance rule's arguments "
             "(var_cost, variance_threshold); use safe_rule='variance' with them, or the package's own parts")
+
+
+def model_parts_refusal(parts: DecisionParts, cost_model, reward_model) -> str | None:
+    """The message that refuses a replaced kernel, posterior or TP factor to a GP with Student-t noise (whose
+    predictions come from its own Laplace approximation, which no part enters), or None where all can be used.
+
+    Parameters
+    ----------
+    parts : DecisionParts
+    cost_model, reward_model : estimator
+        The agent's two models.
+    """
+    from ..models.processes.robust import StudentTLikelihoodGP
+
+    unusable = sorted({"kernel", "posterior", "tp_factor"} & set(parts.replaced()))
+    robust = [role for role, model in (("cost", cost_model), ("reward", reward_model))
+              if isinstance(model, StudentTLikelihoodGP)]
+    if not (unusable and robust):
+        return None
+    setting = " and ".join({"cost": "model", "reward": "reward_model"}[role] + "='t-likelihood'" for role in robust)
+    return (f"the {' and the '.join(robust)} model {'is a' if len(robust) == 1 else 'are'} GP with Student-t noise "
+            f"({setting}), which cannot use the replaced parts {unusable}: its predictions come from its own Laplace "
+            "approximation; use the package's kernel, posterior and tp_factor with it, or make it 'tp' or 'gp'")
 
 
 def corrective_applies(parts: DecisionParts, mu_cost, var_cost, action: int, d: float, was_backup: bool) -> bool:

@@ -31,7 +31,6 @@ test) are the agent's plug-in point: ``parts``, a
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import numpy as np
@@ -41,15 +40,27 @@ from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import AgentSettings  # Algorithm 1's settings, defined once
 from ..models.processes.laplace import noise_variance
-from ..models.processes.predictive import probability_below
+from ..models.processes.predictive import probability_below, sample_moments
 from ..models.processes.robust import StudentTLikelihoodGP
 from ..world.offline import OfflineData, cost_inputs, reward_inputs
 from .decision import Decision, LearnOutcome, choose_action, override_known_unsafe
-from .parts import DecisionParts, corrective_applies, decide, tail_rule_refusal
+from .parts import DecisionParts, corrective_applies, decide, model_parts_refusal, tail_rule_refusal
 from .priors import PriorPredictor
 
-#: Algorithm 1's settings, read through ``agent.settings`` (``agent.k_prior`` is ``agent.settings.k_prior``)
-_SETTINGS = frozenset(field.name for field in dataclasses.fields(AgentSettings))
+
+class _Setting:
+    """One of Algorithm 1's settings on the agent: ``agent.k_prior`` is ``agent.settings.k_prior``, and
+    ``agent.k_prior = 400`` replaces ``agent.settings`` by a copy with that value (checked where settings are
+    made)."""
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, agent, owner=None):
+        return self if agent is None else getattr(agent.settings, self.name)
+
+    def __set__(self, agent, value):
+        agent.settings = agent.settings.replace(**{self.name: value})
 
 # the decision rule and its records live in :mod:`sarsp_edu.agent.decision`; imported here, where readers look for them
 __all__ = ["SARSPAgent", "Decision", "LearnOutcome", "choose_action", "override_known_unsafe"]
@@ -157,8 +168,6 @@ class SARSPAgent:
         settings = AgentSettings() if settings is None else settings
         if not isinstance(settings, AgentSettings):
             raise TypeError(f"settings must be an AgentSettings, got {type(settings).__name__}")
-        #: Algorithm 1's settings, the one place they are kept: ``agent.k_prior`` reads
-        #: ``agent.settings.k_prior``, and ``agent.k_prior = 400`` replaces the settings (checked)
         self.settings = settings.replace(**changes) if changes else settings
         self.rng = as_generator(rng)
         #: the strategic priors' conditioning and what keeps it quick (``prior_predictor.kernel_table``: a switch)
@@ -184,40 +193,50 @@ class SARSPAgent:
         self.retrain_listeners: list = []
 
     @property
+    def settings(self) -> AgentSettings:
+        """Algorithm 1's settings, the one place they are kept (each also readable and settable by its name,
+        ``agent.k_prior``; a new value replaces the settings, checked as a whole and against the parts)."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: AgentSettings):
+        if not isinstance(settings, AgentSettings):
+            raise TypeError(f"settings must be an AgentSettings, got {type(settings).__name__}")
+        parts = getattr(self, "_parts", None)  # None while the agent is being built: its parts come next
+        if parts is not None and settings.safe_rule == "tail" and {"safe_set", "choose"} & set(parts.replaced()):
+            raise ValueError(tail_rule_refusal(parts))
+        self._settings = settings
+
+    @property
     def parts(self) -> DecisionParts:
         """The functions each decision is assembled from; set to a DecisionParts, a mapping of some, or None
         (checked against the settings: the tail rule takes the package's safe set and choice)."""
-        return self.__dict__["parts"]
+        return self._parts
 
     @parts.setter
     def parts(self, parts):
         parts = DecisionParts.of(parts)
         if self.safe_rule == "tail" and {"safe_set", "choose"} & set(parts.replaced()):
             raise ValueError(tail_rule_refusal(parts))
-        unusable = sorted({"kernel", "posterior", "tp_factor"} & set(parts.replaced()))
-        robust = [role for role, model in (("cost", self.cost_model), ("reward", self.reward_model))
-                  if isinstance(model, StudentTLikelihoodGP)]
-        if unusable and robust:
-            setting = " and ".join({"cost": "model", "reward": "reward_model"}[role] + "='t-likelihood'"
-                                   for role in robust)
-            raise ValueError(f"the {' and the '.join(robust)} model {'is a' if len(robust) == 1 else 'are'} GP with "
-                             f"Student-t noise ({setting}), which cannot use the replaced parts {unusable}: its "
-                             "predictions come from its own Laplace approximation; use the package's kernel, "
-                             "posterior and tp_factor with it, or make it 'tp' or 'gp'")
-        self.__dict__["parts"] = parts
+        refusal = model_parts_refusal(parts, self.cost_model, self.reward_model)
+        if refusal:
+            raise ValueError(refusal)
+        self._parts = parts
 
-    def __getattr__(self, name):
-        if name in _SETTINGS and "settings" in self.__dict__:
-            return getattr(self.__dict__["settings"], name)
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-
-    def __setattr__(self, name, value):
-        if name in _SETTINGS:  # one source: the settings, replaced (and checked) as a whole
-            name, value = "settings", self.settings.replace(**{name: value})
-        if name == "settings" and "parts" in self.__dict__ and value.safe_rule == "tail":
-            if {"safe_set", "choose"} & set(self.parts.replaced()):
-                raise ValueError(tail_rule_refusal(self.parts))
-        super().__setattr__(name, value)
+    # Algorithm 1's settings by name: each reads ``agent.settings`` and a new value replaces it (checked)
+    d = _Setting()
+    variance_threshold = _Setting()
+    variance = _Setting()
+    safe_rule = _Setting()
+    tail_delta = _Setting()
+    k_prior = _Setting()
+    n_matching = _Setting()
+    prior_draw = _Setting()
+    predictive = _Setting()
+    n_samples = _Setting()
+    cost_fit_points = _Setting()
+    reward_fit_points = _Setting()
+    retrain = _Setting()
 
     # -- training -------------------------------------------------------------
     def _fit(self, model, buffer, fit_points, fit_model=None):
@@ -309,7 +328,7 @@ class SARSPAgent:
         mean, var = mean.reshape(-1), var.reshape(-1)
         df = np.broadcast_to(df[:, None], query_sets.shape[:2]).reshape(-1)
         if self.predictive == "sample":
-            mean, var = self._sample_moments(mean, var, df)
+            mean, var = sample_moments(mean, var, df, self.n_samples, self.rng)
         return mean, var, df, np.array([len(r) for r in priors])
 
     def _predict_cost(self, x_cost):
@@ -331,23 +350,6 @@ class SARSPAgent:
         if t_noise:
             var = var + noise_variance(model.nu_, model.scale_)
         return mean, var, tail, sizes
-
-    def _sample_moments(self, mean, var, df):
-        """Sample mean and variance of ``n_samples`` draws from each predictive distribution.
-
-        The reference code's estimate: normal draws for the GP; for the TP a
-        Student-t with ``df`` degrees of freedom and variance ``var``,
-        ``mean + sqrt(var (df - 2) / W) z`` with ``W ~ chi2(df)``.
-        """
-        z = self.rng.standard_normal((mean.shape[0], self.n_samples))
-        scale = np.sqrt(var)[:, None]
-        heavy = np.isfinite(df)
-        if heavy.any():
-            chi2 = self.rng.chisquare(df[heavy][:, None], size=(int(heavy.sum()), self.n_samples))
-            scale = np.broadcast_to(scale, z.shape).copy()
-            scale[heavy] *= np.sqrt((df[heavy][:, None] - 2.0) / chi2)
-        draws = mean[:, None] + scale * z
-        return draws.mean(axis=1), draws.var(axis=1, ddof=1)
 
     def predict(self, observation):
         """Per-action predictions ``(mu_cost, var_cost, mu_reward, var_reward)`` with fresh priors (the cost

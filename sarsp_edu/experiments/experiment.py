@@ -246,8 +246,6 @@ def _progress(total: int | None, desc: str, enabled: bool, unit: str = "episode"
 def _fit_showing_progress(config: ExperimentConfig, progress: bool, position: int = 0):
     """A ``fit`` for :class:`Experiment` that shows the offline fits' progress, step by step of the search;
     None (the agent's own fit) without ``progress``."""
-    from ..models.optimizers import reporting_steps
-
     if not progress:
         return None
 
@@ -256,8 +254,8 @@ def _fit_showing_progress(config: ExperimentConfig, progress: bool, position: in
         rows = len(agent.cost_data) if agent.cost_fit_points is None else min(agent.cost_fit_points,
                                                                                len(agent.cost_data))
         desc = f"{config.model.upper()}: fitting the cost model ({rows} rows) and the reward model"
-        with _progress(steps, desc, True, unit="step", position=position) as bar, reporting_steps(bar.update):
-            agent.fit()
+        with _progress(steps, desc, True, unit="step", position=position) as bar:
+            agent.fit(fit_model=lambda model, X, y: model.fit(X, y, on_step=bar.update))
     return fit
 
 

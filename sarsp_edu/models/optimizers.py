@@ -7,38 +7,17 @@ objective's values along the way.
 
 from __future__ import annotations
 
-import contextlib
-import contextvars
 import math
 import warnings
 
 import numpy as np
 from scipy import optimize
 
-__all__ = ["RESTART_OFFSETS", "adam", "best_of_starts", "lbfgs", "projected_gradient_norm", "reporting_steps",
-           "restart_points", "searcher"]
-
-#: called after each step of a search (a progress bar's update), where :func:`reporting_steps` sets one
-_STEP_HOOK: contextvars.ContextVar = contextvars.ContextVar("sarsp_edu_step_hook", default=None)
+__all__ = ["RESTART_OFFSETS", "adam", "best_of_starts", "lbfgs", "projected_gradient_norm", "restart_points",
+           "searcher"]
 
 
-@contextlib.contextmanager
-def reporting_steps(callback):
-    """Within the block, every step of a search in this thread calls ``callback()`` (to show progress)."""
-    token = _STEP_HOOK.set(callback)
-    try:
-        yield
-    finally:
-        _STEP_HOOK.reset(token)
-
-
-def _stepped() -> None:
-    hook = _STEP_HOOK.get()
-    if hook is not None:
-        hook()
-
-
-def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, epsilon=1e-7):
+def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, epsilon=1e-7, on_step=None):
     """Adam as TensorFlow/Keras implements it, projected onto ``bounds``.
 
     Returns the last iterate and the objective value at each step's start.
@@ -57,6 +36,8 @@ def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, 
         The number of steps (no convergence test).
     beta_1, beta_2, epsilon : float, default 0.9, 0.999, 1e-7
         Adam's moment decay rates and its denominator's offset (Keras's defaults).
+    on_step : callable, optional
+        ``on_step()`` after each step (a progress bar's update); what it raises ends the search.
 
     Returns
     -------
@@ -74,12 +55,13 @@ def adam(fun, theta0, bounds, learning_rate, n_steps, beta_1=0.9, beta_2=0.999, 
         v += (grad * grad - v) * (1.0 - beta_2)
         step = learning_rate * math.sqrt(1.0 - beta_2**t) / (1.0 - beta_1**t)
         theta = np.clip(theta - step * m / (np.sqrt(v) + epsilon), bounds[:, 0], bounds[:, 1])
-        _stepped()
+        if on_step is not None:
+            on_step()
     trace.append(fun(theta)[0])
     return theta, trace, n_steps
 
 
-def lbfgs(fun, theta0, bounds, max_iter, scale):
+def lbfgs(fun, theta0, bounds, max_iter, scale, on_step=None):
     """L-BFGS-B on ``fun / scale``.
 
     L-BFGS-B starts from an identity Hessian, so its first step is as long as
@@ -100,6 +82,8 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
         L-BFGS-B's ``maxiter``; None: scipy's default.
     scale : float
         The divisor of the objective and its gradient (the number of points).
+    on_step : callable, optional
+        ``on_step()`` after each iteration; what it raises ends the search.
 
     Returns
     -------
@@ -115,7 +99,7 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
     start = fun(theta0)[0]
     result = optimize.minimize(
         scaled, theta0, method="L-BFGS-B", jac=True, bounds=bounds, options=options,
-        callback=lambda *_: _stepped(),
+        callback=None if on_step is None else lambda *_: on_step(),
     )
     if not result.success:
         warnings.warn(
@@ -132,7 +116,7 @@ def lbfgs(fun, theta0, bounds, max_iter, scale):
 RESTART_OFFSETS = ((2, -4.0), (2, 4.0), (1, -2.0), (1, 2.0), (0, -2.0), (0, 2.0))
 
 
-def searcher(optimizer: str, fun, bounds, learning_rate: float, steps: int, max_iter, scale: float):
+def searcher(optimizer: str, fun, bounds, learning_rate: float, steps: int, max_iter, scale: float, on_step=None):
     """``search(theta0) -> (theta, trace, n_iter)``: the named optimiser's search from one start, minimising
     ``fun`` (``"adam"``: ``steps`` steps of ``learning_rate``; else L-BFGS-B with ``max_iter`` and ``scale``, as
     :func:`lbfgs`), for :func:`best_of_starts`.
@@ -150,10 +134,12 @@ def searcher(optimizer: str, fun, bounds, learning_rate: float, steps: int, max_
         L-BFGS-B's ``maxiter``.
     scale : float
         L-BFGS-B's divisor of the objective (the number of points).
+    on_step : callable, optional
+        Called after each step of either search (:func:`adam`, :func:`lbfgs`).
     """
     if optimizer == "adam":
-        return lambda start: adam(fun, start, bounds, learning_rate, steps)
-    return lambda start: lbfgs(fun, start, bounds, max_iter, scale)
+        return lambda start: adam(fun, start, bounds, learning_rate, steps, on_step=on_step)
+    return lambda start: lbfgs(fun, start, bounds, max_iter, scale, on_step=on_step)
 
 
 def restart_points(theta0, bounds, n_restarts: int) -> list:

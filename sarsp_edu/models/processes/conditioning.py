@@ -65,8 +65,24 @@ def condition_sets(model, X, y, X_query, include_noise: bool = False, *, whole_b
                    kernels=None, steps: ConditioningSteps | None = None):
     """Mean, variance and degrees of freedom of each query set, conditioned on its own training set.
 
-    What :meth:`~sarsp_edu.models.processes.regressor.ProcessRegressor.predict_batch` returns (its parameters,
-    less the checks of their shapes); ``steps`` replaces some of the three steps.
+    What :meth:`~sarsp_edu.models.processes.regressor.ProcessRegressor.predict_batch` returns, which checks the
+    shapes and calls this.
+
+    Parameters
+    ----------
+    model : GaussianProcess or StudentTProcess, fitted
+        Gives the kernel, the noise variance and (a TP) ``nu_`` and the noise convention.
+    X, y : sequences of B arrays of shapes (n_b, d) and (n_b,)
+        Each set's training rows.
+    X_query : ndarray of shape (B, q, d)
+    include_noise : bool, default False
+        The variance of a new observation (the noise added) or of the latent function.
+    whole_bound : float, optional
+        A bound of every squared distance among whole-number inputs (checked: :func:`check_whole_bound`).
+    kernels : sequence of B pairs ``(K, K_star)``, optional
+        Each set's kernel matrices, gathered by the caller; each ``K`` is overwritten.
+    steps : ConditioningSteps, optional
+        The steps replaced (a student's parts); None: the model's own.
 
     Returns
     -------
@@ -136,8 +152,14 @@ def condition_sets(model, X, y, X_query, include_noise: bool = False, *, whole_b
 def check_whole_bound(X, X_query, whole_bound: float) -> None:
     """Refuse a ``whole_bound`` that is not a bound of the sets' and the queries' squared distances.
 
-    One pass over all the rows at once (about 1% of a decision's conditioning at the agent's sizes): the
+    One pass over all the rows at once (measured: 4% of a batch of four priors of 110 rows, 0.2% at 410): the
     kernel's lookup trusts the bound, and a wrong one would give wrong numbers.
+
+    Parameters
+    ----------
+    X : sequence of arrays of shape (n_b, d)
+    X_query : ndarray of shape (B, q, d)
+    whole_bound : float
 
     Raises
     ------

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from scipy import integrate, special, stats
 
-__all__ = ["HERMITE_NODES", "probability_below"]
+__all__ = ["HERMITE_NODES", "probability_below", "sample_moments"]
 
 #: Gauss-Hermite nodes of the latent value's integral (as ``StudentTLikelihoodGP.predictive_density``)
 HERMITE_NODES = 60
@@ -76,3 +76,34 @@ def _with_student_t_noise(threshold: float, mean, sd, nu: float, scale: float) -
         out[index] = (integrate.quad(integrand, -np.inf, step, epsabs=1e-12)[0]
                       + integrate.quad(integrand, step, np.inf, epsabs=1e-12)[0])
     return out
+
+
+def sample_moments(mean, var, df, n_samples: int, rng) -> tuple[np.ndarray, np.ndarray]:
+    """Sample mean and variance of ``n_samples`` draws from each predictive distribution.
+
+    The reference code's estimate (an agent's ``predictive="sample"``): normal
+    draws for the GP; for the TP a Student-t with ``df`` degrees of freedom and
+    variance ``var``, ``mean + sqrt(var (df - 2) / W) z`` with ``W ~ chi2(df)``.
+
+    Parameters
+    ----------
+    mean, var, df : ndarray of shape (m,)
+        Each predictive's mean, variance and degrees of freedom (inf: a normal).
+    n_samples : int
+    rng : numpy.random.Generator
+        Draws the normals, then the chi-squares of the heavy-tailed rows.
+
+    Returns
+    -------
+    mean, var : ndarray of shape (m,)
+        The draws' mean and unbiased variance.
+    """
+    z = rng.standard_normal((mean.shape[0], n_samples))
+    scale = np.sqrt(var)[:, None]
+    heavy = np.isfinite(df)
+    if heavy.any():
+        chi2 = rng.chisquare(df[heavy][:, None], size=(int(heavy.sum()), n_samples))
+        scale = np.broadcast_to(scale, z.shape).copy()
+        scale[heavy] *= np.sqrt((df[heavy][:, None] - 2.0) / chi2)
+    draws = mean[:, None] + scale * z
+    return draws.mean(axis=1), draws.var(axis=1, ddof=1)

@@ -99,7 +99,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         return RBF() if self.kernel is None else self.kernel
 
     # -- public API --------------------------------------------------------
-    def fit(self, X, y):
+    def fit(self, X, y, *, on_step=None):
         """Fit the hyperparameters (unless ``optimizer=None``) and condition on the data.
 
         Every fit starts from the constructor's hyperparameters.  The
@@ -111,6 +111,9 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         ----------
         X : array-like of shape (n, d)
         y : array-like of shape (n,)
+        on_step : callable, optional
+            ``on_step()`` after each step of the hyperparameter search (a
+            progress bar's update); what it raises ends the fit.
 
         Returns
         -------
@@ -149,7 +152,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
             steps = ADAM_STEPS if self.max_iter is None else self.max_iter
             if self.optimizer == "adam":
                 self._warn_out_of_reach(y, steps)
-            search = searcher(self.optimizer, negative, bounds, self.learning_rate, steps, self.max_iter, len(idx))
+            search = searcher(self.optimizer, negative, bounds, self.learning_rate, steps, self.max_iter, len(idx),
+                              on_step)
             theta, trace, n_iter, finals = best_of_starts(search, restart_points(theta0, bounds, self.n_restarts))
             trace = [-v for v in trace]
             self.start_objectives_, self.gradient_norm_ = -np.asarray(finals), projected_gradient_norm(

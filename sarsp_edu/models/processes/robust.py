@@ -177,13 +177,16 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         return float(np.sum(-theta - 0.5 * theta * theta - 0.5 * math.log(2.0 * math.pi))), -1.0 - theta
 
     # -- scikit-learn's API ----------------------------------------------------------------
-    def fit(self, X, y):
+    def fit(self, X, y, *, on_step=None):
         """Find the posterior mode (and, with an ``optimizer``, the hyperparameters first).
 
         Parameters
         ----------
         X : array-like of shape (n, d)
         y : array-like of shape (n,)
+        on_step : callable, optional
+            ``on_step()`` after each step of the hyperparameter search (a
+            progress bar's update); what it raises ends the fit.
 
         Returns
         -------
@@ -214,7 +217,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         gradient_norm, start_objectives = math.nan, np.array([])
         if self.optimizer is not None:
             theta0 = [kernel.amplitude, kernel.length_scale, scale] + ([self.nu - 2.0] if self.fit_nu else [])
-            theta, last, gradient_norm, start_objectives = self._search(np.log(theta0), U, y, group)
+            theta, last, gradient_norm, start_objectives = self._search(np.log(theta0), U, y, group, on_step)
             amplitude, length, scale = np.exp(theta[:3])
             kernel = RBF(amplitude, length)
             if self.fit_nu:
@@ -233,7 +236,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         self.residual_ = y - self.f_hat_
         return self
 
-    def _search(self, theta0, U, y, group):
+    def _search(self, theta0, U, y, group, on_step=None):
         """The log hyperparameters that maximise the approximate log marginal likelihood (plus the log priors),
         the last mode found (where the final one's search starts), the gradient norm where the search ended and
         each start's final objective."""
@@ -260,10 +263,11 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             start["a"] = None  # each start's mode searches begin at the prior mean, as the first's
             if self.optimizer == "lbfgs":
                 result = optimize.minimize(negative, theta, jac=True, method="L-BFGS-B", bounds=bounds,
-                                           options={} if self.max_iter is None else {"maxiter": self.max_iter})
+                                           options={} if self.max_iter is None else {"maxiter": self.max_iter},
+                                           callback=None if on_step is None else lambda *_: on_step())
                 return result.x, [float(result.fun)], int(result.nit)
             steps = ADAM_STEPS if self.max_iter is None else self.max_iter
-            found, trace, n_iter = adam(negative, theta, bounds, self.learning_rate, steps)
+            found, trace, n_iter = adam(negative, theta, bounds, self.learning_rate, steps, on_step=on_step)
             return found, trace, n_iter
 
         starts = restart_points(theta0, bounds, self.n_restarts)

@@ -332,7 +332,6 @@ class FitQueue:
         hyperparameter search, which raises :class:`_Abandoned` through the fit.
         """
         from ...experiments.experiment import Experiment
-        from ...models.optimizers import reporting_steps
         from . import fitcache
 
         total, taken, began = side.offline_fit_steps or 0, [0], time.perf_counter()
@@ -348,8 +347,10 @@ class FitQueue:
 
         with self._condition:
             fits.progress[name] = "fitting its models here"
-        with reporting_steps(step):
-            experiment = Experiment(side, prepared=prepared)
+        def fit(agent) -> None:
+            agent.fit(fit_model=lambda model, X, y: model.fit(X, y, on_step=step))
+
+        experiment = Experiment(side, prepared=prepared, fit=fit)
         if fitcache.cache_directory() is not None:
             fitcache.store(experiment)
         return experiment

@@ -122,7 +122,6 @@ def _terminate_all() -> None:
 def _fit(config, folder, say) -> str:
     from ..._internal.threads import one_blas_thread
     from ...experiments.experiment import Experiment
-    from ...models.optimizers import reporting_steps
     from ...world.preparation import prepare
     from . import fitcache
 
@@ -135,8 +134,7 @@ def _fit(config, folder, say) -> str:
 
     def fit(agent) -> None:
         say("started")
-        with reporting_steps(step):
-            agent.fit()
+        agent.fit(fit_model=lambda model, X, y: model.fit(X, y, on_step=step))
 
     with one_blas_thread():  # as the kernel fits: the same bits
         experiment = Experiment(config, prepared=prepare(config), fit=fit)
