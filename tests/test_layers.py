@@ -69,6 +69,37 @@ def test_a_module_imports_only_from_its_layer_and_those_below(path):
     assert not upward, f"{_module_name(path)} ({LAYERS[own]}) imports from a layer above it: {upward}"
 
 
+def test_no_module_imports_itself_through_others():
+    """No import circle among the package's modules, counting the imports inside functions too (a circle there
+    works only while the order of first imports happens to allow it).  ``from . import NAME`` in a package's
+    module, NAME defined by the package's ``__init__``, is an edge to the ``__init__``."""
+    names = {_module_name(path): path for path in MODULES}
+    edges = {}
+    for name, path in names.items():
+        found = set()
+        for _, target in _imports(path):
+            while target not in names and "." in target:  # "pkg.module.Name" -> "pkg.module"
+                target = target.rpartition(".")[0]
+            if target in names and target != name:
+                found.add(target)
+        edges[name] = found
+    circles, done = [], set()
+
+    def visit(name, trail):
+        if name in trail:
+            circles.append(trail[trail.index(name):] + [name])
+            return
+        if name in done:
+            return
+        for other in sorted(edges[name]):
+            visit(other, trail + [name])
+        done.add(name)
+
+    for name in sorted(edges):
+        visit(name, [])
+    assert circles == [], "\n".join(" -> ".join(circle) for circle in circles)
+
+
 def test_the_layers_are_the_package_folders():
     folders = {path.name for path in PACKAGE.iterdir() if path.is_dir() and (path / "__init__.py").exists()}
     files = {path.stem for path in PACKAGE.glob("*.py")} - {"__init__"}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from .arguments import check_file
 from .commands import _format_table
+from .figures import check_figure, new_figure, save_figure
 
 
 def _tables(args, parser) -> int:
@@ -29,7 +30,7 @@ def _tables(args, parser) -> int:
 
         if args.markdown is not None:
             parser.error("--markdown is not written for a rule study's folder: its tables print; --figure draws it")
-        _check_figure(parser, args.figure, args.overwrite)
+        check_figure(parser, args.figure, args.overwrite)
         results = Path(args.results_dir)
         try:  # the stored runs it is set beside: the ablation's folders next to it, as results/ holds them
             study = RuleStudy.load(results, results.parent / "ablation", results.parent / "ablation-t-likelihood")
@@ -42,7 +43,7 @@ def _tables(args, parser) -> int:
     if args.figure is not None and not (model_sweep or ablation):
         parser.error("--figure draws the learning curves of a model sweep's three models, or the threshold study of "
                      f"a folder of model sweeps on an ablation's settings; {args.results_dir} is neither")
-    _check_figure(parser, args.figure, args.overwrite)
+    check_figure(parser, args.figure, args.overwrite)
     if (Path(args.results_dir) / "ablation.json").is_file():  # an ablation's folder: its table
         return _ablation_table(args, parser)
     if model_sweep:
@@ -280,11 +281,11 @@ def _model_tables(args, parser) -> int:
         from ..experiments.sweep.model_tables import model_sweep_curves
         from ..teaching.plotting import plot_model_curves
 
-        figure, axes = _figure(1, 2, (11, 4.2))
+        figure, axes = new_figure(1, 2, (11, 4.2))
         for ax, metric in zip(axes, ("task_success_rate", "total_cost")):
             plot_model_curves(ax, model_sweep_curves(paired, runs, metric), metric=metric, settle=10,
                               title=f"mean over the {len(runs)} cells run")
-        _save_figure(figure, args.figure, args.overwrite)
+        save_figure(figure, args.figure, args.overwrite)
     return 0
 
 
@@ -298,48 +299,6 @@ def _ablation_of_model_sweeps(folder):
         if (paired.parent / "ablation.json").is_file():
             return paired.parent
     return None
-
-
-def _check_figure(parser, path, overwrite: bool) -> None:
-    """Refuse a ``--figure`` file that cannot be written, exists (unless ``overwrite``), or whose suffix names no
-    format matplotlib writes here."""
-    from pathlib import Path
-
-    if path is not None:
-        check_file(parser, "--figure", path, overwrite=overwrite)
-        if Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
-            parser.error(f"--figure {path}: name a .png, .svg or .pdf file")
-
-
-def _figure(rows: int, columns: int, size: tuple):
-    """A new figure drawn without a display (the command may run where there is none)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(rows, columns, figsize=size, layout="constrained")
-
-
-def _save_figure(figure, path, overwrite: bool = True) -> None:
-    """Write ``figure`` to ``path`` (its suffix the format) through a temporary file, and close it; without
-    ``overwrite`` a file another command made meanwhile is refused, not replaced."""
-    import io
-    from pathlib import Path
-
-    import matplotlib.pyplot as plt
-
-    from .._internal.io import atomic_write_bytes
-
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format=Path(path).suffix.lower()[1:], dpi=110)
-    plt.close(figure)
-    try:
-        atomic_write_bytes(path, buffer.getvalue(), replace=overwrite)
-    except FileExistsError:
-        raise SystemExit(f"sarsp-edu tables: error: --figure {path} was written by another command meanwhile; "
-                         "--overwrite replaces it") from None
-    print(f"figure written to {path}")
 
 
 def _threshold_study(args, parser) -> int:
@@ -356,7 +315,7 @@ def _threshold_study(args, parser) -> int:
     _distinct_outputs(parser, args.markdown, args.figure)
     if args.markdown is not None:
         check_file(parser, "--markdown", args.markdown, overwrite=args.overwrite)
-    _check_figure(parser, args.figure, args.overwrite)
+    check_figure(parser, args.figure, args.overwrite)
     if args.models is not None:
         _check_models_folder(parser, Path(args.models))
     try:
@@ -397,9 +356,9 @@ def _threshold_study(args, parser) -> int:
     if args.figure:
         from ..teaching.plotting import plot_threshold_study
 
-        figure, axes = _figure(1, 3, (13, 4.2))
+        figure, axes = new_figure(1, 3, (13, 4.2))
         plot_threshold_study(axes, study.runs)
-        _save_figure(figure, args.figure, args.overwrite)
+        save_figure(figure, args.figure, args.overwrite)
     return 0
 
 

@@ -6,7 +6,8 @@ import argparse
 from pathlib import Path
 
 from .arguments import check_writable
-from .reading import _check_figure, _figure, _format_table, _save_figure
+from .commands import _format_table
+from .figures import check_figure, new_figure, save_figure
 
 HELP = "run and tabulate the rule study: the three models under other safety rules, nu, fits and outliers"
 DESCRIPTION = (
@@ -47,7 +48,7 @@ def _rule_study(args, parser: argparse.ArgumentParser) -> int:
 
     if args.jobs < 1:
         parser.error(f"--jobs takes a whole number >= 1, got {args.jobs}")
-    _check_figure(parser, args.figure, args.overwrite)
+    check_figure(parser, args.figure, args.overwrite)
     if Path(args.out).exists() and not Path(args.out).is_dir():
         parser.error(f"--out {args.out} is a file; give the study's folder")
     for flag, folder, marker in (("--ablation", args.ablation, "ablation.json"), ("--models", args.models, None)):
@@ -101,7 +102,7 @@ def show_study(study, questions=None, figure=None) -> None:
               f"backup share of the three models, once both have every run stored): {fairest or 'not decided yet'}")
     if figure and len(study.runs) and (study.runs["question"].isin(questions)).any():
         shown = [q for q in questions if len(study.runs) and (study.runs["question"] == q).any()]
-        drawn, axes = _figure(len(shown), 3, (14, 1.2 + 0.55 * len(study.runs.drop_duplicates("setting"))))
+        drawn, axes = new_figure(len(shown), 3, (14, 1.2 + 0.55 * len(study.runs.drop_duplicates("setting"))))
         counts = study.runs.groupby(["setting", "model"]).size().groupby("setting").min()
         runs = study.runs.assign(setting=[name if counts[name] == study.planned else
                                           f"{name} ({counts[name]} of {study.planned} runs)"
@@ -109,4 +110,4 @@ def show_study(study, questions=None, figure=None) -> None:
         for row, question in zip(axes.reshape(len(shown), 3), shown):
             plot_rule_study(row, runs[runs["question"] == question])
             row[0].set_title(f"{question}: {row[0].get_title()}")
-        _save_figure(drawn, figure)
+        save_figure(drawn, figure)

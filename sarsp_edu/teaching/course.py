@@ -26,6 +26,7 @@ import zipfile
 from pathlib import Path
 
 from .execution import NotebookFailed, execute, executed  # running a notebook: execution.py
+from .layout import sources, student_notebooks, student_path  # where a course's notebooks are: layout.py
 from .pages import write_pages  # the static pages are built in pages.py
 
 __all__ = [
@@ -173,28 +174,6 @@ def check_source(source) -> list[str]:
     return problems
 
 
-def sources(tutorials: Path, only=None) -> list[Path]:
-    """The source notebooks of a tutorials folder, in order (``only``: those whose number NN is listed).
-
-    Parameters
-    ----------
-    tutorials : path-like
-        The tutorials folder; the sources are ``source/NN_name.ipynb`` in it.
-    only : iterable of int or str, optional
-        Tutorial numbers to keep; a number with no source is a ``ValueError``.  None or empty: all.
-    """
-    found = sorted((Path(tutorials) / "source").glob("[0-9][0-9]_*.ipynb"))
-    if not found:
-        raise FileNotFoundError(f"{tutorials}/source holds no source notebook (NN_name.ipynb)")
-    if only:
-        wanted = {f"{int(number):02d}" for number in only}
-        numbers = {path.name[:2] for path in found}
-        if wanted - numbers:
-            raise ValueError(f"only must name tutorials among {sorted(numbers)}, got {sorted(wanted - numbers)}")
-        found = [path for path in found if path.name[:2] in wanted]
-    return found
-
-
 def clear_reveals(notebook):
     """Clear the outputs of the cells that reveal a prediction's answer (tagged ``reveal``), in place.
 
@@ -207,11 +186,6 @@ def clear_reveals(notebook):
         if cell.cell_type == "code" and REVEAL_TAG in cell.metadata.get("tags", []):
             cell.outputs, cell.execution_count = [], None
     return notebook
-
-
-def student_path(source: Path) -> Path:
-    """Where a source's student notebook lives: ``tutorials/NN_name.ipynb`` beside ``tutorials/source/``."""
-    return source.parent.parent / source.name
 
 
 def execute_sources(tutorials="tutorials", timeout: int = 900, only=None) -> list[Path]:
@@ -284,15 +258,6 @@ def typed_answers(path: Path, generated) -> list:
         return []
     held, fresh = _answers(nbformat.read(path, as_version=4)), _answers(generated)
     return sorted(str(key) for key, text in held.items() if fresh.get(key) != text)
-
-
-def _student_notebooks(tutorials: Path) -> list[Path]:
-    """The student notebooks of a tutorials folder, one per source; an error if one was never made."""
-    notebooks = [student_path(path) for path in sources(tutorials)]
-    missing = [str(p) for p in notebooks if not p.exists()]
-    if missing:
-        raise FileNotFoundError(f"no student notebook {missing}: run 'sarsp-edu course student' first")
-    return notebooks
 
 
 def write_student_notebooks(tutorials="tutorials", run: bool = True, timeout: int = 900, only=None,
@@ -386,7 +351,7 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
     root = Path(root)
     if (out is None) == (zip_path is None):
         raise ValueError("give exactly one of out (a folder) or zip_path (a zip file)")
-    notebooks = _student_notebooks(root / "tutorials")
+    notebooks = student_notebooks(root / "tutorials")
     files = [(p, Path("tutorials") / p.name) for p in notebooks]
     files += [(root / name, Path(inside)) for name, inside in HANDOUT_FILES if (root / name).exists()]
     for folder in HANDOUT_RESULTS:

@@ -25,6 +25,8 @@ import re
 import warnings
 from pathlib import Path
 
+from .layout import student_notebooks
+
 __all__ = ["ALT_KEY", "PagesWarning", "TexConversionError", "tex_to_mathml", "page_title", "describe_figures",
            "write_pages"]
 
@@ -278,10 +280,9 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
     import nbformat
 
     from .._internal.io import atomic_write_text
-    from .course import _student_notebooks
 
     tutorials, out = Path(tutorials), Path(out)
-    notebooks = _student_notebooks(tutorials)
+    notebooks = student_notebooks(tutorials)
     page_exporter = _nbconvert()[2]
     out.mkdir(parents=True, exist_ok=True)
     entries = []

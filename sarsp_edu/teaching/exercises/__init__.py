@@ -36,20 +36,14 @@ from __future__ import annotations
 
 import os
 
-from .agent import AGENT_EXERCISES
 from .answers import Unreadable
 from .capstone import CAPSTONE
-from .evidence import EVIDENCE_EXERCISES
+from .coding import CODING  # the exercises in which the student writes a function, by "tutorial.number"
 from .grading import CodingExercise, Mistake, explained, grade, run_prediction, same
 from .lookups import LOOKUPS, Exercise
-from .models import MODEL_EXERCISES
-from .records import RECORD_EXERCISES
 
 __all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
 
-#: the exercises in which the student writes a function, by "tutorial.number"
-CODING: dict[str, CodingExercise] = {**MODEL_EXERCISES, **AGENT_EXERCISES, **EVIDENCE_EXERCISES,
-                                     **RECORD_EXERCISES}
 #: every exercise, by "tutorial.number": the coding ones, the short answers and the capstone
 EXERCISES: dict = dict(sorted({**CODING, **LOOKUPS, **CAPSTONE}.items(),
                               key=lambda item: tuple(map(int, item[0].split(".")))))

@@ -195,7 +195,7 @@ def _read(answer):
 def _preflight(parts) -> str | None:
     """Each function once on its exercise's first input: why the run cannot start, or None."""
     from ...agent.parts import EXERCISE_OF
-    from . import CODING
+    from .coding import CODING
 
     for name in PART_FUNCTIONS:
         exercise = EXERCISE_OF[name]
@@ -250,7 +250,7 @@ def run_check(answer, config=None, progress: bool = True) -> tuple[bool, str]:
 def _own_checks(parts) -> str | None:
     """After a run that agreed: the first function its exercise's own check finds wrong, in words, or None."""
     from ...agent.parts import EXERCISE_OF
-    from . import CODING
+    from .coding import CODING
     from .grading import grade
 
     for name in PART_FUNCTIONS:

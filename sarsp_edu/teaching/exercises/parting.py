@@ -104,7 +104,7 @@ def _culprit(calls: list, parts=None) -> str | None:
     rounding its inputs allow), in words; with the student's ``parts``, the diagnosis is its exercise's check's
     (every input of the exercise, where one input may fit two mistakes)."""
     from ...agent.parts import EXERCISE_OF, DecisionParts
-    from . import CODING
+    from .coding import CODING
     from .grading import grade
 
     for name, case, result in calls:
@@ -188,7 +188,7 @@ def _apart(yours, ours) -> tuple:
 def _failed(failed, where: str) -> str:
     """A student's function that raised or ran out of time inside the agent, in words."""
     from ...agent.parts import EXERCISE_OF
-    from . import CODING
+    from .coding import CODING
 
     error = failed.error
     if isinstance(error, TimedOut):

@@ -96,7 +96,7 @@ def prefit(n_switch_states=(2, 10), *, nu=NU, magnitude=DataSettings.outlier_mag
                            f"{os.environ.get(fitcache.CACHE_VARIABLE)!r}): there is nowhere to keep a fit")
     values = [n_switch_states] if isinstance(n_switch_states, int) else list(n_switch_states)
     base = ExperimentConfig() if config is None else config
-    from .view import TP_AND_GP
+    from .pick import TP_AND_GP
 
     queue = FitQueue(dict(TP_AND_GP if sides is None else sides))
     done = []
