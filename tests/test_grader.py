@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from sarsp_edu.teaching.exercises import EXERCISES
-from sarsp_edu.teaching.exercises.answers import (
+from sarsp_edu.teaching.exercises.grading import grade
+from sarsp_edu.teaching.exercises.parsing import (
     NARROWER,
     WIDER,
     Unreadable,
@@ -18,7 +19,6 @@ from sarsp_edu.teaching.exercises.answers import (
     read_side,
     read_word,
 )
-from sarsp_edu.teaching.exercises.grading import grade
 
 
 def definition_4(reward, own_rate, against_a, cost=lambda c1, c2: c1 < c2):

@@ -8,7 +8,7 @@ import nbformat
 import pytest
 
 from sarsp_edu.teaching.course import clear_reveals, sources, student_path
-from sarsp_edu.teaching.exercises.lookups import LOOKUPS
+from sarsp_edu.teaching.exercises.short_answers import LOOKUPS
 from sarsp_edu.teaching.prose import REVEAL_TAG, declared_numbers, output_numbers, prose_numbers, traces, untraced
 
 ROOT = Path(__file__).resolve().parents[1]

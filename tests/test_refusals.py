@@ -11,7 +11,7 @@ import pytest
 from sarsp_edu import ExperimentConfig, StudentTLikelihoodGP
 from sarsp_edu.agent.parts import gp_posterior, tp_factor
 from sarsp_edu.agent.sarsp import SARSPAgent
-from sarsp_edu.models.processes.settings import make_model
+from sarsp_edu.models.processes.factory import make_model
 
 from .test_cli import _usage_error as usage_error
 from .test_sarsp import OBS, tiny_agent, tiny_data

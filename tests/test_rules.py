@@ -14,10 +14,10 @@ from sarsp_edu.agent.decision import choose_action
 from sarsp_edu.agent.sarsp import SARSPAgent
 from sarsp_edu.models.linalg import distinct_rows
 from sarsp_edu.models.optimizers import RESTART_OFFSETS, best_of_starts, projected_gradient_norm, restart_points
+from sarsp_edu.models.processes.factory import make_model
 from sarsp_edu.models.processes.laplace_gradient import laplace_gradient
+from sarsp_edu.models.processes.likelihood import nu_log_prior
 from sarsp_edu.models.processes.predictive import probability_below
-from sarsp_edu.models.processes.robust import nu_log_prior
-from sarsp_edu.models.processes.settings import make_model
 
 from .test_sarsp import OBS, tiny_agent, tiny_data
 

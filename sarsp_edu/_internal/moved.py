@@ -18,7 +18,8 @@ import warnings
 
 __all__ = ["MOVED", "new_path", "install"]
 
-#: old module path (under ``sarsp_edu``) -> its path since 0.3; a moved package's submodules follow it
+#: old module path (under ``sarsp_edu``) -> its path since 0.3 (or 0.4, the renames at the end); a moved package's
+#: submodules follow it
 MOVED = {
     "_io": "_internal.io",
     "_parallel": "_internal.parallel",
@@ -58,6 +59,11 @@ MOVED = {
     "live.dashboard": "teaching.live.view",
     "live.animation": "teaching.live.controller",  # the animation mixin became the LiveRun controller
     "live": "teaching.live",
+    # renamed in 0.4, each for the one job it holds
+    "models.processes.robust": "models.processes.likelihood",  # the GP with a Student-t likelihood
+    "models.processes.settings": "models.processes.factory",  # make_model (the settings are config's)
+    "teaching.exercises.answers": "teaching.exercises.parsing",  # reading a short answer
+    "teaching.exercises.lookups": "teaching.exercises.short_answers",  # the short-answer exercises
 }
 
 _ROOT = "sarsp_edu"

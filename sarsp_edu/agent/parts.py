@@ -339,7 +339,7 @@ def model_parts_refusal(parts: DecisionParts, cost_model, reward_model) -> str |
     cost_model, reward_model : estimator
         The agent's two models.
     """
-    from ..models.processes.robust import StudentTLikelihoodGP
+    from ..models.processes.likelihood import StudentTLikelihoodGP
 
     unusable = sorted({"kernel", "posterior", "tp_factor"} & set(parts.replaced()))
     robust = [role for role, model in (("cost", cost_model), ("reward", reward_model))

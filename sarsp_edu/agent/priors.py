@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..models.kernels import KernelTable, whole_distance_bound
-from ..models.processes.robust import StudentTLikelihoodGP
+from ..models.processes.likelihood import StudentTLikelihoodGP
 
 __all__ = ["KERNEL_TABLE_MAX_DISTINCT", "PriorPredictor"]
 

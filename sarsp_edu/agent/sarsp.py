@@ -40,8 +40,8 @@ from .._internal.threads import one_blas_thread
 from .._internal.validation import check_choice
 from ..config import AgentSettings  # Algorithm 1's settings, defined once
 from ..models.processes.laplace import noise_variance
+from ..models.processes.likelihood import StudentTLikelihoodGP
 from ..models.processes.predictive import probability_below, sample_moments
-from ..models.processes.robust import StudentTLikelihoodGP
 from ..world.offline import OfflineData, cost_inputs, reward_inputs
 from .decision import Decision, LearnOutcome, choose_action, override_known_unsafe
 from .parts import DecisionParts, corrective_applies, decide, model_parts_refusal, tail_rule_refusal

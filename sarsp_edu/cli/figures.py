@@ -9,7 +9,17 @@ __all__ = ["check_figure", "new_figure", "save_figure"]
 
 def check_figure(parser, path, overwrite: bool) -> None:
     """Refuse a ``--figure`` file that cannot be written, exists (unless ``overwrite``), or whose suffix names no
-    format matplotlib writes here."""
+    format matplotlib writes here.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Says the refusal (``parser.error``).
+    path : str or None
+        The ``--figure`` argument (None: nothing to check).
+    overwrite : bool
+        Whether an existing file may be replaced.
+    """
     from pathlib import Path
 
     if path is not None:
@@ -19,7 +29,20 @@ def check_figure(parser, path, overwrite: bool) -> None:
 
 
 def new_figure(rows: int, columns: int, size: tuple):
-    """A new figure drawn without a display (the command may run where there is none)."""
+    """A new figure drawn without a display (the command may run where there is none).
+
+    Parameters
+    ----------
+    rows, columns : int
+        The grid of axes.
+    size : tuple of float
+        The figure's size in inches.
+
+    Returns
+    -------
+    figure, axes
+        As ``matplotlib.pyplot.subplots``.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -30,7 +53,14 @@ def new_figure(rows: int, columns: int, size: tuple):
 
 def save_figure(figure, path, overwrite: bool = True) -> None:
     """Write ``figure`` to ``path`` (its suffix the format) through a temporary file, and close it; without
-    ``overwrite`` a file another command made meanwhile is refused, not replaced."""
+    ``overwrite`` a file another command made meanwhile is refused, not replaced.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+    path : str or path-like
+    overwrite : bool, default True
+    """
     import io
     from pathlib import Path
 

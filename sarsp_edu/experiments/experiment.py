@@ -24,7 +24,7 @@ import pandas as pd
 from .._internal.threads import one_blas_thread
 from ..agent.sarsp import Decision, LearnOutcome, SARSPAgent
 from ..config import DEFINITION_4_A, ExperimentConfig, config_or_default
-from ..models.processes.settings import make_model
+from ..models.processes.factory import make_model
 from ..models.processes.summary import fit_summary
 from ..world.preparation import Prepared, prepare
 from .metrics import RECORD_COLUMNS, check_a, running_metrics

@@ -40,7 +40,7 @@ How to read it, one module per job:
   in :mod:`sarsp_edu.models.optimizers`);
 - :mod:`~sarsp_edu.models.processes.gp` and :mod:`~sarsp_edu.models.processes.tp`: the two
   models, mostly their documentation;
-- :mod:`~sarsp_edu.models.processes.robust`: for contrast, a GP with a Student-t
+- :mod:`~sarsp_edu.models.processes.likelihood`: for contrast, a GP with a Student-t
   *likelihood* (Laplace approximation), a model whose mean does discount
   outliers, which neither of the two above does.
 """
@@ -54,9 +54,9 @@ from .equations import (
     tp_variance_factor,
 )
 from .gp import GaussianProcess
+from .likelihood import StudentTLikelihoodGP, student_t_log_likelihood
 from .objective import ConvergenceWarning
 from .regressor import NotFittedError
-from .robust import StudentTLikelihoodGP, student_t_log_likelihood
 from .tp import StudentTProcess
 
 __all__ = [

@@ -14,7 +14,7 @@ Gaussians: each step is a GP's mean with the rows weighted by
 approximate posterior's covariance is ``(K^-1 + W)^-1 = L B^-1 L^T`` with
 ``K = L L^T`` and ``B = I + L^T W L`` (Rasmussen and Williams 2006, ch. 3,
 changed where ``W`` is negative: see
-:class:`~sarsp_edu.models.processes.robust.StudentTLikelihoodGP`).
+:class:`~sarsp_edu.models.processes.likelihood.StudentTLikelihoodGP`).
 """
 
 from __future__ import annotations

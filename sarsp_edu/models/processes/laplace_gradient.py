@@ -1,5 +1,5 @@
 """The gradient of the Laplace approximation's log marginal likelihood in the log hyperparameters: what the
-hyperparameter search of :class:`~sarsp_edu.models.processes.robust.StudentTLikelihoodGP` climbs.
+hyperparameter search of :class:`~sarsp_edu.models.processes.likelihood.StudentTLikelihoodGP` climbs.
 
 The mode and the approximation at it are :mod:`~sarsp_edu.models.processes.laplace`'s; here, each
 hyperparameter's derivative, with its explicit part (the mode held) and its implicit one through the mode's move

@@ -25,7 +25,7 @@ def fit_summary(model) -> dict:
         ``objective`` of each start (``start_objectives``, the first from the constructor's values).
     """
     from .laplace import noise_variance
-    from .robust import StudentTLikelihoodGP
+    from .likelihood import StudentTLikelihoodGP
     from .tp import StudentTProcess
 
     out = {"amplitude": _number(model.kernel_.amplitude), "length_scale": _number(model.kernel_.length_scale)}

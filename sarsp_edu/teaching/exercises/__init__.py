@@ -8,7 +8,7 @@ computation to a tolerance set from the quantity's scale, and answers in one
 or two sentences; a wrong answer gets a diagnosis of the usual mistake it
 matches (a missing noise term, a standard deviation for a variance, a
 misprinted equation ...), never the answer.  A few short "predict, then run"
-questions take a value, or a function returning it (:mod:`.lookups`).  The
+questions take a value, or a function returning it (:mod:`.short_answers`).  The
 capstone, exercise 7.1 (:mod:`.capstone`), takes the six functions of
 exercises 2.1 to 2.3 and 4.1 to 4.3 as the agent's decision and runs that
 agent beside the package's.  In a Voila page (a dashboard served as an app)
@@ -36,11 +36,11 @@ from __future__ import annotations
 
 import os
 
-from .answers import Unreadable
 from .capstone import CAPSTONE
 from .coding import CODING  # the exercises in which the student writes a function, by "tutorial.number"
 from .grading import CodingExercise, Mistake, explained, grade, run_prediction, same
-from .lookups import LOOKUPS, Exercise
+from .parsing import Unreadable
+from .short_answers import LOOKUPS, Exercise
 
 __all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
 

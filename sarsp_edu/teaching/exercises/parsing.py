@@ -18,7 +18,7 @@ Examples
 >>> read_count("a few")
 Traceback (most recent call last):
 ...
-sarsp_edu.teaching.exercises.answers.Unreadable: Could not read 'a few' as a whole number.
+sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'a few' as a whole number.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ from ..._internal.validation import check_choice
 from ...config import AGENT_NOISE_START, FITTED_NU, LIKELIHOOD_NU, ExperimentConfig
 from ..kernels import RBF
 from .gp import GaussianProcess
-from .robust import StudentTLikelihoodGP
+from .likelihood import StudentTLikelihoodGP
 from .tp import StudentTProcess
 
 __all__ = ["make_model"]

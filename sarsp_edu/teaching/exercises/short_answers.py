@@ -15,7 +15,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .answers import NARROWER, WIDER, read_actions, read_count, read_limits, read_side, read_word
+from .parsing import NARROWER, WIDER, read_actions, read_count, read_limits, read_side, read_word
 
 __all__ = ["Exercise", "LOOKUPS"]
 
