@@ -39,7 +39,7 @@ _moved.install()
 
 
 def _register_environment() -> None:
-    """Make ``gymnasium.make("sarsp_edu/SafeGridWorld-v0")`` work once sarsp_edu is imported."""
+    """Make ``gymnasium.make("sarsp_edu/SafeGridWorld-v0")`` work once sarsp_edu and gymnasium are imported."""
     import gymnasium
 
     from .config import GRID_SIZE
@@ -50,7 +50,45 @@ def _register_environment() -> None:
                            max_episode_steps=GRID_SIZE * GRID_SIZE)
 
 
-_register_environment()
+class _RegisterAfterGymnasium:
+    """An import hook: registers the environment right after gymnasium's first import, wherever it happens.
+
+    sarsp_edu does not import gymnasium (nor numpy) itself, so that the ``sarsp-edu`` command is interruptible
+    from its first moment: its own handler says "interrupted" in one line, where an interrupt inside numpy's
+    import printed a traceback.  ``gymnasium.make("sarsp_edu/SafeGridWorld-v0")`` works as before.
+    """
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname != "gymnasium":
+            return None
+        import importlib.util
+        import sys
+
+        if self in sys.meta_path:
+            sys.meta_path.remove(self)  # once: the spec below is found by the other finders
+        spec = importlib.util.find_spec(fullname)
+        if spec is None or spec.loader is None or not hasattr(spec.loader, "exec_module"):
+            return spec
+        run = spec.loader.exec_module
+
+        def exec_module(module):  # this spec's own loader: gymnasium's import, then the registration
+            run(module)
+            _register_environment()
+
+        spec.loader.exec_module = exec_module
+        return spec
+
+
+def _install_registration() -> None:
+    import sys
+
+    if "gymnasium" in sys.modules:
+        _register_environment()
+    elif not any(isinstance(finder, _RegisterAfterGymnasium) for finder in sys.meta_path):
+        sys.meta_path.insert(0, _RegisterAfterGymnasium())
+
+
+_install_registration()
 
 # Public names load their module on first use (PEP 562), so that the
 # ``sarsp-edu`` command answers --help without importing scipy and pandas.

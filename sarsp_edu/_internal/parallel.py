@@ -10,10 +10,33 @@ order, after the TP's own.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
+import threading
 import warnings
 
-__all__ = ["available_cores", "in_second_process", "stop_workers"]
+__all__ = ["available_cores", "in_second_process", "stop_workers", "workers_deaf_to_interrupts"]
+
+
+@contextlib.contextmanager
+def workers_deaf_to_interrupts():
+    """Within the block, worker processes start with Ctrl-C ignored; this process's handler is back after it.
+
+    A Ctrl-C reaches every process of the terminal's group: a worker still importing would print its own
+    ``KeyboardInterrupt`` traceback above the command's one-line message.  An ignored signal stays ignored
+    through ``exec``, so the workers started here ignore it for good, and the command, which alone hears it,
+    stops them.  The block should only start processes (a Ctrl-C within it is lost); off the main thread,
+    where no handler can be set, it does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def available_cores() -> int:
@@ -55,9 +78,10 @@ def in_second_process(function, *args, **kwargs) -> _Pending:
     """
     from joblib.externals.loky import ProcessPoolExecutor
 
-    if _WORKER["executor"] is None:
-        _WORKER["executor"] = ProcessPoolExecutor(max_workers=1)
-    return _Pending(_WORKER["executor"].submit(_call_recording_warnings, function, args, kwargs))
+    with workers_deaf_to_interrupts():  # the worker starts within submit
+        if _WORKER["executor"] is None:
+            _WORKER["executor"] = ProcessPoolExecutor(max_workers=1)
+        return _Pending(_WORKER["executor"].submit(_call_recording_warnings, function, args, kwargs))
 
 
 def stop_workers() -> None:

@@ -394,6 +394,6 @@ def _model_sweep(args, parser) -> int:
     except CellsFailed as exc:
         return _cells_failed(exc)
     except ValueError as exc:  # --out is the paired sweep, holds another sweep, or is locked by a running one
-        parser.error(str(exc))
+        parser.error(str(exc).replace(f"results_dir={str(args.out)!r}", f"--out {args.out}"))
     print(f"{args.model}: {len(done)} of {len(requested)} cells stored in {args.out}")
     return 0

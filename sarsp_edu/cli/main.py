@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import errno
 import functools
 import os
 import signal
@@ -290,7 +291,13 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     previous = _stop_on_sigterm()
     try:
-        return args.func(args, args.parser)
+        try:
+            return args.func(args, args.parser)
+        except ImportError as exc:  # a stop raised inside a C extension's import comes out as its ImportError
+            stop = _stop_within(exc)
+            if stop is None:
+                raise
+            raise stop from None
     except KeyboardInterrupt as stop:  # Ctrl-C, or a SIGTERM (Terminated): the same clean stop
         terminated = isinstance(stop, Terminated)
         print(_interrupted(args, "terminated" if terminated else "interrupted"), file=sys.stderr)
@@ -301,6 +308,9 @@ def main(argv: list[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush finds no pipe either
         return 141  # the shell's code for a command ended by SIGPIPE
     except OSError as exc:  # a full disk, a folder made read-only meanwhile: one line, not a traceback
+        where = getattr(args, "out", None) or getattr(args, "markdown", None)
+        if exc.errno == errno.ENOSPC and not exc.filename and where:
+            exc = f"{exc} (writing to {where}; what was stored before stays whole, and a rerun resumes)"
         print(f"sarsp-edu {args.command}: error: {exc}", file=sys.stderr)
         return 1
     finally:
@@ -311,6 +321,17 @@ def main(argv: list[str] | None = None) -> int:
 class Terminated(KeyboardInterrupt):
     """A SIGTERM (``kill PID``, a batch system's stop): the command stops as on Ctrl-C, its worker processes
     with it, and what it has stored stays; raised where the main thread is when the signal arrives."""
+
+
+def _stop_within(exc: BaseException):
+    """The KeyboardInterrupt (or Terminated) in ``exc``'s chain of causes, or None."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None
 
 
 def _raise_terminated(signum, frame):
@@ -352,6 +373,8 @@ def _interrupted(args, stopped: str = "interrupted") -> str:
         return (f"{stopped}: {saved} of {total} cells' {args.model} runs are stored in {args.out}; "
                 "rerun the same command to resume")
     if args.command in ("sweep", "ablation"):
+        if getattr(args, "out", None):  # stopped before its folder was read
+            return f"{stopped}: nothing was saved in {args.out} yet; rerun the same command to begin"
         return f"{stopped}: nothing was saved (with --out DIR finished cells are kept, and a rerun resumes)"
     if args.command in ("run", "compare"):
         return f"{stopped}: nothing was saved (a run is saved only when it has finished)"

@@ -14,6 +14,8 @@ def _tables(args, parser) -> int:
     from ..experiments.sweep import SweepResults, describe_cells, stored_sweep
     from ..experiments.tables import frame_to_markdown, summary_tables, tables_markdown
 
+    if not str(args.results_dir).strip():
+        parser.error("RESULTS_DIR is empty: name a results folder ('sarsp-edu sweep --out DIR' makes one)")
     _distinct_outputs(parser, args.markdown, args.figure)
     _outside(parser, "--figure", args.figure, [args.results_dir])
     if args.markdown is not None:

@@ -32,7 +32,9 @@ from .._version import __version__
 from ..config import ABLATION_CELLS, ABLATION_SEEDS, PRESETS, ExperimentConfig
 from .metrics import backup_share, trapped_episodes
 from .sweep import CellsFailed, SweepResults, run_sweep
+from .sweep.cells import _check_cell
 from .sweep.failures import collecting
+from .sweep.run import _grid
 
 __all__ = [
     "ABLATION_CELLS",
@@ -354,6 +356,8 @@ def run_ablation(
         if preset not in PRESETS:
             raise ValueError(f"setting {name!r} names preset={preset!r}; valid presets are {sorted(PRESETS)}")
         configs[name] = setting_config(setting, episodes=episodes)  # validates every field first
+    for config in configs.values():  # and every cell under every setting: a refused call writes nothing
+        _grid("cells", [tuple(cell) for cell in cells], lambda cell, config=config: _check_cell(config, cell))
     results = AblationResults(settings={name: dict(s) for name, s in settings.items()})
     folder = None if results_dir is None else Path(results_dir)
     if folder is not None:

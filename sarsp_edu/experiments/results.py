@@ -229,7 +229,7 @@ def _check_ranges(path: Path, records: pd.DataFrame, config: ExperimentConfig) -
             row = int(np.flatnonzero(wrong)[0])
             raise StoredResultError(
                 f"{where(column, wrong)}, where the episodes' rewards, costs, steps and successes up to it give "
-                f"{implied[row]!r}: a row was edited")
+                f"{float(implied[row])!r}: a row was edited")
 
 
 @dataclass

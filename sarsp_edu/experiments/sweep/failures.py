@@ -144,12 +144,15 @@ def in_workers(function, calls, n_jobs: int):
         Worker processes.
     """
     from joblib import Parallel, delayed
+    from joblib.externals.loky import get_reusable_executor
+
+    from ..._internal.parallel import workers_deaf_to_interrupts
 
     try:
-        yield from Parallel(n_jobs=n_jobs, return_as="generator_unordered")(delayed(function)(*args)
-                                                                            for args in calls)
+        with workers_deaf_to_interrupts():  # joblib's workers start at the first dispatch, within this call
+            results = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(delayed(function)(*args)
+                                                                               for args in calls)
+        yield from results
     except KeyboardInterrupt:
-        from joblib.externals.loky import get_reusable_executor
-
         get_reusable_executor().shutdown(wait=True, kill_workers=True)
         raise

@@ -45,7 +45,10 @@ class FitWorker:
     def __init__(self):
         self.process = subprocess.Popen(
             [sys.executable, "-m", "sarsp_edu.teaching.live.fitting"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-            env=dict(os.environ, PYTHONUNBUFFERED="1"))
+            env=dict(os.environ, PYTHONUNBUFFERED="1"),
+            # its own session: a Ctrl-C in the terminal (or a kernel's interrupt of its group) is not for the fits,
+            # even while the process still imports; the kernel ends a worker itself, and its end of the pipe ends it
+            start_new_session=True)
         self.steps = (0, 0)  # steps taken, steps in all (0: not known)
         self.started_at = None  # when the fit itself began (imports and data done)
         self._answers = queue.Queue()

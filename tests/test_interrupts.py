@@ -1,0 +1,114 @@
+"""Stops at any moment say one line: the command's start is light enough to catch a Ctrl-C, worker processes
+start deaf to it, a stop raised inside a C extension's import is still a stop, and a refused ablation writes
+nothing."""
+from __future__ import annotations
+
+import errno
+import importlib
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from sarsp_edu._internal.parallel import workers_deaf_to_interrupts
+from sarsp_edu.cli import main as cli_main
+from sarsp_edu.cli.main import Terminated, _stop_within
+
+
+def _fresh(code: str) -> str:
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                          check=True).stdout.strip()
+
+
+def test_the_command_imports_without_numpy_and_the_environment_registers_once_gymnasium_is_imported():
+    """numpy's import was the long window in which a Ctrl-C printed a traceback: the command's modules no longer
+    import it, and ``gymnasium.make`` still finds the environment, whichever of the two is imported first."""
+    assert _fresh("import sys, sarsp_edu.cli; print('numpy' in sys.modules, 'gymnasium' in sys.modules)") == \
+        "False False"
+    for first, second in (("sarsp_edu", "gymnasium"), ("gymnasium", "sarsp_edu")):
+        code = (f"import {first}, {second}, gymnasium; "
+                "print(type(gymnasium.make('sarsp_edu/SafeGridWorld-v0').unwrapped).__name__)")
+        assert _fresh(code) == "SafeGridWorld"
+
+
+def test_a_process_started_in_the_block_ignores_ctrl_c_and_this_one_hears_it_again_after():
+    before = signal.getsignal(signal.SIGINT)
+    with workers_deaf_to_interrupts():
+        child = _fresh("import signal; print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)")
+    assert child == "True" and signal.getsignal(signal.SIGINT) is before
+
+
+def test_a_stop_inside_a_c_extensions_import_is_found_in_its_import_error():
+    try:
+        try:
+            raise Terminated
+        except Terminated as stop:
+            raise ImportError("initialization failed") from stop
+    except ImportError as exc:
+        assert isinstance(_stop_within(exc), Terminated)
+    assert _stop_within(ImportError("no module named x")) is None
+
+
+def test_a_terminated_import_in_a_command_ends_it_as_terminated(monkeypatch, capsys):
+    module = importlib.import_module("sarsp_edu.cli.main")  # the module (the package lends its main function)
+
+    def importing(args, parser):
+        try:
+            raise Terminated
+        except Terminated as stop:
+            raise ImportError("initialization failed") from stop
+
+    real = module.build_parser
+
+    def parser_with_a_stopping_info():
+        parser = real()
+        parser._subparsers._group_actions[0].choices["info"].set_defaults(func=importing)
+        return parser
+
+    monkeypatch.setattr(module, "build_parser", parser_with_a_stopping_info)
+    assert cli_main(["info"]) == 128 + signal.SIGTERM
+    assert "terminated" in capsys.readouterr().err
+
+
+def test_a_full_disk_names_where_the_command_was_writing(monkeypatch, capsys, tmp_path):
+    module = importlib.import_module("sarsp_edu.cli.main")  # the module (the package lends its main function)
+
+    def full(args, parser):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    real = module.build_parser
+
+    def parser_with_a_full_disk():
+        parser = real()
+        parser._subparsers._group_actions[0].choices["run"].set_defaults(func=full)
+        return parser
+
+    monkeypatch.setattr(module, "build_parser", parser_with_a_full_disk)
+    assert cli_main(["run", "--out", str(tmp_path / "r")]) == 1
+    said = capsys.readouterr().err
+    assert f"No space left on device (writing to {tmp_path / 'r'}; what was stored before stays whole" in said
+
+
+@pytest.mark.parametrize("cells", [["40", "2", "2"], ["40", "0.2", "99"]])
+def test_an_ablation_refused_for_its_cells_leaves_no_folder(tmp_path, cells):
+    out = tmp_path / "ab"
+    with pytest.raises(SystemExit) as stop:
+        cli_main(["ablation", "--cells", *cells, "--out", str(out)])
+    assert stop.value.code == 2 and not out.exists()  # was: ablation.json written, which then blocked the folder
+
+
+def test_a_sweep_stopped_before_its_folder_was_read_says_where_it_would_have_saved(tmp_path):
+    import argparse
+
+    from sarsp_edu.cli.main import _interrupted
+
+    said = _interrupted(argparse.Namespace(command="sweep", out=str(tmp_path / "s")))
+    assert said == f"interrupted: nothing was saved in {tmp_path / 's'} yet; rerun the same command to begin"
+    assert "with --out DIR" in _interrupted(argparse.Namespace(command="sweep", out=None))
+
+
+def test_tables_of_an_empty_path_says_it_is_empty(capsys):
+    with pytest.raises(SystemExit):
+        cli_main(["tables", ""])
+    assert "RESULTS_DIR is empty" in capsys.readouterr().err  # was: ". is not a sweep results folder"
