@@ -50,41 +50,36 @@ def test_a_stop_inside_a_c_extensions_import_is_found_in_its_import_error():
     assert _stop_within(ImportError("no module named x")) is None
 
 
-def test_a_terminated_import_in_a_command_ends_it_as_terminated(monkeypatch, capsys):
+def _command_doing(monkeypatch, command: str, work) -> None:
+    """Make ``sarsp-edu COMMAND`` call ``work(args, parser)`` instead of its own handler."""
     module = importlib.import_module("sarsp_edu.cli.main")  # the module (the package lends its main function)
+    real = module.build_parser
 
+    def build_parser():
+        parser = real()
+        parser._subparsers._group_actions[0].choices[command].set_defaults(func=work)
+        return parser
+
+    monkeypatch.setattr(module, "build_parser", build_parser)
+
+
+def test_a_terminated_import_in_a_command_ends_it_as_terminated(monkeypatch, capsys):
     def importing(args, parser):
         try:
             raise Terminated
         except Terminated as stop:
             raise ImportError("initialization failed") from stop
 
-    real = module.build_parser
-
-    def parser_with_a_stopping_info():
-        parser = real()
-        parser._subparsers._group_actions[0].choices["info"].set_defaults(func=importing)
-        return parser
-
-    monkeypatch.setattr(module, "build_parser", parser_with_a_stopping_info)
+    _command_doing(monkeypatch, "info", importing)
     assert cli_main(["info"]) == 128 + signal.SIGTERM
     assert "terminated" in capsys.readouterr().err
 
 
 def test_a_full_disk_names_where_the_command_was_writing(monkeypatch, capsys, tmp_path):
-    module = importlib.import_module("sarsp_edu.cli.main")  # the module (the package lends its main function)
-
     def full(args, parser):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    real = module.build_parser
-
-    def parser_with_a_full_disk():
-        parser = real()
-        parser._subparsers._group_actions[0].choices["run"].set_defaults(func=full)
-        return parser
-
-    monkeypatch.setattr(module, "build_parser", parser_with_a_full_disk)
+    _command_doing(monkeypatch, "run", full)
     assert cli_main(["run", "--out", str(tmp_path / "r")]) == 1
     said = capsys.readouterr().err
     assert f"No space left on device (writing to {tmp_path / 'r'}; what was stored before stays whole" in said
