@@ -290,3 +290,11 @@ def test_a_partial_ablation_says_so(tmp_path, capsys):
     assert main(["tables", str(folder)]) == 0
     assert "partial: 1 setting(s) hold fewer than the 6 runs the ablation plans (default, k=400)" in \
         capsys.readouterr().out
+
+
+def test_a_proportion_of_minus_zero_is_the_cell_p_0_and_resumes_as_it(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    grid = ["--m", "40", "--nss", "2", "--seeds", "0", "--out", str(out), *SMALL_RUN]
+    assert main(["sweep", "--p=-0.0", *grid]) == 0
+    assert main(["sweep", "--p", "0", *grid]) == 0  # resumes: the same cell, not a second copy
+    assert sorted(path.name for path in (out / "cells").iterdir()) == ["m40_p0_nss2_seed0"]  # was also ..._p-0_...

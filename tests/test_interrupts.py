@@ -107,3 +107,24 @@ def test_tables_of_an_empty_path_says_it_is_empty(capsys):
     with pytest.raises(SystemExit):
         cli_main(["tables", ""])
     assert "RESULTS_DIR is empty" in capsys.readouterr().err  # was: ". is not a sweep results folder"
+
+
+def test_the_python_api_names_a_file_given_as_a_results_folder_and_a_fit_that_is_not_a_function(tmp_path):
+    from sarsp_edu import ExperimentConfig
+    from sarsp_edu.experiments.experiment import Experiment
+
+    with pytest.raises(TypeError, match="fit must be a function fit"):
+        Experiment(ExperimentConfig(episodes=1), fit=42)  # was: 'int' object is not callable, after the data
+    from sarsp_edu.experiments.results import ExperimentResult
+
+    a_file = tmp_path / "taken"
+    a_file.write_text("")
+    with pytest.raises(NotADirectoryError, match="is a file; a result is saved into a folder"):
+        ExperimentResult.save(object.__new__(ExperimentResult), a_file)
+
+
+@pytest.mark.parametrize("action", ["pages", "handout"])
+def test_course_refuses_only_where_it_would_change_nothing(capsys, tmp_path, action):
+    with pytest.raises(SystemExit):
+        cli_main(["course", action, "--only", "1", "--out", str(tmp_path / "x")])
+    assert "--only picks the notebooks of 'sources' and 'student'" in capsys.readouterr().err

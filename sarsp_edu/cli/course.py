@@ -36,6 +36,9 @@ def _course(args, parser) -> int:
         parser.error(f"sarsp-edu course needs {', '.join(missing)}, which a plain install leaves out: "
                      "pip install 'sarsp_edu[course]'")
 
+    if args.only and args.action in ("pages", "handout"):  # a flag that would change nothing: refused, not ignored
+        parser.error(f"--only picks the notebooks of 'sources' and 'student'; '{args.action}' writes every "
+                     "tutorial's (drop --only)")
     if args.action in ("sources", "student", "pages"):
         try:
             if args.action == "sources":

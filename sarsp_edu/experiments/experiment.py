@@ -74,6 +74,9 @@ class Experiment:
     def __init__(self, config: ExperimentConfig, *, prepared: Prepared | None = None, fit=None, parts=None):
         if not isinstance(config, ExperimentConfig):
             raise TypeError(f"config must be an ExperimentConfig, got {type(config).__name__}")
+        if fit is not None and not callable(fit):
+            raise TypeError(f"fit must be a function fit(agent) that fits the agent's models, or None (the agent's "
+                            f"own fit), got {fit!r}")
         self.config = config
         prepared = prepare(config) if prepared is None else prepared
         self.env = copy.deepcopy(prepared.env)

@@ -75,8 +75,16 @@ class ExperimentResult:
         """Write ``records.csv`` and ``result.json`` (config, summary, timings) atomically.
 
         ``result.json`` is written last, so its presence marks a complete result.
+
+        Parameters
+        ----------
+        directory : path-like
+            A folder (made if missing); not a file.
         """
         directory = Path(directory)
+        if directory.exists() and not directory.is_dir():
+            raise NotADirectoryError(f"directory={str(directory)!r} is a file; a result is saved into a folder "
+                                     "(records.csv and result.json)")
         table = self.records.copy()
         for column in ("start", "goal"):
             table[column] = [f"{x} {y}" for x, y in table[column]]

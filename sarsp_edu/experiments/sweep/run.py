@@ -206,7 +206,9 @@ def run_sweep(
     if scheduler is None:
         _check_jobs(n_jobs)
     check_a(a)
-    keys = [(float(m), float(p), int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
+    # + 0.0: a proportion of -0.0 is the cell p = 0 (its own folder name would be p-0, a second copy of the cell)
+    cells = [(float(m) + 0.0, float(p) + 0.0, nss) for m, p, nss in cells]
+    keys = [(m, p, int(nss), int(seed)) for seed in seeds for m, p, nss in cells]
     _refuse_twins(keys)
 
     if scheduler is not None:
