@@ -62,6 +62,24 @@ def test_every_tex_fragment_of_the_tutorials_becomes_mathml(pages):
         assert not soup.find_all("script", src=True), f"{notebook.name} loads a script"
 
 
+def test_every_local_link_of_the_pages_opens_a_file_of_the_pages_folder(pages):
+    """The glossary, REPRODUCTION.md and the figures it shows are pages or copies in the folder: nothing points
+    back into the repository (was: GLOSSARY.md from Tutorials 1-6 and ../REPRODUCTION.md from Tutorial 6, broken)."""
+    out, caught = pages
+    followed, broken = [], []
+    for page in sorted(out.glob("*.html")):
+        for target in re.findall(r'\b(?:href|src)="([^"]+)"', page.read_text(encoding="utf-8")):
+            if re.match(r"^[a-z][a-z0-9+.-]*:", target) or target.startswith("#"):
+                continue  # a web address (not followed offline), a data URI, or a place on the same page
+            followed.append((page.name, target))
+            if not (out / target.split("#")[0]).is_file():
+                broken.append((page.name, target))
+    assert broken == [] and not [m for m in caught if "does not exist beside its source" in m]
+    assert ("01_tail_decay.html", "GLOSSARY.html") in followed
+    assert ("06_printed_algorithm_and_code.html", "REPRODUCTION.html") in followed
+    assert ("REPRODUCTION.html", "files/results/rule-study/rule-study.png") in followed
+
+
 def test_tex_to_mathml_escapes_text_and_names_what_it_cannot_convert():
     assert tex_to_mathml(r"\frac{\nu}{\nu - 2}").startswith('<math display="inline"><mrow><mfrac>')
     # a \text{} is text, never markup: latex2mathml's own convert() would hand '<b>' back unescaped

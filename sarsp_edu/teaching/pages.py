@@ -253,6 +253,76 @@ def describe_figures(notebook, title: str) -> int:
     return missing
 
 
+class _LocalLinks:
+    """The pages' links to files beside their notebooks, made to work in the pages' folder, offline.
+
+    A link to a tutorial's notebook goes to its page; to a Markdown file (the glossary, ``REPRODUCTION.md``) to
+    that file rendered as a page of its own (its own local links followed in turn); to any other file (a
+    figure) to a copy under ``files/``.  A link to nothing is said (:class:`PagesWarning`) and left as it is.
+    """
+
+    HREF = re.compile(r'(?P<attr>\b(?:href|src))="(?P<target>[^"#:]+?)(?P<anchor>#[^"]*)?"')
+
+    def __init__(self, out: Path, notebooks, root: Path):
+        self.out, self.root = out, root
+        self.pages = {Path(path).stem for path in notebooks}
+        self.documents = {}  # a Markdown file's resolved path -> its page's name
+        self.written = set()
+        self.titles = []  # (page name, title) of each document written
+
+    def rewrite(self, body: str, folder: Path) -> str:
+        """``body`` with each local ``href``/``src`` (relative to ``folder``) pointing into the pages' folder."""
+        def local(match):
+            target, anchor = match["target"], match["anchor"] or ""
+            if target.startswith(("/", "data")) or not target.strip():
+                return match[0]
+            path = (folder / target).resolve()
+            if path.suffix == ".ipynb" and path.stem in self.pages:
+                new = f"{path.stem}.html"
+            elif path.suffix == ".md" and path.is_file():
+                new = self.documents.setdefault(path, f"{path.stem}.html")
+            elif path.is_file():
+                new = self._copy(path)
+            else:
+                warnings.warn(f"a page links to {target}, which does not exist beside its source ({folder}); the "
+                              "link is left as it is", PagesWarning, stacklevel=3)
+                return match[0]
+            return f'{match["attr"]}="{html.escape(new)}{anchor}"'
+        return self.HREF.sub(local, body)
+
+    def _copy(self, path: Path) -> str:
+        from .._internal.io import atomic_write_bytes
+
+        try:  # its path in the repository (results/rule-study/rule-study.png), so that no two copies collide
+            name = (Path("files") / path.relative_to(self.root)).as_posix()
+        except ValueError:
+            name = f"files/{path.name}"
+        (self.out / name).parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(self.out / name, path.read_bytes())
+        return name
+
+    def write_documents(self) -> None:
+        """Render every Markdown file linked to (and those they link to) as a page of its own."""
+        from .._internal.io import atomic_write_text
+
+        markdown, renderer, _ = _nbconvert()
+        while set(self.documents) - self.written:
+            path = sorted(set(self.documents) - self.written)[0]
+            self.written.add(path)
+            source = path.read_text(encoding="utf-8")
+            heading = next((line.lstrip("#").strip() for line in source.split("\n") if line.startswith("# ")),
+                           path.name)
+            body = markdown(renderer=renderer(_Maths(), escape=False)).render(source)
+            self.titles.append((self.documents[path], heading))
+            atomic_write_text(self.out / self.documents[path], (
+                "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+                f"<title>{html.escape(heading)}</title>"
+                "<style>body{font:20px/1.5 sans-serif;max-width:50em;margin:2em auto}"
+                "table{border-collapse:collapse}td,th{border:1px solid #999;padding:0 .4em}"
+                "img{max-width:100%}</style></head><body>"
+                + self.rewrite(body, path.parent) + "</body></html>\n"))
+
+
 def write_pages(tutorials="tutorials", out="pages") -> Path:
     """Static HTML pages of the student notebooks, with every output and dashboard picture, and an index.
 
@@ -286,6 +356,7 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
     page_exporter = _nbconvert()[2]
     out.mkdir(parents=True, exist_ok=True)
     entries = []
+    links = _LocalLinks(out, notebooks, tutorials.resolve().parent)
     for path in notebooks:
         notebook = nbformat.read(path, as_version=4)
         notebook.metadata.pop("widgets", None)  # the dashboards' pictures, not a widget loader from the network
@@ -295,7 +366,7 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
         maths = _Maths()
         body, _ = page_exporter(maths).from_notebook_node(notebook)
         page = out / f"{path.stem}.html"
-        atomic_write_text(page, body)
+        atomic_write_text(page, links.rewrite(body, path.parent))
         for problem in maths.failed:
             warnings.warn(f"{path.name}: {problem}; the page shows it as TeX source", PagesWarning, stacklevel=2)
         if missing:
@@ -304,11 +375,15 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
                           f"{'them' if missing > 1 else 'it'} only as 'Figure output of cell N'", PagesWarning,
                           stacklevel=2)
         entries.append(f'<li><a href="{page.name}">{html.escape(title)}</a></li>')
+    links.write_documents()
+    documents = "".join(f'<li><a href="{html.escape(name)}">{html.escape(title)}</a></li>'
+                        for name, title in links.titles)
     index = out / "index.html"
     atomic_write_text(index, "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
                       "<title>sarsp_edu tutorials</title>"
                       "<style>body{font:20px/1.5 sans-serif;max-width:50em;margin:2em auto}</style></head><body>"
                       "<h1>sarsp_edu: the tutorials, as static pages</h1><ol>" + "".join(entries) + "</ol>"
+                      + (f"<p>The documents they link to:</p><ul>{documents}</ul>" if documents else "") +
                       "<p>Every output and dashboard picture is stored in the pages, and the maths is written in "
                       "them as MathML: no Python runs and no network is needed.</p></body></html>\n")
     return index
