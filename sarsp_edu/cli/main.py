@@ -325,11 +325,9 @@ class Terminated(KeyboardInterrupt):
 
 def _stop_within(exc: BaseException):
     """The KeyboardInterrupt (or Terminated) in ``exc``'s chain of causes, or None."""
-    seen = set()
-    while exc is not None and id(exc) not in seen:
-        if isinstance(exc, KeyboardInterrupt):
+    for _ in range(100):  # a chain that loops back on itself ends here too
+        if exc is None or isinstance(exc, KeyboardInterrupt):
             return exc
-        seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
     return None
 
