@@ -6,8 +6,9 @@ import pytest
 
 from sarsp_edu.experiments.ablation import ABLATION_SETTINGS, AblationResults, run_ablation, setting_config
 
-TINY = dict(grid_size=5, n_unsafe=3, offline_episodes=6, cost_fit_points=60, reward_fit_points=60, k_prior=20,
-            optimizer_steps=3)
+from .worlds import FIVE_BY_FIVE_MORE_DATA
+
+TINY = dict(FIVE_BY_FIVE_MORE_DATA)
 SETTINGS = {"per action": dict(TINY), "per step": dict(TINY, prior_draw="per_step")}
 
 

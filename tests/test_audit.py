@@ -10,8 +10,9 @@ from sarsp_edu import ExperimentConfig
 from sarsp_edu.experiments.audit import audit_summary, safe_set_audit
 from sarsp_edu.world.preparation import prepare
 
-SMALL = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
-                         optimizer_steps=5, k_prior=30, episodes=2, n_switch_states=1)
+from .worlds import SIX_BY_SIX
+
+SMALL = ExperimentConfig(**SIX_BY_SIX, episodes=2, n_switch_states=1)
 
 
 @pytest.fixture(scope="module")

@@ -26,6 +26,8 @@ from sarsp_edu.teaching.dashboards.tutorials import (
 )
 from sarsp_edu.teaching.live import markup
 
+from .worlds import SIX_BY_SIX
+
 
 # --------------------------------------------------------------------------
 # the pure computations
@@ -364,8 +366,7 @@ def test_curve_and_macro_plots():
 # --------------------------------------------------------------------------
 # the live agent dashboard
 # --------------------------------------------------------------------------
-SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80, optimizer_steps=5,
-             k_prior=30)
+SMALL = dict(SIX_BY_SIX)
 
 
 @pytest.fixture

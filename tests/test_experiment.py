@@ -12,10 +12,10 @@ from sarsp_edu.experiments.experiment import Experiment
 from sarsp_edu.experiments.metrics import RECORD_COLUMNS, SUMMARY_METRICS, running_metrics
 from sarsp_edu.experiments.results import Comparison
 
-TINY = ExperimentConfig(
-    grid_size=5, n_unsafe=3, n_switch_states=1, episodes=4, offline_episodes=6,
-    cost_fit_points=60, reward_fit_points=60, k_prior=30, optimizer_steps=5, seed=3,
-)
+from .worlds import FIVE_BY_FIVE_MORE_DATA
+
+TINY = ExperimentConfig(**dict(FIVE_BY_FIVE_MORE_DATA, k_prior=30, optimizer_steps=5), n_switch_states=1, episodes=4,
+                        seed=3)
 
 
 @pytest.fixture(scope="module")

@@ -12,10 +12,10 @@ from sarsp_edu import ExperimentConfig
 from sarsp_edu.experiments.experiment import experiments_on_one_world
 from sarsp_edu.teaching.live import fitcache
 
-TINY = ExperimentConfig(
-    grid_size=5, n_unsafe=3, n_switch_states=1, episodes=3, offline_episodes=6,
-    cost_fit_points=60, reward_fit_points=60, k_prior=30, optimizer_steps=5, seed=3,
-)
+from .worlds import FIVE_BY_FIVE_MORE_DATA
+
+TINY = ExperimentConfig(**dict(FIVE_BY_FIVE_MORE_DATA, k_prior=30, optimizer_steps=5), n_switch_states=1, episodes=3,
+                        seed=3)
 SIDES = {"tp": {"model": "tp"}, "gp": {"model": "gp"}}
 
 

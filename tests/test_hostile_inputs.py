@@ -14,6 +14,7 @@ from sarsp_edu import ExperimentConfig, compare, run_experiment, run_sweep
 from sarsp_edu.cli import main
 
 from .test_cli import _usage_error as usage_error
+from .worlds import FIVE_BY_FIVE
 
 
 def test_exact_and_numpy_numbers_in_a_config_are_plain_numbers_that_save_as_json():
@@ -32,8 +33,7 @@ def test_a_config_of_the_wrong_type_is_named_with_the_type_expected(function):
         function({"episodes": 1})
 
 
-TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=2, offline_episodes=5, cost_fit_points=50,
-                        reward_fit_points=50, k_prior=20, optimizer_steps=3)
+TINY = ExperimentConfig(**FIVE_BY_FIVE, episodes=2)
 
 
 def test_a_thousand_jobs_for_one_cell_start_one_worker_and_say_so():

@@ -13,8 +13,9 @@ from sarsp_edu.experiments.experiment import Experiment
 from sarsp_edu.models.kernels import RBF
 from sarsp_edu.world.offline import cost_inputs, reward_inputs
 
-SMALL = ExperimentConfig(model="t-likelihood", grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80,
-                         reward_fit_points=80, optimizer_steps=5, k_prior=30, episodes=2, n_switch_states=1)
+from .worlds import SIX_BY_SIX
+
+SMALL = ExperimentConfig(**SIX_BY_SIX, model="t-likelihood", episodes=2, n_switch_states=1)
 
 
 def _dense_laplace_predictive(kernel, nu, scale, X, y, queries):

@@ -22,8 +22,9 @@ from sarsp_edu.experiments.experiment import paired_experiments
 from sarsp_edu.teaching.live import TP_AND_GP, fitting, prefit
 from sarsp_edu.teaching.live.background import FitQueue, _describe
 
-SMALL = dict(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
-             optimizer_steps=5, k_prior=30, episodes=3)
+from .worlds import SIX_BY_SIX
+
+SMALL = dict(SIX_BY_SIX, episodes=3)
 
 
 @pytest.fixture(params=["cache", "off"])

@@ -25,8 +25,9 @@ from sarsp_edu.config import ExperimentConfig
 from sarsp_edu.experiments.experiment import Experiment, paired_experiments
 from sarsp_edu.teaching.live import TP_AND_GP, LiveRun
 
-SMALL = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
-                         optimizer_steps=5, k_prior=30, episodes=3, n_switch_states=1)
+from .worlds import SIX_BY_SIX
+
+SMALL = ExperimentConfig(**SIX_BY_SIX, episodes=3, n_switch_states=1)
 OWNER = "sarsp-edu-live"
 
 

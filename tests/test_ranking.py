@@ -16,8 +16,9 @@ from sarsp_edu.experiments.ranking import (
 )
 from sarsp_edu.world.preparation import prepare
 
-SMALL = ExperimentConfig(grid_size=6, n_unsafe=5, offline_episodes=8, cost_fit_points=80, reward_fit_points=80,
-                         optimizer_steps=5, k_prior=30, episodes=3, n_switch_states=1, max_steps=30)
+from .worlds import SIX_BY_SIX
+
+SMALL = ExperimentConfig(**SIX_BY_SIX, episodes=3, n_switch_states=1, max_steps=30)
 
 
 def test_with_both_models_of_the_configs_kind_the_run_is_the_configs_own_step_for_step():

@@ -22,9 +22,9 @@ from sarsp_edu.experiments.sweep import LOCK_NAME, StoredResultWarning, SweepRes
 from sarsp_edu.experiments.tables import summary_tables
 
 from .test_cli import _usage_error as usage_error  # a usage error's last line, with no traceback
+from .worlds import FIVE_BY_FIVE
 
-TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
-                        cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
+TINY = ExperimentConfig(**FIVE_BY_FIVE, episodes=3)
 GRID = dict(magnitudes=(40,), proportions=(0.2,), n_switch_states=(1, 2))
 SETTINGS = ["--grid-size", "5", "--n-unsafe", "3", "--episodes", "3", "--offline-episodes", "5",
             "--cost-fit-points", "50", "--reward-fit-points", "50", "--k-prior", "20", "--optimizer-steps", "3",

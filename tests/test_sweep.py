@@ -11,8 +11,9 @@ from sarsp_edu.experiments.metrics import SUMMARY_METRICS, cost_rate_undefined
 from sarsp_edu.experiments.sweep import SweepResults, cell_config, cell_seed
 from sarsp_edu.experiments.tables import frame_to_markdown, tables_markdown
 
-TINY = ExperimentConfig(grid_size=5, n_unsafe=3, episodes=3, offline_episodes=5,
-                        cost_fit_points=50, reward_fit_points=50, k_prior=20, optimizer_steps=3)
+from .worlds import FIVE_BY_FIVE
+
+TINY = ExperimentConfig(**FIVE_BY_FIVE, episodes=3)
 GRID = dict(magnitudes=(40, 80), proportions=(0.2,), n_switch_states=(1, 2))
 
 

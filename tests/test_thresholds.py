@@ -12,10 +12,11 @@ from sarsp_edu.experiments.ablation import AblationResults, run_ablation, settin
 from sarsp_edu.experiments.sweep.models import run_model_sweep
 from sarsp_edu.experiments.thresholds import DEFAULT_SETTING, ThresholdStudy, threshold_settings
 
+from .worlds import FIVE_BY_FIVE_MORE_DATA
+
 matplotlib.use("Agg")
 
-TINY = dict(grid_size=5, n_unsafe=3, offline_episodes=6, cost_fit_points=60, reward_fit_points=60, k_prior=20,
-            optimizer_steps=3)
+TINY = dict(FIVE_BY_FIVE_MORE_DATA)
 HIGH = "default, variance threshold 10"
 SETTINGS = {DEFAULT_SETTING: dict(TINY), HIGH: dict(TINY, variance_threshold=10.0)}
 
