@@ -30,12 +30,13 @@ the next release (:mod:`sarsp_edu._internal.moved`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ._internal import moved as _moved
 from ._version import __version__
 
 _moved.install()
+
+#: False when run, True for type checkers (the standard idiom, without importing typing: the command starts sooner)
+TYPE_CHECKING = False
 
 
 def _register_environment() -> None:

@@ -39,6 +39,21 @@ def test_a_process_started_in_the_block_ignores_ctrl_c_and_this_one_hears_it_aga
     assert child == "True" and signal.getsignal(signal.SIGINT) is before
 
 
+def test_a_ctrl_c_pressed_while_workers_start_is_not_lost_but_arrives_when_they_have_started():
+    """In a process whose only thread is the main one (the command's while its workers start; a test process has
+    BLAS's threads, which could take the signal and drop it, so a fresh interpreter runs it)."""
+    code = ("import os, signal, time\n"
+            "from sarsp_edu._internal.parallel import workers_deaf_to_interrupts\n"
+            "try:\n"
+            "    with workers_deaf_to_interrupts():\n"
+            "        os.kill(os.getpid(), signal.SIGINT)\n"
+            "        time.sleep(0.1)\n"
+            "        print('the block ran to its end')\n"
+            "except KeyboardInterrupt:\n"
+            "    print('then the Ctrl-C arrived')\n")
+    assert _fresh(code) == "the block ran to its end\nthen the Ctrl-C arrived"
+
+
 def test_a_stop_inside_a_c_extensions_import_is_found_in_its_import_error():
     try:
         try:

@@ -11,7 +11,6 @@ file per module; :data:`MOVED` lists them.
 from __future__ import annotations
 
 import importlib
-import importlib.abc
 import importlib.util
 import sys
 import warnings
@@ -89,8 +88,9 @@ def new_path(old: str) -> str | None:
     return None
 
 
-class _Alias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Finds an old path and loads it as the module at its new path."""
+class _Alias:
+    """Finds an old path and loads it as the module at its new path (a meta path finder and its loader, by their
+    methods: ``importlib.abc`` is not imported, which would import ``typing`` at the package's start)."""
 
     def __init__(self):
         self._specs = {}  # new module name -> its own spec, which the import system overwrites with the alias's

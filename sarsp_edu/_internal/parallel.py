@@ -21,22 +21,30 @@ __all__ = ["available_cores", "in_second_process", "stop_workers", "workers_deaf
 
 @contextlib.contextmanager
 def workers_deaf_to_interrupts():
-    """Within the block, worker processes start with Ctrl-C ignored; this process's handler is back after it.
+    """Within the block, worker processes start with Ctrl-C ignored; this process hears it when the block ends.
 
     A Ctrl-C reaches every process of the terminal's group: a worker still importing would print its own
-    ``KeyboardInterrupt`` traceback above the command's one-line message.  An ignored signal stays ignored
-    through ``exec``, so the workers started here ignore it for good, and the command, which alone hears it,
-    stops them.  The block should only start processes (a Ctrl-C within it is lost); off the main thread,
-    where no handler can be set, it does nothing.
+    ``KeyboardInterrupt`` traceback above the command's one-line message.  SIGINT is ignored for the block, and
+    an ignored signal stays ignored through ``exec``: the workers started in it never see one, and the command,
+    which alone hears it, stops them.  It is also blocked in this thread for the block, so that a Ctrl-C pressed
+    meanwhile waits (Linux keeps a blocked signal pending even while it is ignored) and arrives when the block
+    ends.  The block lasts while the workers are started, not while they import: about 50 ms measured for
+    ``in_second_process`` and for ``in_workers``' two workers.  Where another thread of this process takes the
+    signal in those milliseconds (BLAS's own threads do not block it), that Ctrl-C is dropped and a second one
+    stops the command.  Off the main thread, where no handler can be set, it does nothing.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    masks = hasattr(signal, "pthread_sigmask")
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if masks else None
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        signal.signal(signal.SIGINT, handler)
+        if masks:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a Ctrl-C pressed meanwhile arrives here
 
 
 def available_cores() -> int:

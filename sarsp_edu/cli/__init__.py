@@ -29,7 +29,7 @@ try:
 except KeyboardInterrupt:  # Ctrl-C while the command starts: one line, as at any later moment
     if not _the_command():
         raise
-    sys.stderr.write("interrupted: the command had not begun; nothing was written\n")
+    sys.stderr.write("interrupted: the command had not begun; nothing was written\n")  # main.NOT_BEGUN
     raise SystemExit(130) from None
 
 __all__ = ["add_config_arguments", "build_parser", "config_flags", "config_from_args", "main"]

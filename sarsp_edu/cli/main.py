@@ -274,18 +274,22 @@ def main(argv: list[str] | None = None) -> int:
     argv : list of str, optional
         The arguments after the program name; None: ``sys.argv[1:]``.
     """
-    import warnings
-
-    from .._internal.io import one_line_warning
-
-    warnings.formatwarning = one_line_warning  # a warning is one line to a terminal user
     for stream in (sys.stdout, sys.stderr):  # a path the terminal's encoding cannot show is escaped, not fatal
         try:
             stream.reconfigure(errors="backslashreplace")
         except (AttributeError, ValueError):  # not a text stream of its own (a test's capture, say)
             pass
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        import warnings
+
+        from .._internal.io import one_line_warning
+
+        warnings.formatwarning = one_line_warning  # a warning is one line to a terminal user
+        parser = build_parser()
+        args = parser.parse_args(argv)
+    except KeyboardInterrupt:  # while the modules and settings load (numpy's import): nothing has begun
+        print(NOT_BEGUN, file=sys.stderr)
+        return 130
     if not hasattr(args, "func"):
         parser.print_help()
         return 0
@@ -316,6 +320,10 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         if previous is not _NOT_SET:
             signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
+
+
+#: what a Ctrl-C says before the command has begun its work
+NOT_BEGUN = "interrupted: the command had not begun; nothing was written"
 
 
 class Terminated(KeyboardInterrupt):

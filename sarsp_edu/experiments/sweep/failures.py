@@ -149,7 +149,7 @@ def in_workers(function, calls, n_jobs: int):
     from ..._internal.parallel import workers_deaf_to_interrupts
 
     try:
-        with workers_deaf_to_interrupts():  # joblib's workers start at the first dispatch, within this call
+        with workers_deaf_to_interrupts():  # joblib's workers (and its threads) start within this call
             results = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(delayed(function)(*args)
                                                                                for args in calls)
         yield from results
