@@ -124,3 +124,18 @@ def test_the_agents_settings_by_name_are_declared_one_by_one_and_are_exactly_age
     declared = {name for name, value in vars(SARSPAgent).items() if isinstance(value, sarsp._Setting)}
     assert declared == {field.name for field in dataclasses.fields(AgentSettings)}
     assert "__getattr__" not in vars(SARSPAgent) and "__setattr__" not in vars(SARSPAgent)
+
+
+def test_the_refit_hook_is_a_checked_argument_of_the_agent():
+    import pytest
+
+    from sarsp_edu import RBF, GaussianProcess, SARSPAgent
+
+    from .test_sarsp import tiny_data
+
+    calls = []
+    agent = SARSPAgent(GaussianProcess(RBF()), GaussianProcess(RBF()), tiny_data(5.0),
+                       refit_model=lambda model, X, y: calls.append(len(y)))
+    assert agent.refit_model is not None and calls == []
+    with pytest.raises(TypeError, match="refit_model must be a function"):
+        SARSPAgent(GaussianProcess(RBF()), GaussianProcess(RBF()), tiny_data(5.0), refit_model=42)

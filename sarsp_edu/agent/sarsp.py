@@ -50,8 +50,7 @@ from .priors import PriorPredictor
 
 class _Setting:
     """One of Algorithm 1's settings on the agent: ``agent.k_prior`` is ``agent.settings.k_prior``, and
-    ``agent.k_prior = 400`` replaces ``agent.settings`` by a copy with that value (checked where settings are
-    made)."""
+    ``agent.k_prior = 400`` replaces ``agent.settings`` by a copy with that value (checked)."""
 
     def __set_name__(self, owner, name):
         self.name = name
@@ -122,12 +121,15 @@ class SARSPAgent:
         An initial ``S_u``; default empty.
     parts : DecisionParts or mapping, optional
         The functions each decision is assembled from (a mapping names some
-        of them: ``{"choose": my_choose}``); default the package's own.  With
-        the package's kernel, posterior and TP factor the agent predicts
-        through its cached, vectorised path; with any of them replaced, from
-        the parts, one strategic prior at a time (:mod:`sarsp_edu.agent.parts`).
+        of them: ``{"choose": my_choose}``); default the package's own.  A
+        replaced kernel, posterior or TP factor plugs into the models' one
+        conditioning loop in place of their own step (:mod:`sarsp_edu.agent.parts`).
         The random draws are the same either way, so two agents whose parts
         compute the same values take the same decisions.
+    refit_model : callable, optional
+        ``refit_model(model, X, y)`` in place of ``model.fit(X, y)`` in a
+        corrective update's refit (the capstone's check gives an agent whose
+        data equal another's that one's refit); also the attribute of that name.
     rng : None, int or numpy.random.Generator
         Draws the priors, the fit subsets and the samples.
 
@@ -160,6 +162,7 @@ class SARSPAgent:
         *,
         unsafe_pairs=None,
         parts=None,
+        refit_model=None,
         rng=None,
         **changes,
     ):
@@ -184,10 +187,9 @@ class SARSPAgent:
             self.unsafe_pairs.add((tuple(int(v) for v in position), int(action)))
         self.corrective_updates = 0
         self.retrains = 0
-        #: ``refit_model(model, X, y)`` in place of ``model.fit(X, y)`` in a corrective update's refit (None:
-        #: ``model.fit``); the capstone's check lets an agent whose data equal another's take that one's refit,
-        #: the live run watches it to say that a side waits for a retrain
-        self.refit_model = None
+        if refit_model is not None and not callable(refit_model):
+            raise TypeError(f"refit_model must be a function refit_model(model, X, y) or None, got {refit_model!r}")
+        self.refit_model = refit_model  #: the constructor's argument (None: ``model.fit``)
         #: callables told of each corrective update's refit of the cost model, as ``listener("begin")`` before it
         #: and ``listener("end")`` after it (in the thread that called ``learn``): the live run says "retraining"
         self.retrain_listeners: list = []
