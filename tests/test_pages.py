@@ -80,6 +80,29 @@ def test_every_local_link_of_the_pages_opens_a_file_of_the_pages_folder(pages):
     assert ("REPRODUCTION.html", "files/results/rule-study/rule-study.png") in followed
 
 
+def test_the_lecturers_edition_shows_every_output_its_source_stores_and_the_students_hides_the_reveals(tmp_path):
+    """Session 3 can be taught from the fallback: each lecturer's page shows as many outputs as its source
+    notebook stores (every reveal after its question), where the student's page shows the student notebook's."""
+    import json
+
+    write_pages(ROOT / "tutorials", tmp_path / "lecturer", edition="lecturer")
+    fewer = 0
+    for source in sorted((ROOT / "tutorials" / "source").glob("[0-9][0-9]_*.ipynb")):
+        def outputs(path):
+            return sum(len(cell.get("outputs", [])) for cell in json.loads(path.read_text(encoding="utf-8"))["cells"]
+                       if cell["cell_type"] == "code")
+
+        page = (tmp_path / "lecturer" / f"{source.stem}.html").read_text(encoding="utf-8")
+        assert page.count('class="jp-OutputArea-child') == outputs(source), source.name
+        fewer += outputs(ROOT / "tutorials" / source.name) < outputs(source)
+    assert fewer >= 5  # the student notebooks' reveals are empty: their pages show fewer
+    index = (tmp_path / "lecturer" / "index.html").read_text(encoding="utf-8")
+    assert "the lecturer's edition: every reveal and answer shown" in index
+    assert (tmp_path / "lecturer" / "GLOSSARY.html").is_file()  # the sources' links, written for tutorials/, work
+    with pytest.raises(ValueError, match="edition"):
+        write_pages(ROOT / "tutorials", tmp_path / "x", edition="teacher")
+
+
 def test_tex_to_mathml_escapes_text_and_names_what_it_cannot_convert():
     assert tex_to_mathml(r"\frac{\nu}{\nu - 2}").startswith('<math display="inline"><mrow><mfrac>')
     # a \text{} is text, never markup: latex2mathml's own convert() would hand '<b>' back unescaped

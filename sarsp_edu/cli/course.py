@@ -36,6 +36,8 @@ def _course(args, parser) -> int:
         parser.error(f"sarsp-edu course needs {', '.join(missing)}, which a plain install leaves out: "
                      "pip install 'sarsp_edu[course]'")
 
+    if args.lecturer and args.action != "pages":
+        parser.error(f"--lecturer makes the lecturer's edition of the pages; '{args.action}' has none")
     if args.only and args.action in ("pages", "handout"):  # a flag that would change nothing: refused, not ignored
         parser.error(f"--only picks the notebooks of 'sources' and 'student'; '{args.action}' writes every "
                      "tutorial's (drop --only)")
@@ -50,7 +52,7 @@ def _course(args, parser) -> int:
                 if args.out is None:
                     parser.error("pages needs --out DIR")
                 _check_pages_out(parser, Path(args.out), args.overwrite)
-                written = [write_pages(args.tutorials, args.out)]
+                written = [write_pages(args.tutorials, args.out, edition="lecturer" if args.lecturer else "student")]
         except (FileNotFoundError, ValueError) as exc:
             parser.error(str(exc))
         except NotebookFailed as exc:

@@ -213,6 +213,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="handout: the repository, holding tutorials/ and results/ [default: .]")
     course.add_argument("--out", metavar="DIR", help="handout: a new or empty folder; pages: the pages' folder")
     course.add_argument("--zip", metavar="FILE", help="handout: a zip file")
+    course.add_argument("--lecturer", action="store_true",
+                        help="pages: the lecturer's edition, from the sources: every reveal and answer shown")
     course.add_argument("--overwrite", action="store_true",
                         help="pages: replace pages already in --out; handout: replace an existing --zip file; "
                              "student: replace student notebooks that hold a student's answers (each old one kept "

@@ -25,11 +25,13 @@ import re
 import warnings
 from pathlib import Path
 
-from .layout import student_notebooks
+from .layout import sources, student_notebooks
 
 __all__ = ["ALT_KEY", "PagesWarning", "TexConversionError", "tex_to_mathml", "page_title", "describe_figures",
            "write_pages"]
 
+#: what the index's heading adds for each edition
+EDITION_TITLES = {"student": "", "lecturer": " (the lecturer's edition: every reveal and answer shown)"}
 #: the key of an image output's alt text in its per-mimetype metadata: ``output.metadata[mimetype][ALT_KEY]``
 ALT_KEY = "alt"
 #: the image mimetypes nbconvert shows as an ``<img>``, each of which gets alt text
@@ -323,8 +325,8 @@ class _LocalLinks:
                 + self.rewrite(body, path.parent) + "</body></html>\n"))
 
 
-def write_pages(tutorials="tutorials", out="pages") -> Path:
-    """Static HTML pages of the student notebooks, with every output and dashboard picture, and an index.
+def write_pages(tutorials="tutorials", out="pages", edition: str = "student") -> Path:
+    """Static HTML pages of the student notebooks (or the sources), with every output and dashboard picture.
 
     A lecturer can project them with no Python running and no network: the
     dashboards show the picture their outputs carry (the notebooks store no
@@ -346,13 +348,20 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
         The tutorials folder, whose student notebooks must have been written.
     out : path-like, default "pages"
         The folder the pages and ``index.html`` are written to (made if missing).
+    edition : {"student", "lecturer"}, default "student"
+        ``"student"``: the student notebooks, whose reveals are empty until a
+        student runs them.  ``"lecturer"``: the source notebooks, every reveal
+        shown after its question and every answer in (the fallback to teach
+        from when no kernel runs; never for students).
     """
     import nbformat
 
     from .._internal.io import atomic_write_text
+    from .._internal.validation import check_choice
 
+    check_choice("edition", edition, ("student", "lecturer"))
     tutorials, out = Path(tutorials), Path(out)
-    notebooks = student_notebooks(tutorials)
+    notebooks = student_notebooks(tutorials) if edition == "student" else sources(tutorials)
     page_exporter = _nbconvert()[2]
     out.mkdir(parents=True, exist_ok=True)
     entries = []
@@ -366,7 +375,8 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
         maths = _Maths()
         body, _ = page_exporter(maths).from_notebook_node(notebook)
         page = out / f"{path.stem}.html"
-        atomic_write_text(page, links.rewrite(body, path.parent))
+        # a source's links are written for where its student copy lives: tutorials/
+        atomic_write_text(page, links.rewrite(body, tutorials))
         for problem in maths.failed:
             warnings.warn(f"{path.name}: {problem}; the page shows it as TeX source", PagesWarning, stacklevel=2)
         if missing:
@@ -382,7 +392,8 @@ def write_pages(tutorials="tutorials", out="pages") -> Path:
     atomic_write_text(index, "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
                       "<title>sarsp_edu tutorials</title>"
                       "<style>body{font:20px/1.5 sans-serif;max-width:50em;margin:2em auto}</style></head><body>"
-                      "<h1>sarsp_edu: the tutorials, as static pages</h1><ol>" + "".join(entries) + "</ol>"
+                      f"<h1>sarsp_edu: the tutorials, as static pages{EDITION_TITLES[edition]}</h1>"
+                      "<ol>" + "".join(entries) + "</ol>"
                       + (f"<p>The documents they link to:</p><ul>{documents}</ul>" if documents else "") +
                       "<p>Every output and dashboard picture is stored in the pages, and the maths is written in "
                       "them as MathML: no Python runs and no network is needed.</p></body></html>\n")
