@@ -33,16 +33,23 @@ def test_the_command_imports_without_numpy_and_the_environment_registers_once_gy
 
 
 def test_a_process_started_in_the_block_ignores_ctrl_c_and_this_one_hears_it_again_after():
-    before = signal.getsignal(signal.SIGINT)
-    with workers_deaf_to_interrupts():
-        child = _fresh("import signal; print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)")
-    assert child == "True" and signal.getsignal(signal.SIGINT) is before
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # as a terminal's command (xdist ignores it)
+    try:
+        outside = _fresh("import signal; print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)")
+        with workers_deaf_to_interrupts():
+            child = _fresh("import signal; print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)")
+        assert (outside, child) == ("False", "True")
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_a_ctrl_c_pressed_while_workers_start_is_not_lost_but_arrives_when_they_have_started():
     """In a process whose only thread is the main one (the command's while its workers start; a test process has
-    BLAS's threads, which could take the signal and drop it, so a fresh interpreter runs it)."""
+    BLAS's threads, which could take the signal and drop it, so a fresh interpreter runs it, with Ctrl-C handled
+    as a terminal's command has it: pytest-xdist's workers start their children with SIGINT ignored)."""
     code = ("import os, signal, time\n"
+            "signal.signal(signal.SIGINT, signal.default_int_handler)  # as a terminal's command (xdist's ignore)\n"
             "from sarsp_edu._internal.parallel import workers_deaf_to_interrupts\n"
             "try:\n"
             "    with workers_deaf_to_interrupts():\n"
