@@ -41,7 +41,7 @@ import numpy as np
 from ..config import TAIL_DELTA
 from ..models.kernels import squared_distances
 from ..models.linalg import cholesky_with_jitter, solve_cholesky, solve_lower
-from ..models.processes.conditioning import ConditioningSteps
+from ..models.processes.conditioning import ConditioningSteps, beta_of
 from ..models.processes.equations import tp_variance_factor
 from .decision import choose_action, choose_with_backup, corrects, safe_actions
 
@@ -128,9 +128,7 @@ def tp_factor(K, y, noise_variance, nu):
     float
     """
     y = np.asarray(y, dtype=float)
-    L, _ = cholesky_with_jitter(np.asarray(K, dtype=float) + noise_variance * np.eye(len(y)))
-    beta = float(y @ solve_cholesky(L, y))
-    return tp_variance_factor(len(y), beta, nu)
+    return tp_variance_factor(len(y), beta_of(np.asarray(K, dtype=float), y, noise_variance), nu)
 
 
 #: the exercise in which the tutorials ask for each part

@@ -31,7 +31,7 @@ import numpy as np
 from ..kernels import squared_distances, whole_distance_bound
 from ..linalg import cholesky, cholesky_with_jitter, solve_cholesky
 
-__all__ = ["ConditioningSteps", "check_whole_bound", "condition_sets"]
+__all__ = ["ConditioningSteps", "beta_of", "check_whole_bound", "condition_sets"]
 
 
 @dataclass(frozen=True)
@@ -137,7 +137,7 @@ def condition_sets(model, X, y, X_query, include_noise: bool = False, *, whole_b
         # 3. the TP factor
         if nu is None or steps.tp_factor is None:
             if nu is not None and beta is None:
-                beta = _beta(plain, y_b, s2)
+                beta = beta_of(plain, y_b, s2)
             factor, df[b] = model._predictive_scale(n, beta)
         else:
             factor = float(_checked(steps.tp_factor(plain.copy(), y_b.copy(), s2, nu), (), "tp_factor", "a factor"))
@@ -197,8 +197,17 @@ def _own_posterior(K, K_star, k_star_star, y, s2, fresh):
     return mean, latent, float(y @ solved[:, 0])
 
 
-def _beta(K, y, s2) -> float:
-    """``y^T K_y^-1 y`` with ``K_y = K + s2 I``."""
+def beta_of(K, y, s2) -> float:
+    """``y^T K_y^-1 y`` with ``K_y = K + s2 I`` (one jittered Cholesky factorisation).
+
+    Parameters
+    ----------
+    K : ndarray of shape (n, n)
+        The kernel matrix of the training inputs, without the noise.
+    y : ndarray of shape (n,)
+    s2 : float
+        The noise variance.
+    """
     L, _ = cholesky_with_jitter(K + s2 * np.eye(len(y)))
     return float(y @ solve_cholesky(L, y))
 
