@@ -49,6 +49,39 @@ def test_a_loaded_fit_runs_exactly_as_a_new_one(cache):
         assert records(fitted[name]) == records(fresh[name])
 
 
+T_NOISE = {"t-likelihood": {"model": "t-likelihood"}}
+
+
+def test_a_loaded_fit_with_student_t_noise_runs_exactly_as_a_new_one(cache):
+    fitted = experiments_on_one_world(TINY, T_NOISE, cache=fitcache)["t-likelihood"]
+    assert not fitted.loaded_from_cache and len(fitcache.entries()) == 1
+    loaded = experiments_on_one_world(TINY, T_NOISE, cache=fitcache)["t-likelihood"]
+    assert loaded.loaded_from_cache
+    fresh = experiments_on_one_world(TINY, T_NOISE)["t-likelihood"]
+    for attribute in ("f_hat_", "W_", "mode_start_", "start_objectives_"):
+        assert np.array_equal(getattr(loaded.agent.cost_model, attribute), getattr(fresh.agent.cost_model, attribute))
+    assert loaded.result().fits == fresh.result().fits
+    assert records(loaded) == records(fresh) == records(fitted)
+
+
+@pytest.mark.parametrize("change", [
+    lambda arrays, meta: arrays["cost.hyper_"].__imul__(1 + 1e-12),  # other hyperparameters
+    lambda arrays, meta: arrays.update({"cost.hyper_": arrays["cost.hyper_"] * -1}),
+    lambda arrays, meta: arrays.update({"cost.mode_start_": arrays["cost.mode_start_"][:-1]}),
+    lambda arrays, meta: arrays["cost.mode_start_"].__iadd__(1.0),  # the mode searched from elsewhere
+    lambda arrays, meta: meta["models"]["cost"].update(n_newton_=1.5),
+    lambda arrays, meta: meta["models"]["cost"].pop("kind"),
+])
+def test_an_edited_entry_with_student_t_noise_is_refused(cache, change):
+    experiments_on_one_world(TINY, T_NOISE, cache=fitcache)
+    (path, _), = fitcache.entries()
+    _edit_entry(path, change)
+    with pytest.warns(UserWarning, match="was refused"):
+        again = experiments_on_one_world(TINY, T_NOISE, cache=fitcache)["t-likelihood"]
+    assert not again.loaded_from_cache
+    assert records(again) == records(experiments_on_one_world(TINY, T_NOISE)["t-likelihood"])
+
+
 def test_other_settings_or_other_code_fit_afresh(cache, monkeypatch):
     experiments_on_one_world(TINY, {"tp": {"model": "tp"}}, cache=fitcache)
     other = experiments_on_one_world(TINY.replace(nu=4.0), {"tp": {"model": "tp"}}, cache=fitcache)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
+import threading
 import time
 import uuid
 from pathlib import Path
@@ -20,7 +21,8 @@ import pytest
 from sarsp_edu.config import ExperimentConfig
 from sarsp_edu.experiments.experiment import paired_experiments
 from sarsp_edu.teaching.live import TP_AND_GP, fitting, prefit
-from sarsp_edu.teaching.live.background import FitQueue, _describe
+from sarsp_edu.teaching.live.background import FitQueue, _describe, slider_config
+from sarsp_edu.teaching.live.pick import model_sides
 
 from .worlds import SIX_BY_SIX
 
@@ -158,6 +160,22 @@ def test_prefit_fits_each_nss_once_and_then_finds_it_stored(monkeypatch, tmp_pat
         prefit(0, config=config)
 
 
+def test_prefit_keeps_the_third_models_side_for_its_pick(monkeypatch, tmp_path):
+    """``sarsp-edu prefit --models t-likelihood``: the side that a pick of the GP with Student-t noise asks for
+    is then loaded by the dashboard's queue, not fitted."""
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path))
+    config = ExperimentConfig(**{k: v for k, v in SMALL.items() if k != "episodes"})
+    sliders = dict(nu=3.0, magnitude=10.0, proportion=0.1, seed=0, episodes=3)
+    done = prefit(1, **sliders, config=config, sides=model_sides(["t-likelihood"]), report=lambda line: None)
+    assert [(nss, side) for nss, side, _ in done] == [(1, "t-likelihood")] and done[0][2].startswith("fitted in")
+    picked = {"tp": TP_AND_GP["tp"], "gp": model_sides(["t-likelihood"])["t-likelihood"]}  # the right side picked
+    queue = FitQueue(picked)
+    runs = prepared_runs(queue, slider_config(config, n_switch_states=1, **sliders))
+    queue.close()
+    assert runs["gp"].loaded_from_cache and runs["gp"].config.model == "t-likelihood"
+    assert not runs["tp"].loaded_from_cache  # not asked for
+
+
 def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkeypatch):
     """Tutorial 7's "your agent" beside the package's: the same fits (in the workers), each side given its parts
     in the kernel before its first step; parts that name no side are refused."""
@@ -233,14 +251,29 @@ def test_a_slider_moved_while_a_run_claims_its_fits_leaves_no_stale_run(monkeypa
     assert all(len(e.env.moved_indices) == 2 for e in live.experiments.values())
 
 
-def test_a_side_of_a_model_the_cache_does_not_keep_is_fitted_here_beside_the_workers(cache):
-    """The fit cache keeps TP and GP fits only: a GP-with-Student-t-noise side is fitted in the queue's thread
-    while a worker fits the other side, and both run as a plain paired run does."""
+def test_a_side_with_student_t_noise_is_fitted_in_a_worker_saying_its_time_left(monkeypatch, cache):
+    """A GP-with-Student-t-noise side is fitted in a process of its own beside the other side's, saying its
+    steps and the time left, and runs as a plain paired run does."""
     from sarsp_edu.experiments.experiment import experiments_on_one_world
 
-    config = ExperimentConfig(**SMALL)
+    config = ExperimentConfig(**dict(SMALL, optimizer_steps=40))
     sides = {"gp": ("Gaussian process", {"model": "gp"}), "t": ("Student-t noise", {"model": "t-likelihood"})}
-    runs = prepared_runs(FitQueue(sides), config)
+    said, news = [], threading.Event()
+    queue = FitQueue(sides, on_news=news.set)
+    started = []
+    plain = queue._take_worker
+    monkeypatch.setattr(queue, "_take_worker", lambda: started.append(plain()) or started[-1])
+    queue.request(config)
+    fits = queue.claim(config)
+    while not fits.ready("t"):
+        news.wait(1)
+        news.clear()
+        said.append(fits.progress.get("t", ""))
+    runs = {name: fits.wait_for(name, timeout=120) for name in sides}
+    queue.close()
+    assert len(started) == 2  # both sides in workers, none in the kernel's thread
+    assert any(re.fullmatch(r"fitting (cost|reward) model: step \d+ of 80, \d+ s, \d+ s left", line)
+               for line in said), said
     expected = experiments_on_one_world(config, {"gp": {"model": "gp"}, "t": {"model": "t-likelihood"}})
     for name in sides:
         runs[name].run_episode()
@@ -249,7 +282,11 @@ def test_a_side_of_a_model_the_cache_does_not_keep_is_fitted_here_beside_the_wor
     assert runs["t"].config.model == "t-likelihood" and not runs["t"].loaded_from_cache
 
 
-def test_a_side_fitted_in_the_queues_thread_is_abandoned_at_its_next_step_for_newer_settings(cache):
+def test_a_side_fitted_in_the_queues_thread_is_abandoned_at_its_next_step_for_newer_settings(monkeypatch, cache):
+    def refused():
+        raise OSError("no processes here")
+
+    monkeypatch.setattr(fitting, "take_worker", refused)  # no worker: the sides are fitted in the queue's thread
     config = ExperimentConfig(**dict(SMALL, optimizer_steps=3000))  # a fit that would take minutes
     sides = {"t": ("Student-t noise", {"model": "t-likelihood"}), "gp": ("Gaussian process", {"model": "gp"})}
     queue = FitQueue(sides)

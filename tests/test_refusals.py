@@ -26,6 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
     (["--nu", "1"], "nu must be a finite number > 2"),
     (["--nu", "nan"], "got nu=nan"),
     (["--seed", "-5"], "seed must be an integer >= 0, got seed=-5"),
+    (["--models", "tp", "gpy"], "argument --models: invalid choice: 'gpy' (choose from 'tp', 'gp', 't-likelihood')"),
 ])
 def test_prefit_checks_its_settings_as_run_does(capsys, flags, message):
     assert message in usage_error(["prefit", *flags], capsys)

@@ -342,9 +342,12 @@ def test_an_unknown_prediction_is_never_safe_under_the_tail_rule():
     assert safe.tolist() == [False, True]
 
 
-def test_the_fit_cache_keeps_a_run_only_where_it_keeps_both_of_its_models(tmp_path):
+def test_the_fit_cache_keeps_every_model_and_mix_of_models(tmp_path):
+    from sarsp_edu.config import MODELS
     from sarsp_edu.teaching.live import fitcache
 
-    assert fitcache.cached(ExperimentConfig(model="gp", reward_model="tp"))
-    assert not fitcache.cached(ExperimentConfig(model="gp", reward_model="t-likelihood"))
-    assert fitcache._path(ExperimentConfig(model="gp", reward_model="t-likelihood"), tmp_path) is None
+    for model in MODELS:
+        for reward_model in (None, *MODELS):
+            config = ExperimentConfig(model=model, reward_model=reward_model)
+            assert fitcache.cached(config)
+            assert fitcache._path(config, tmp_path) is not None

@@ -365,13 +365,14 @@ def _cache(args, parser) -> int:
 def _prefit(args, parser) -> int:
     from ..config import ExperimentConfig
     from ..teaching.live import prefit
+    from ..teaching.live.pick import model_sides
 
     try:  # the settings' own checks, as run and compare make them: one line naming the setting and its range
         for nss in args.nss:
             ExperimentConfig(nu=args.nu, outlier_magnitude=args.magnitude, outlier_proportion=args.proportion,
                              seed=args.seed, episodes=args.episodes, n_switch_states=nss)
         prefit(args.nss, nu=args.nu, magnitude=args.magnitude, proportion=args.proportion, seed=args.seed,
-               episodes=args.episodes)
+               episodes=args.episodes, sides=model_sides(dict.fromkeys(args.models)))
     except (RuntimeError, ValueError) as exc:  # a setting out of range, or the cache off or unusable
         parser.error(str(exc))
     return 0

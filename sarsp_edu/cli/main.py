@@ -24,6 +24,7 @@ def build_parser() -> argparse.ArgumentParser:
         ABLATION_CELLS,
         ABLATION_SEEDS,
         DEFINITION_4_A,
+        MODEL_TITLES,
         MODELS,
         NU,
         PAPER_MAGNITUDES,
@@ -234,9 +235,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     prefit = sub.add_parser(
         "prefit", help="fit the live dashboard's runs before class, so that Tutorial 4 starts at once",
-        description="Fits both sides of Tutorial 4's live dashboard (sliders at nu, m, p, seed and episodes as "
-                    "given) for each nss, at once, as the dashboard does, and keeps them in the cache of fits "
-                    "(see 'sarsp-edu cache'): the dashboard then loads them instead of fitting. Run it on the "
+        description="Fits the sides of Tutorial 4's live dashboard (sliders at nu, m, p, seed and episodes as "
+                    "given; one side per model of --models) for each nss, at once, as the dashboard does, and "
+                    "keeps them in the cache of fits (see 'sarsp-edu cache'): the dashboard then loads them "
+                    "instead of fitting. Run it on the "
                     "machine and in the environment the lecture uses.")
     prefit.add_argument("--nss", type=int, nargs="+", default=[2, 10], metavar="N",
                         help="the nss slider's values to fit (default: 2 10, the lecture plan's)")
@@ -247,6 +249,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"the p slider (default {DataSettings.outlier_proportion:g})")
     prefit.add_argument("--seed", type=int, default=0, help="the seed slider (default 0)")
     prefit.add_argument("--episodes", type=int, default=30, help="the episodes slider (default 30, Tutorial 4's)")
+    prefit.add_argument("--models", nargs="+", default=["tp", "gp"], choices=list(MODEL_TITLES), metavar="MODEL",
+                        help="the models to fit, of " + ", ".join(MODEL_TITLES) + " (default: tp gp, the two "
+                             "sides; add t-likelihood where the class will pick the GP with Student-t noise: its "
+                             "fit takes minutes)")
     prefit.set_defaults(func=_prefit, parser=prefit)
 
     model_sweep = sub.add_parser(

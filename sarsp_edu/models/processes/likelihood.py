@@ -143,6 +143,8 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         ``y - f_hat_``.
     n_newton_ : int
         Newton steps the last mode search took.
+    mode_start_ : ndarray or None
+        Where the fitted mode's search began (the search's last mode; None: the prior mean).
     n_iter_ : int
         Steps of the hyperparameter search; with ``optimizer=None``, the
         Newton steps of the mode search, the fit's only iterations.
@@ -163,11 +165,11 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         self.max_newton = max_newton
 
     # -- the posterior mode and the approximation at it -------------------------------
-    def _laplace(self, kernel: RBF, scale: float, U, y, group, a0=None):
+    def _laplace(self, kernel: RBF, nu: float, scale: float, U, y, group, a0=None):
         """The Laplace approximation (:func:`~sarsp_edu.models.processes.laplace.answering_mode`) at these
         hyperparameters, on the distinct inputs ``U``: a saddle the search stops on is left for a maximum, and
         the search may take longer, as a prediction's (raises if no maximum is found)."""
-        return answering_mode(kernel(U), y, group, self.nu_, scale, a0=a0, max_newton=self.max_newton)
+        return answering_mode(kernel(U), y, group, nu, scale, a0=a0, max_newton=self.max_newton)
 
     def _log_prior(self, theta):
         """LogNormal(0, 1) log density of the three hyperparameters and its gradient in their logs (0 without
@@ -209,8 +211,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         check_int("n_restarts", self.n_restarts, 0)
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64)
         X = check_X(X)
-        first, group = distinct_rows(X)  # repeated inputs share one latent value
-        U = X[first]
+        U, group = self._distinct(X)
         kernel = RBF() if self.kernel is None else self.kernel
         scale, nu = float(self.scale), float(self.nu)
         last = None
@@ -222,19 +223,33 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             kernel = RBF(amplitude, length)
             if self.fit_nu:
                 nu = 2.0 + math.exp(theta[3])
-        # the fitted state is set together, after the search: a search that raises leaves the last fit whole
-        self.kernel_, self.scale_, self.nu_ = kernel, float(scale), nu
-        self.gradient_norm_, self.start_objectives_ = gradient_norm, start_objectives
-        mode = self._laplace(kernel, self.scale_, U, y, group, a0=last)
+        n_iter = None if self.optimizer is None else self.n_iter_  # None: the mode search's steps
+        self._settle(X, y, kernel, float(scale), nu, last, gradient_norm, start_objectives, n_iter)
+        return self
+
+    @staticmethod
+    def _distinct(X):
+        first, group = distinct_rows(X)  # repeated inputs share one latent value
+        return X[first], group
+
+    def _settle(self, X, y, kernel: RBF, scale: float, nu: float, a0, gradient_norm: float, start_objectives,
+                n_iter: int | None) -> None:
+        """The fitted state at these hyperparameters: the posterior mode, searched from ``a0`` (where the
+        hyperparameter search's last one ended; None: the prior mean).  Set together, after the search (one
+        that raises leaves the last fit whole); a stored fit is restored through it too
+        (:mod:`sarsp_edu.teaching.live.fitcache`), which gives the same bits."""
+        U, group = self._distinct(X)
+        mode = self._laplace(kernel, nu, scale, U, y, group, a0=a0)
+        self.kernel_, self.scale_, self.nu_ = kernel, scale, nu
+        self.gradient_norm_, self.start_objectives_ = gradient_norm, np.asarray(start_objectives, dtype=float)
+        self.mode_start_ = None if a0 is None else np.array(a0, dtype=float)
         self.f_hat_ = mode.f[group]
         self.W_ = student_t_log_likelihood(y - self.f_hat_, self.nu_, self.scale_)[2]  # per row
         self.log_marginal_likelihood_value_, self.n_newton_ = mode.log_q, mode.steps
-        if self.optimizer is None:
-            self.n_iter_ = mode.steps
+        self.n_iter_ = mode.steps if n_iter is None else n_iter
         self._mode, self.X_distinct_ = mode, U
         self.X_train_ = X
         self.residual_ = y - self.f_hat_
-        return self
 
     def _search(self, theta0, U, y, group, on_step=None):
         """The log hyperparameters that maximise the approximate log marginal likelihood (plus the log priors),

@@ -183,10 +183,8 @@ class FitQueue:
     so that the wanted fit never waits behind one nobody waits for; only the
     latest request is kept.  ``claim`` hands the pending fits, finished or
     under way, to the dashboard once.  Where a process cannot be started,
-    and for a model whose fits the cache does not keep (a worker hands its
-    fit over through the cache), the sides are fitted in the thread, one
-    after the other, each abandoned at its next optimiser step when newer
-    settings are requested.
+    the sides are fitted in the thread, one after the other, each abandoned
+    at its next optimiser step when newer settings are requested.
     """
 
     def __init__(self, sides: dict, offline: dict | None = None, on_news=None):
@@ -311,13 +309,10 @@ class FitQueue:
                 if experiment is not None:
                     self._hand_over(fits, name, experiment)
                     del sides[name]
-            # a model whose fits the cache does not keep cannot be handed over by a worker: fitted here, after
-            # the workers' sides are handed over (they step meanwhile), abandoned at a step if newer settings come
-            here = {name: side for name, side in sides.items() if not fitcache.cached(side)}
-            sides = {name: side for name, side in sides.items() if name not in here}
             workers = self._workers(sides, folder) if sides else {}
+            here = {}
             if workers is None:  # no process could be started: fitted here, one side after the other
-                here, workers = {**sides, **here}, {}
+                here, workers = sides, {}
             if workers:
                 self._follow(workers, sides, prepared, folder, fits)
             for name, side in here.items():

@@ -1,11 +1,13 @@
 """Fitted experiments kept on disk, so that a live dashboard starts at once for settings fitted before.
 
 Fitting an agent's offline models takes a few seconds (Adam on the whole
-cost buffer and on a thousand reward rows); the live dashboard
+cost buffer and on a thousand reward rows; minutes for a GP with Student-t
+noise, whose every step searches a Laplace mode); the live dashboard
 (:class:`~sarsp_edu.teaching.live.AgentDashboard`) would make a lecturer wait for it
 after every Run All.  It therefore keeps what each fit computed (the fitted
 hyperparameters, the optimiser's trace, the rows it used and the Cholesky
-factor of the training covariance), and rebuilds the experiment from it the
+factor of the training covariance; for a GP with Student-t noise, where its
+mode's search began, the mode being searched again), and rebuilds the experiment from it the
 next time the same settings are asked for, in this kernel or a later one: the
 world and its data are prepared afresh (a fraction of a second) and the
 factor is checked against them.
@@ -61,9 +63,12 @@ CACHE_VARIABLE = "SARSP_EDU_CACHE"
 CACHE_BYTES = 256 * 2**20
 _SUFFIX = ".fit.npz"
 #: the entries' layout (an entry of another layout is fitted afresh)
-_FORMAT = 1
-#: what each fitted model keeps as arrays
+_FORMAT = 2
+#: what each fitted GP or TP keeps as arrays
 _ARRAYS = ("theta_", "objective_trace_", "fit_indices_", "L_")
+#: what a fitted GP with Student-t noise keeps as arrays: its hyperparameters (amplitude, length scale, the
+#: noise's scale and nu), where its mode's search began, each start's objective; the mode is searched again
+_LIKELIHOOD_ARRAYS = ("hyper_", "mode_start_", "start_objectives_")
 _OFF = {"off", "0", "false", "no", ""}
 
 
@@ -113,8 +118,8 @@ def _steps_taken(experiment) -> int:
     return len(experiment.act_seconds)
 
 
-#: the models whose fits the cache keeps (a Student-t likelihood's fitted state is another: fitted afresh)
-CACHED_MODELS = ("tp", "gp")
+#: the models whose fits the cache keeps
+CACHED_MODELS = ("tp", "gp", "t-likelihood")
 
 
 def cached(config) -> bool:
@@ -159,10 +164,19 @@ def _contents(experiment) -> tuple[dict, dict]:
     """The arrays and the JSON that an entry keeps of a just-fitted experiment."""
     arrays, models = {}, {}
     for name, model in _models(experiment.agent).items():
-        arrays.update({f"{name}.{attribute}": getattr(model, attribute) for attribute in _ARRAYS})
         models[name] = {"n_features_in_": int(model.n_features_in_), "n_iter_": int(model.n_iter_),
-                        "jitter_": float(model.jitter_),
                         "log_marginal_likelihood_value_": float(model.log_marginal_likelihood_value_)}
+        if _has_student_t_noise(model):
+            start = model.mode_start_
+            arrays.update({f"{name}.hyper_": np.array([model.kernel_.amplitude, model.kernel_.length_scale,
+                                                        model.scale_, model.nu_], dtype=float),
+                           f"{name}.mode_start_": np.zeros(0) if start is None else start,
+                           f"{name}.start_objectives_": np.asarray(model.start_objectives_, dtype=float)})
+            models[name].update(kind="t-likelihood", mode_start=start is not None, n_newton_=int(model.n_newton_),
+                                gradient_norm_=float(model.gradient_norm_))
+            continue
+        arrays.update({f"{name}.{attribute}": getattr(model, attribute) for attribute in _ARRAYS})
+        models[name]["jitter_"] = float(model.jitter_)
     meta = {"format": _FORMAT, "fingerprint": fingerprint(), "config": experiment.config.to_dict(), "models": models}
     return arrays, meta
 
@@ -179,10 +193,45 @@ def _restore(agent, arrays: dict, meta: dict) -> None:
     agent.fit(fit_model=lambda model, X, y: _restore_model(names[id(model)], model, X, y, arrays, meta))
 
 
+def _has_student_t_noise(model) -> bool:
+    from ...models.processes.likelihood import StudentTLikelihoodGP
+
+    return isinstance(model, StudentTLikelihoodGP)
+
+
+def _restore_likelihood_model(name: str, model, X, y, arrays: dict, stored: dict) -> None:
+    """A GP with Student-t noise restored on the rows ``X, y``: its mode searched again at the stored
+    hyperparameters, from where the fit's search began, which gives the fit's bits."""
+    from ...models.kernels import RBF
+
+    if (stored.get("kind") != "t-likelihood" or type(stored.get("mode_start")) is not bool
+            or type(stored.get("n_newton_")) is not int or type(stored.get("gradient_norm_")) is not float):
+        raise ValueError(f"the {name} model's stored numbers are not those of a GP with Student-t noise")
+    hyper, start, objectives = (arrays[f"{name}.{attribute}"] for attribute in _LIKELIHOOD_ARRAYS)
+    n_distinct = len(np.unique(X, axis=0))
+    for label, array, shape in (("hyper_", hyper, (4,)), ("start_objectives_", objectives, objectives.shape[:1]),
+                                ("mode_start_", start, (n_distinct,) if stored["mode_start"] else (0,))):
+        if array.shape != shape or array.dtype.kind != "f" or not np.all(np.isfinite(array)):
+            raise ValueError(f"the {name} model's {label} is {array.dtype}{array.shape}, not {shape}")
+    if not np.all(hyper > 0):
+        raise ValueError(f"the {name} model's hyperparameters are not positive: {hyper.tolist()}")
+    amplitude, length_scale, scale, nu = (float(v) for v in hyper)
+    model.n_features_in_ = stored["n_features_in_"]
+    model._settle(np.asarray(X, dtype=float), np.asarray(y, dtype=float), RBF(amplitude, length_scale), scale, nu,
+                  start if stored["mode_start"] else None, stored["gradient_norm_"], objectives, stored["n_iter_"])
+    if (model.log_marginal_likelihood_value_ != stored["log_marginal_likelihood_value_"]
+            or model.n_newton_ != stored["n_newton_"]):
+        raise ValueError(f"the {name} model's hyperparameters do not give the stored mode on these data: the entry "
+                         "was edited, or the data changed")
+
+
 def _restore_model(name: str, model, X, y, arrays: dict, meta: dict) -> None:
     """One model of an entry, restored on the rows ``X, y`` drawn for it."""
     from ...models.linalg import group_rows
 
+    if _has_student_t_noise(model):
+        stored = _checked_model_meta(meta["models"][name], X.shape[1], jitter=False)
+        return _restore_likelihood_model(name, model, X, y, arrays, stored)
     stored = _checked_model_meta(meta["models"][name], X.shape[1])
     data = group_rows(X, y)
     G = len(data.counts)
@@ -208,11 +257,11 @@ def _restore_model(name: str, model, X, y, arrays: dict, meta: dict) -> None:
                          "these data: the entry was edited, or the data changed")
 
 
-def _checked_model_meta(stored, features: int) -> dict:
+def _checked_model_meta(stored, features: int, jitter: bool = True) -> dict:
     """A model's stored numbers, of the types and in the ranges a fit gives; ValueError otherwise."""
     ok = (isinstance(stored, dict) and type(stored.get("n_features_in_")) is int
           and stored["n_features_in_"] == features and type(stored.get("n_iter_")) is int and stored["n_iter_"] >= 0
-          and type(stored.get("jitter_")) is float and 0 <= stored["jitter_"] < np.inf
+          and (not jitter or (type(stored.get("jitter_")) is float and 0 <= stored["jitter_"] < np.inf))
           and type(stored.get("log_marginal_likelihood_value_")) is float)
     if not ok:
         raise ValueError(f"a model's stored numbers are not a fit's: {stored!r}")

@@ -2,9 +2,9 @@
 
 A pick changes that side's model at once, as a slider move changes the
 world: the run on show stops, the preview is drawn, and both sides are
-fitted for the next *Run* (a TP or GP side loaded from the fit cache where it
-was fitted before; a side with Student-t noise, whose fits the cache does not
-keep, fitted afresh).
+fitted for the next *Run*, each in a process of its own (loaded from the fit
+cache where it was fitted before: ``sarsp-edu prefit --models tp gp
+t-likelihood`` fits all three before class).
 """
 
 from __future__ import annotations
@@ -14,10 +14,26 @@ import ipywidgets as widgets
 from ..._internal.validation import check_choice
 from ...config import MODEL_TITLES
 
-__all__ = ["MODEL_TITLES", "TP_AND_GP", "model_pickers", "picked_side"]
+__all__ = ["MODEL_TITLES", "TP_AND_GP", "model_pickers", "model_sides", "picked_side"]
+
+
+
+def model_sides(models) -> dict:
+    """A side per model, named by it: name -> (title, the settings that side changes).
+
+    Parameters
+    ----------
+    models : iterable of str
+        Each one of :data:`MODEL_TITLES`.
+    """
+    models = list(models)
+    for model in models:
+        check_choice("model", model, tuple(MODEL_TITLES))
+    return {model: (MODEL_TITLES[model], {"model": model}) for model in models}
+
 
 #: tutorial 4's two sides: name -> (title, the settings that side changes)
-TP_AND_GP = {model: (MODEL_TITLES[model], {"model": model}) for model in ("tp", "gp")}
+TP_AND_GP = model_sides(("tp", "gp"))
 
 
 def model_pickers(dashboard) -> dict:
