@@ -36,36 +36,12 @@ from concurrent.futures import Future
 from ..._internal.owner import Closed, Owner
 from ..._internal.threads import one_blas_thread
 from .background import FitQueue
+from .quiet import QuietView
 
 __all__ = ["LiveRun", "QuietView"]
 
 #: how often (s) the run's thread looks at a fit's progress while a synchronous command waits for it
 _PROGRESS_EVERY = 0.25
-
-
-class QuietView:
-    """A view that shows nothing: a :class:`LiveRun` in a script or a test."""
-
-    def show_side(self, name) -> None:
-        """Nothing: a side's run changed."""
-
-    def show_metrics(self, throttle: bool = False) -> None:
-        """Nothing: an episode may have ended."""
-
-    def show_waiting(self, name, why: str) -> None:
-        """Nothing: the side ``name`` waits, ``why`` says for what (in words).
-
-        Parameters
-        ----------
-        name : str
-        why : str
-        """
-
-    def say(self, text: str) -> None:
-        """Nothing: the status line."""
-
-    def preview(self) -> None:
-        """Nothing: the world the settings imply."""
 
 
 class LiveRun(Owner):
@@ -85,10 +61,15 @@ class LiveRun(Owner):
         What shows the run (see the module's docstring); default :class:`QuietView`.
     steps_per_second : float, default 30
         Animation speed (paired steps per second); any thread may change it at any time.
+    page : PagePresence, optional
+        The page that shows the run (:mod:`~sarsp_edu.teaching.live.presence`): a launched run stops when it has
+        gone.  None: no page is listened to.
     """
 
-    def __init__(self, sides: dict, config, *, parts=None, offline=None, view=None, steps_per_second=30.0):
+    def __init__(self, sides: dict, config, *, parts=None, offline=None, view=None, steps_per_second=30.0,
+                 page=None):
         self.sides = sides
+        self.page = page
         self.config = config
         self.parts = dict(parts or {})
         self.view = QuietView() if view is None else view
@@ -208,20 +189,29 @@ class LiveRun(Owner):
         """Seconds until the run's thread has work of its own (None: none until a command or the fits' news)."""
         if not self.running:
             return None
+        listening = self.page is not None and self.page.listening  # its page looked at every second
         if self._forward_left is not None:
-            return 0 if self._all_sides() else None  # fast-forward needs every side: it waits for their fits
-        if not self.experiments:
-            return None  # no side fitted yet
-        return max(0.0, self._next_frame - time.perf_counter())
+            due = 0 if self._all_sides() else None  # fast-forward needs every side: it waits for their fits
+        else:
+            due = max(0.0, self._next_frame - time.perf_counter()) if self.experiments else None
+        return min(due, 1.0) if listening and due is not None else (1.0 if listening else due)
 
     def _advance(self) -> None:
-        """One unit of the launched run: a paired frame of the animation, or one step of the fast-forward."""
+        """One unit of the launched run: a paired frame of the animation, or one step of the fast-forward (where
+        it is due, and its page is still there)."""
         if not self.running:
             return
+        if self.page is not None:
+            self.page.arm()
+            if self.page.gone():
+                self.view.say(f"Stopped: this page has not been heard from in {self.page.silence:.0f} s (closed or "
+                              "reloaded?). <b>Run</b> continues.")
+                return self._settle_launch()
         try:
             if self._forward_left is None:
-                self._frame()
-            else:
+                if self.experiments and time.perf_counter() >= self._next_frame:
+                    self._frame()
+            elif self._all_sides():
                 self._forward_step()
         except Exception as exc:  # nobody to raise to: the view says it, and the run ends
             self.view.say(f"<span style='color:#b00020'>Stopped by an error: {html.escape(str(exc))}</span>")
@@ -361,6 +351,8 @@ class LiveRun(Owner):
         self.frame_times = {name: [] for name in self.sides}  # this animation's steps, counted afresh
         self.frames = 0
         self._next_frame = time.perf_counter()
+        if self.page is not None:
+            self.page.watch()
         if self.finished:
             self._end_launch()
         return True

@@ -19,6 +19,7 @@ from . import markup
 from .background import slider_config
 from .controller import LiveRun
 from .pick import TP_AND_GP, model_pickers, picked_side
+from .presence import PagePresence
 from .snapshot import (
     AUTOPLAY_VARIABLE,
     LIVE_METRICS,
@@ -172,19 +173,21 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         self.model_pickers = model_pickers(self)  # each side's model, the TP against the GP unless picked
         if self.model_pickers:
             self.settings_rows.insert(1, control_row(list(self.model_pickers.values())))
+        self.page = PagePresence()  # a run stops when the page that shows it has gone
         super().__init__(children=[
             *self.settings_rows,
             self.status,
             widgets.HBox(pictures, layout=widgets.Layout(width="100%")),  # the grids and key numbers: one screen
             widgets.HBox(tables, layout=widgets.Layout(width="100%")),
             self.metrics_image,
+            self.page.widget,  # hidden: the page's sign of life, once a second
         ])
         self._drawn_key = None
         self._metrics_drawn_at = -float("inf")
         self._offline = {}  # seed -> the offline world and its clean data (a slider move reuses them)
         #: the run itself, no widgets: this dashboard is its view
         self.run = LiveRun(self.sides, self.config, parts=self.parts, offline=self._offline, view=self,
-                           steps_per_second=steps_per_second)
+                           steps_per_second=steps_per_second, page=self.page)
         self.speed.observe(lambda change: setattr(self.run, "steps_per_second", float(change["new"])), names="value")
         self.autoplay = bool(autoplay)
         self._autoplayed = False

@@ -1,0 +1,116 @@
+"""Whether the page that shows a live run is still there: the run stops when its page has gone.
+
+A kernel is not told when the browser tab that shows it is closed or
+reloaded: a Voila page's kernel, or a notebook's closed in JupyterLab, would
+go on animating its agents at about a core each until the server ends it.
+:class:`PagePresence` asks the page for a sign of life instead: a hidden
+``ipywidgets.Play`` counts up once a second *in the browser*, and each count
+reaches the kernel as a change of its value.  While a live run runs, its
+thread looks at the time of the last count (:meth:`PagePresence.gone`); when
+the page has said nothing for :data:`SILENCE_SECONDS` (a page in a hidden tab
+is still heard: browsers slow a hidden tab's timers to about one a minute, not
+to none) the run stops and says why, and the kernel, idle now, is left to the
+server's idle culling (``voila.json``).  *Run* starts it again where the page
+is still there (after a reload in JupyterLab, say).
+
+A ``Play`` widget starts counting only when its ``playing`` turns on after its
+view is drawn, which the kernel cannot see: while the page has not been heard
+since the run began, the run's thread turns it off and on again every
+:data:`ARM_EVERY` seconds (:meth:`PagePresence.arm`).  Outside a kernel (a
+script, a test without a browser) there is no page to hear, and nothing stops.
+
+Who owns what: the counts are written by the kernel's main thread (the
+widget's observer, ``_heard``) and read by the run's thread; a float is
+replaced whole, so the reader sees the last count or the one before.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+__all__ = ["ARM_EVERY", "SILENCE_SECONDS", "PagePresence", "in_a_kernel"]
+
+#: the page counts once a second; a count every ``ARM_EVERY`` s or less is needed for the page to be heard
+INTERVAL_MS = 1000
+#: seconds between two attempts to start the page's count, while it is not heard
+ARM_EVERY = 2.0
+#: seconds of silence after which the page is taken for gone (``SARSP_EDU_PAGE_SILENCE`` overrides it)
+SILENCE_SECONDS = 90.0
+SILENCE_VARIABLE = "SARSP_EDU_PAGE_SILENCE"
+
+
+def in_a_kernel() -> bool:
+    """Whether this code runs in a Jupyter kernel (where a page may show the run)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return False
+    shell = get_ipython()
+    return shell is not None and getattr(shell, "kernel", None) is not None
+
+
+def silence_seconds() -> float:
+    """:data:`SILENCE_SECONDS`, or the positive number of seconds ``SARSP_EDU_PAGE_SILENCE`` gives."""
+    given = os.environ.get(SILENCE_VARIABLE)
+    if given is None:
+        return SILENCE_SECONDS
+    try:
+        seconds = float(given)
+    except ValueError:
+        seconds = float("nan")
+    if not seconds > 0 or seconds == float("inf"):
+        raise ValueError(f"{SILENCE_VARIABLE} must be a positive number of seconds, got {SILENCE_VARIABLE}={given!r}")
+    return seconds
+
+
+class PagePresence:
+    """A hidden counter in the page, and how long ago it was last heard.
+
+    Parameters
+    ----------
+    listening : bool, optional
+        Whether a page can be heard at all; default: :func:`in_a_kernel`.
+    clock : callable, default time.monotonic
+        The seconds the silences are measured in (a test's own clock).
+    """
+
+    def __init__(self, listening: bool | None = None, clock=time.monotonic):
+        import ipywidgets as widgets
+
+        self.listening = in_a_kernel() if listening is None else bool(listening)
+        self.silence = silence_seconds()
+        self._clock = clock
+        self.widget = widgets.Play(value=0, min=0, max=2**31 - 1, interval=INTERVAL_MS, playing=False,
+                                   show_repeat=False, description="page presence",
+                                   layout=widgets.Layout(width="0px", height="0px", overflow="hidden",
+                                                         visibility="hidden", margin="0px"))
+        self.widget.observe(self._heard, names="value")
+        self.last_heard = None  # when the page last counted (the clock's seconds); None: never
+        self._since = None  # when the current watch began (a run's start)
+        self._armed = None  # when the count was last (re)started
+
+    def _heard(self, change) -> None:  # the kernel's main thread: a count from the page
+        self.last_heard = self._clock()
+
+    def watch(self) -> None:
+        """A run begins: the page must be heard from now on (the run's thread)."""
+        self._since, self._armed = self._clock(), None
+
+    def arm(self) -> None:
+        """Start the page's count if it has not been heard since the watch began (the run's thread)."""
+        now = self._clock()
+        heard = self.last_heard is not None and self._since is not None and self.last_heard >= self._since
+        if not self.listening or heard or (self._armed is not None and now - self._armed < ARM_EVERY):
+            return
+        self._armed = now
+        self.widget.playing = False  # off and on: a view drawn since starts counting on the change
+        self.widget.playing = True
+
+    def gone(self) -> bool:
+        """Whether the page has said nothing for ``silence`` seconds since the watch began (False where no page
+        can be heard, or before :meth:`watch`)."""
+        if not self.listening or self._since is None:
+            return False
+        last = self._since if self.last_heard is None else max(self.last_heard, self._since)
+        return self._clock() - last > self.silence

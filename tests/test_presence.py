@@ -1,0 +1,129 @@
+"""A live run stops when the page that shows it has gone (sarsp_edu.teaching.live.presence).
+
+The page's sign of life is a hidden Play widget that counts in the browser; here a test's thread counts in its
+place, as the kernel's main thread would receive the counts, while the run's thread steps the agents.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import pytest
+
+from sarsp_edu.config import ExperimentConfig
+from sarsp_edu.teaching.live import TP_AND_GP, LiveRun
+from sarsp_edu.teaching.live.presence import ARM_EVERY, SILENCE_VARIABLE, PagePresence, in_a_kernel
+
+from .test_live_run import RecordingView, _wait_until
+from .worlds import SIX_BY_SIX
+
+LONG = ExperimentConfig(**SIX_BY_SIX, episodes=200, n_switch_states=1)
+
+
+class Clock:
+    """A clock the test moves by hand."""
+
+    def __init__(self):
+        self.now = 100.0
+
+    def __call__(self):
+        return self.now
+
+
+def test_outside_a_kernel_no_page_is_listened_to_and_nothing_stops():
+    assert not in_a_kernel()  # pytest is no kernel
+    page = PagePresence()
+    page.watch()
+    page.arm()
+    assert not page.listening and not page.gone() and page.widget.playing is False
+
+
+def test_a_page_never_heard_is_armed_every_few_seconds_and_gone_after_its_silence(monkeypatch):
+    monkeypatch.setenv(SILENCE_VARIABLE, "30")
+    clock = Clock()
+    page = PagePresence(listening=True, clock=clock)
+    toggles = []
+    page.widget.observe(lambda change: toggles.append(change["new"]), names="playing")
+    assert not page.gone()  # not watched yet: no run
+    page.watch()
+    page.arm()
+    page.arm()  # again at once: not re-armed
+    assert toggles == [True]
+    clock.now += ARM_EVERY
+    page.arm()
+    assert toggles == [True, False, True]  # off and on: a view drawn since starts counting
+    clock.now += 28
+    assert not page.gone()
+    clock.now += 2.5
+    assert page.gone()
+
+
+def test_a_page_heard_is_not_armed_again_and_is_gone_only_after_its_last_count(monkeypatch):
+    monkeypatch.setenv(SILENCE_VARIABLE, "30")
+    clock = Clock()
+    page = PagePresence(listening=True, clock=clock)
+    page.watch()
+    page.arm()
+    clock.now += 1
+    page.widget.value += 1  # the page counts
+    armed = page._armed
+    clock.now += 25
+    page.arm()
+    assert page._armed == armed  # heard since the watch: left as it is
+    assert not page.gone()  # the count is 25 s old
+    clock.now += 4
+    page.widget.value += 1  # and again
+    clock.now += 29
+    assert not page.gone()  # 29 s since the last count, 58 since the watch
+    clock.now += 2
+    assert page.gone()
+
+
+@pytest.mark.parametrize("value", ["0", "-3", "soon", "inf", "nan"])
+def test_a_silence_that_is_not_a_positive_number_of_seconds_is_refused(monkeypatch, value):
+    monkeypatch.setenv(SILENCE_VARIABLE, value)
+    with pytest.raises(ValueError, match=f"SARSP_EDU_PAGE_SILENCE must be a positive number of seconds, got "
+                                         f"SARSP_EDU_PAGE_SILENCE='{value}'"):
+        PagePresence(listening=True)
+
+
+def test_a_run_whose_page_counts_from_another_thread_steps_and_stops_when_the_counting_stops(monkeypatch):
+    """Two threads: the run's, stepping, and this one, counting as the kernel's main thread receives the page's
+    counts; when the counts stop, the run stops by itself and says why, and *Run* continues it."""
+    monkeypatch.setenv("SARSP_EDU_CACHE", "off")
+    monkeypatch.setenv(SILENCE_VARIABLE, "1.5")
+    page = PagePresence(listening=True)
+    view = RecordingView()
+    run = LiveRun(dict(TP_AND_GP), lambda: LONG, view=view, steps_per_second=40, page=page)
+    counting = threading.Event()
+    counting.set()
+
+    def count():
+        while counting.is_set():
+            page.widget.value += 1
+            time.sleep(0.2)
+
+    counter = threading.Thread(target=count, name="test-page")
+    counter.start()
+    try:
+        launched = run.launch()
+        assert _wait_until(lambda: run.frames >= 5)
+        time.sleep(2.5)  # longer than the silence: the counts keep it going
+        assert run.running and not launched.done()
+        counting.clear()
+        counter.join()
+        stopped_at = run.frames
+        assert launched.result(30) is True  # the run's thread stopped it
+        assert not run.running and run.frames >= stopped_at
+        assert any("has not been heard from in 2 s" in said for said in view.said()), view.said()
+        assert not run.finished
+        page.widget.value += 1  # the page is back (reloaded in JupyterLab): Run continues
+        again = run.launch()
+        assert _wait_until(lambda: run.frames >= 3)
+        run.stop().result(30)
+        assert again.result(30) is True
+    finally:
+        counting.clear()
+        counter.join()
+        run.close()
