@@ -16,6 +16,10 @@ from .grading import CodingExercise, Mistake
 
 __all__ = ["AGENT_EXERCISES"]
 
+#: the floats next to the knife edges d = 1 and sigma*^2 = 0.8, on their unsafe sides (a tolerance as small as
+#: 1e-13 lets them pass)
+_BELOW_ONE, _ABOVE_0_8 = float(np.nextafter(1.0, 0.0)), float(np.nextafter(0.8, 1.0))
+
 
 # -- Tutorial 3: the offline buffer's duplicate cap, the cost signal, a move -----------------------
 def _cap_cases(rng):
@@ -135,6 +139,8 @@ def _decision_cases(rng):
         case([1.0 - 1e-7, 2.0, 0.5, 0.9996], [0.1, 0.8 + 1e-7, 0.1, 0.1], [-0.5, -0.6, -3.0, -0.7], [False] * 4),
         case([2.0, 1.5, 0.5, 3.0], [0.8004, 0.1, 0.2, 0.3], [-0.5, -1.0, -3.0, -2.0], [False] * 4),
         case([1.0 - 1e-12, 2.0, 0.5, 3.0], [0.1, 0.8 + 1e-12, 0.1, 0.1], [-0.5, -0.6, -3.0, -0.7], [False] * 4),
+        # one unit in the last place past each edge: the nearest floats to d and sigma*^2 on the wrong side
+        case([_BELOW_ONE, 2.0, 0.5, 3.0], [0.1, _ABOVE_0_8, 0.1, 0.1], [-0.5, -0.6, -3.0, -0.7], [False] * 4),
     ]
     for _ in range(5):
         cases.append(case(rng.uniform(0, 3, 4), rng.uniform(0, 1.5, 4), -rng.uniform(0, 5, 4), rng.random(4) < 0.2,
@@ -207,6 +213,8 @@ def _correction_cases(rng):
         case([0.5, 0.2, 0.3, 0.4], [0.500001, 0.5, 0.9, 0.95], 0, 1.0, False),  # within np.isclose's defaults
         case([0.5, 0.2, 0.3, 0.4], [0.5 + 1e-12, 0.5, 0.9, 0.95], 0, 1.0, False),  # within math.isclose's
         case([1.0 - 1e-12, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
+        case([_BELOW_ONE, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
+        case([0.5, 0.2, 0.3, 0.4], [np.nextafter(0.5, 1.0), 0.5, 0.9, 0.95], 0, 1.0, False),
         # a predicted distance a hair below d is not one the model called safe (no tolerance, no rounding)
         case([1.0 - 1e-7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
         case([0.9996, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),

@@ -23,6 +23,7 @@ sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'a few' as a who
 
 from __future__ import annotations
 
+import ast
 import math
 import re
 
@@ -30,8 +31,7 @@ import numpy as np
 
 from .wording import shown
 
-__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "read_actions", "read_count", "read_limits",
-           "read_side", "read_word"]
+__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "read_count", "read_limits", "read_side", "read_word"]
 
 
 class Unreadable(ValueError):
@@ -132,11 +132,9 @@ def read_word(answer, options: dict) -> str:
         found = _read_clause(main, options)
         if found is None and not asides:
             found = _read_clause(text, options)
-        rest = _compact(" ".join(asides))
-        if found is not None and (_NEGATION.search(" ".join(asides).lower()) or any(
-                len(s) >= 4 and s in rest for option, spellings in options.items() if option != found
-                for s in spellings) or _trend_against(found, asides)):
-            found = None  # 'narrower (no, wider)', 'narrower, not wider': refused, never flipped
+        if found is not None and (any(_disagrees(found, aside, options) for aside in asides)
+                                  or _trend_against(found, asides)):
+            found = None  # 'narrower (no, wider)', 'narrower, but wider at first': refused, never flipped
         if found is not None:
             return found
     names = " or ".join(repr(option) for option in options)
@@ -155,6 +153,46 @@ def _trend_against(found: str, asides) -> bool:
 
 #: a word that negates what follows it, or a doubt: an aside holding one is not read past
 _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]|$)|n't|\?")
+#: a doubt, or an aside that begins by taking the answer back ('no, wider'): the answer is not read
+_DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess)([^a-z]|$)|\?|^\s*no\b")
+#: what a reason may take as given, said with a direction of its own ('as nu grows', 'larger nu', 'more degrees
+#: of freedom'), and the band or factor at the question's start ('at nu = 3', 'before'): not the answer's side
+_PREMISES = (r"\b(?:as|when|while|if|since|once)?\s*(?:nu|\u03bd|the degrees of freedom|degrees of freedom)\s+"
+             r"(?:grows|increases|rises|goes up|gets (?:larger|bigger|higher)|is (?:larger|bigger|higher))\b",
+             r"\b(?:larger|bigger|higher|greater|more)\s+(?:nu|\u03bd|degrees of freedom)\b")
+_BASELINE = re.compile(r"\b(?:nu|\u03bd)\s*=\s*3(?![\d.])|\bbefore\b")
+#: a rise slower than another's is a fall of their ratio ('beta grows more slowly than n')
+_SLOWER = re.compile(r"\b(?:grows|rises|increases|climbs)\s+(?:more\s+slowly|slower|less)\s+than\b")
+#: comparatives too common in a reason to stand for a side ('more degrees of freedom', 'less surprising')
+_COMMON = frozenset(("more", "less"))
+_NEGATED = ("not", "dont", "doesnt", "isnt", "arent", "wont", "never", "cannot")
+
+
+def _disagrees(found: str, aside: str, options: dict) -> bool:
+    """Whether an aside or reason doubts the answer or says another side: 'no, wider', 'or wider', 'the band
+    widens', 'because beta exceeds n', 'not narrower' (of 'narrower'); not 'not wider', 'as nu grows ...', 'the
+    band at nu = 3 is wider'."""
+    low = aside.lower()
+    if _DOUBT.search(low):
+        return True
+    for premise in _PREMISES:
+        low = re.sub(premise, " ", low)
+    low = _SLOWER.sub(" falls below ", low)
+    said = _read_clause(low, options)
+    if said is not None:
+        return said != found
+    compact, baseline = _compact(low), bool(_BASELINE.search(low))
+    for option, spellings in options.items():
+        for spelling in spellings:
+            if len(spelling) < 4 or spelling in _COMMON:
+                continue
+            for at in (m.start() for m in re.finditer(re.escape(spelling), compact)):
+                negated = compact[:at].endswith(_NEGATED)
+                if option == found and negated:
+                    return True  # 'narrower (not narrower)'
+                if option != found and not negated and not baseline:
+                    return True  # 'narrower, but wider at first'; 'narrower (the band at nu = 3 is wider)' is not
+    return False
 
 
 def _clauses(text: str) -> tuple:
@@ -162,6 +200,7 @@ def _clauses(text: str) -> tuple:
     semicolon, a comma or a dash ('Narrower: the factor falls' -> 'Narrower', ['the factor falls'])."""
     asides = re.findall(r"\(([^()]*)\)", text)
     bare = re.sub(r"\s*\([^()]*\)\s*", " ", text).strip()
+    bare = re.sub(r"(?<=[A-Za-z0-9])\.\s+(?=[A-Z])", "; ", bare)  # 'Below. Without outliers ...': a second sentence
     # not '1,000'; 'below 1 because ...': the reason is an aside too
     first, *others = re.split(r"\s*(?:[:;\u2013\u2014]|,(?!\d))\s*|\s+-\s+|\s+(?:because|since)\s+", bare)
     return first.strip(), [*asides, *(clause for clause in others if clause.strip())]
@@ -255,14 +294,64 @@ def read_side(answer) -> str:
                              ) from None
         return "above" if value > 1 else "below"
     # a number said beside the word must be on its side: 'below 1 (about 3.3)' says both
-    numbers = [float(n) for n in re.findall(r"-?\d+(?:\.\d+)?", " ".join(_clauses(_text(answer))[1]))]
+    asides = re.sub(r"\b(?:at|with|for|when|where)\s+(?:nu|\u03bd|n|d)\s*=\s*-?\d+(?:\.\d+)?", " ",
+                    " ".join(_clauses(_text(answer))[1]))  # 'at nu = 3': a setting, not the value
+    numbers = [float(n) for n in re.findall(r"-?\d+(?:\.\d+)?", asides)]
     if any(value != 1 and (value > 1) != (side == "above") for value in numbers):
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': its number is on the other side.")
     return side
 
 
+#: a bound, an estimate or a share where a count is asked ('less than 50', 'nearly 50', '50 is too many', '50
+#: percent', '50+'): not the count ('about 50' and 'at most 50' are)
+_NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|almost|close\s+to|slightly|a\s+bit|"
+                          r"at\s+least|up\s+to|exceed\w*|beyond|too\s+(?:many|few)|percent|per\s*cent|or\s+so)\b"
+                          r"|\d\s*\+(?!\s*\d)", re.IGNORECASE)
+#: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
+_GRID_SIZE = re.compile(r"\b\d+\s*(?:x|\u00d7|\*|-?by-?)\s*\d+\b(?!\s*/)", re.IGNORECASE)
+#: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
+_WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+()-]+)|([\d\s*x\u00d7/+()-]+)=\s*(\d+))\s*$",
+                      re.IGNORECASE)
+
+
+_OPERATIONS = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
+               ast.Div: lambda a, b: a / b}
+
+
+def _arithmetic(node) -> float:
+    """The value of a sum, difference, product or quotient of whole numbers (ValueError for anything else)."""
+    if isinstance(node, ast.Constant) and type(node.value) is int:
+        return float(node.value)
+    if isinstance(node, ast.BinOp) and type(node.op) in _OPERATIONS:
+        return _OPERATIONS[type(node.op)](_arithmetic(node.left), _arithmetic(node.right))
+    raise ValueError("not arithmetic of whole numbers")
+
+
+def _worked(text: str) -> str:
+    """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
+    the working does not give the number."""
+    match = _WORKING.match(text)
+    if not match:
+        return text
+    number, working = (match.group(1), match.group(2)) if match.group(1) else (match.group(4), match.group(3))
+    expression = re.sub(r"[x\u00d7]", "*", working, flags=re.IGNORECASE)
+    try:
+        value = _arithmetic(ast.parse(expression.strip(), mode="eval").body)
+    except (SyntaxError, ZeroDivisionError, ValueError):
+        return text
+    if value != float(number):
+        raise Unreadable(f"Could not read {shown(text)} as a whole number: its working gives {value:g}, not {number}.")
+    return number
+
+
 def read_count(answer) -> int:
     """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
+    text = _text(answer)
+    if text is not None:
+        if _NOT_A_COUNT.search(text):
+            raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
+                             "share, not the number.")
+        answer = _GRID_SIZE.sub(" the grid ", _worked(text))
     try:
         value = _number(answer, "a whole number", single=True)
     except Unreadable as refused:
@@ -329,47 +418,3 @@ def read_limits(answer) -> dict:
     if missing:
         raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
     return limits
-
-
-#: the actions' names, for answers that name them
-_ACTIONS = {"right": 0, "down": 1, "left": 2, "up": 3}
-
-
-def read_actions(answer) -> list[int]:
-    """Action numbers 0-3, sorted and once each, from a list, set, array, a 4-long boolean mask or text."""
-    text = _text(answer)
-    if text is not None:
-        if _NEGATION.search(" ".join(_clauses(text)[1]).lower()) and not re.search(r"\bnot\s+safe\b", text, re.I):
-            raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
-        text = re.sub(r"\(([^()]*\bnot\s+safe[^()]*)\)", " ", text, flags=re.I)  # '0, 1, 2 (UP is not safe)'
-        # '0, 1 and 2 (three actions)': a count of them, not an action
-        text = re.sub(r"\(\s*(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", " ", text, flags=re.I)
-        text = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?)\b", " ", text, flags=re.I)  # 'actions 0, 1 and 2'
-        text = re.sub(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", r"\1", text, flags=re.I)  # 'RIGHT (0)'
-        none = _compact(text) in ("none", "nothing", "noaction", "noactions", "[]", "no")
-        answer = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", text.strip(),
-                                                            flags=re.I)
-                                  if item]
-    elif isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
-        answer = [answer]
-    try:
-        array = np.asarray(list(answer) if isinstance(answer, (set, frozenset)) else answer)
-    except (TypeError, ValueError, OverflowError):
-        array = None
-    if array is not None and array.ndim == 1 and array.dtype.kind == "b" and len(array) == 4:
-        return [int(a) for a in np.flatnonzero(array)]  # the safe set as a mask of the four actions
-    if array is None or array.ndim != 1 or (array.size and array.dtype.kind == "b"):
-        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
-    actions = set()
-    for item in array.tolist():
-        item = _ACTIONS.get(item.strip().lower(), item) if isinstance(item, str) else item
-        try:
-            number = _number(item, "an action number")
-        except Unreadable:
-            raise Unreadable(f"Could not read {shown(item)} as an action number.") from None
-        if number not in (0, 1, 2, 3):
-            raise Unreadable(f"{shown(item)} is not an action: they are numbered 0 to 3.")
-        if int(number) in actions:
-            raise Unreadable(f"Your list names action {int(number)} twice: name each safe action once.")
-        actions.add(int(number))
-    return sorted(actions)

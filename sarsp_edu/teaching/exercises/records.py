@@ -109,6 +109,9 @@ def _summaries_cases(rng):
         {"summary_1": summary(-90 - 1e-12, 0.01, 80), "summary_2": summary(-90, 0.01 + 1e-12, 90), "a": 100.0},
         {"summary_1": summary(-100, 0.01, 90 - 1e-12), "summary_2": summary(-90, 0.02, 90), "a": 90.0},
         {"summary_1": summary(-80, 0.01, 80), "summary_2": summary(-90, 0.01 + 1e-12, 90), "a": 100.0},
+        # Definition 4 compares rewards as they are, whatever their sign: a larger positive reward is better
+        {"summary_1": summary(10, 0.01, 80), "summary_2": summary(5, 0.02, 90), "a": 100.0},
+        {"summary_1": summary(5, 0.01, 80), "summary_2": summary(-10, 0.02, 90), "a": 100.0},
     ]
     for _ in range(6):
         cases.append({"summary_1": summary(-rng.uniform(50, 150), rng.uniform(0.001, 0.03), rng.uniform(50, 100)),
@@ -152,6 +155,9 @@ def _decision_cases(rng):
         {"mu_cost": np.array([[1.0 - 1e-12, 0.5, 0.2, 0.5], [2.0, 2.0, 2.0, 2.0]]),
          "var_cost": np.array([[0.1, 0.1, 0.1, 0.1], [0.8 + 1e-12, 0.9, 0.9, 0.95]]), "d": 1.0,
          "thresholds": np.array([0.8, 2.0])},
+        {"mu_cost": np.array([[np.nextafter(1.0, 0.0), 0.5, 0.2, 0.5], [2.0, 2.0, 2.0, 2.0]]),
+         "var_cost": np.array([[0.1, 0.1, 0.1, 0.1], [np.nextafter(0.8, 1.0), 0.9, 0.9, 0.95]]), "d": 1.0,
+         "thresholds": np.array([0.8, 2.0])},  # one unit in the last place past each edge
     ]
     for n in (7, 250):
         mu = rng.integers(-1, 5, (n, 4)).astype(float) + np.where(rng.random((n, 4)) < 0.5, 0.0, rng.random((n, 4)))

@@ -15,7 +15,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .parsing import NARROWER, WIDER, read_actions, read_count, read_limits, read_side, read_word
+from .action_lists import read_actions
+from .parsing import NARROWER, WIDER, read_count, read_limits, read_side, read_word
 
 __all__ = ["Exercise", "LOOKUPS"]
 

@@ -1,0 +1,110 @@
+"""Reading a list of actions as a student writes it (exercise 4.4): ``[0, 2]``, ``"0, 2"``, ``"RIGHT and LEFT"``,
+``"0 (RIGHT), 2 (LEFT)"``, ``"all but 3"``, ``"0, 1, 2; 3 is not safe"``, a boolean mask of the four actions.
+
+Examples
+--------
+>>> read_actions("RIGHT (0), LEFT (2)"), read_actions("all but UP"), read_actions("only 0")
+([0, 2], [0, 1, 2], [0])
+>>> read_actions("0 (DOWN)")  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+...
+sarsp_edu.teaching.exercises.parsing.Unreadable: '0 (DOWN)' names action 0 as DOWN: RIGHT = 0, DOWN = 1, ...
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from .parsing import _NEGATION, Unreadable, _clauses, _compact, _number, _text
+from .wording import shown
+
+__all__ = ["read_actions"]
+
+#: the actions' names, for answers that name them
+_ACTIONS = {"right": 0, "down": 1, "left": 2, "up": 3}
+_NAMES = "RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3"
+#: an action said with its name beside its number, either way round: 'RIGHT (0)', '0 (RIGHT)'
+_NAMED = (re.compile(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", re.IGNORECASE),
+          re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE))
+#: a clause that names the actions that are not safe ('UP is not safe', '3 is unsafe')
+_NOT_SAFE = re.compile(r"\bnot\s+safe\b|\bunsafe\b", re.IGNORECASE)
+#: every action but some: 'all but 3', 'everything except UP', 'all actions except 3'
+_ALL_BUT = re.compile(r"^\s*(?:all|every(?:thing|\s+action)?|all\s+(?:the\s+)?actions)\s+(?:but|except)\s+(.+)$",
+                      re.IGNORECASE)
+
+
+def _unnamed(text: str, answer) -> str:
+    """``text`` with each 'NAME (n)' or 'n (NAME)' said as its number, once they agree."""
+    for pattern, name_first in zip(_NAMED, (True, False)):
+        for match in pattern.finditer(text):
+            name, number = match.groups() if name_first else match.groups()[::-1]
+            if _ACTIONS[name.lower()] != int(number):
+                raise Unreadable(f"{shown(answer)} names action {number} as {name.upper()}: {_NAMES}.")
+        text = pattern.sub(lambda m, first=name_first: m.group(2) if first else m.group(1), text)
+    return text
+
+
+def read_actions(answer) -> list[int]:
+    """Action numbers 0-3, sorted and once each, from a list, set, array, a 4-long boolean mask or text; raises
+    :class:`~sarsp_edu.teaching.exercises.parsing.Unreadable`."""
+    text = _text(answer)
+    if text is not None:
+        return _read_text(text, answer)
+    if isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
+        answer = [answer]
+    try:
+        array = np.asarray(list(answer) if isinstance(answer, (set, frozenset)) else answer)
+    except (TypeError, ValueError, OverflowError):
+        array = None
+    if array is not None and array.ndim == 1 and array.dtype.kind == "b" and len(array) == 4:
+        return [int(a) for a in np.flatnonzero(array)]  # the safe set as a mask of the four actions
+    if array is None or array.ndim != 1 or (array.size and array.dtype.kind == "b"):
+        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
+    return _numbered(array.tolist())
+
+
+def _read_text(text: str, answer) -> list[int]:
+    text = _unnamed(text, answer)
+    # '0, 1 and 2 (three actions)': a count of them, not an action
+    text = re.sub(r"\(\s*(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", " ", text, flags=re.I)
+    # the clauses that say which actions are not safe: set aside, and checked against the rest
+    parts = re.split(r"\s*(?:[;:\u2013\u2014]|\s-\s)\s*", re.sub(r"\(([^()]*)\)", r"; \1;", text))
+    unsafe = [part for part in parts if _NOT_SAFE.search(part)]
+    said = " ".join(part for part in parts if not _NOT_SAFE.search(part))
+    if _NEGATION.search(" ".join(_clauses(said)[1]).lower()):
+        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
+    said = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?|only|just)\b", " ", said, flags=re.I)
+    everything_but = _ALL_BUT.match(said)
+    if everything_but:
+        said = everything_but.group(1)
+    none = _compact(said) in ("none", "nothing", "noaction", "noactions", "[]", "no")
+    items = [] if none else [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+", said.strip(), flags=re.I)
+                             if item]
+    actions = _numbered(items)
+    if everything_but:
+        actions = sorted(set(range(4)) - set(actions))
+    for part in unsafe:
+        named = _numbered([item for item in re.split(r"[^a-z0-9]+", re.sub(r"\b(not|safe|unsafe|is|are|and|the|"
+                                                                            r"actions?)\b", " ", part, flags=re.I))
+                           if item])
+        if set(named) & set(actions):
+            raise Unreadable(f"{shown(answer)} calls action {min(set(named) & set(actions))} safe and not safe.")
+    return actions
+
+
+def _numbered(items) -> list[int]:
+    actions = set()
+    for item in items:
+        item = _ACTIONS.get(item.strip().lower(), item) if isinstance(item, str) else item
+        try:
+            number = _number(item, "an action number")
+        except Unreadable:
+            raise Unreadable(f"Could not read {shown(item)} as an action number.") from None
+        if number not in (0, 1, 2, 3):
+            raise Unreadable(f"{shown(item)} is not an action: they are numbered 0 to 3.")
+        if int(number) in actions:
+            raise Unreadable(f"Your list names action {int(number)} twice: name each safe action once.")
+        actions.add(int(number))
+    return sorted(actions)
