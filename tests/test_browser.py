@@ -399,6 +399,14 @@ SIZES = """async () => {
     const sizes = [...svg.matchAll(/font(?:-size)?:\\s*(?:[a-z]+\\s+)*([\\d.]+)px/g)].map(m => parseFloat(m[1]));
     if (sizes.length) plots.push(Math.min(...sizes) * img.clientWidth / parseFloat(box[1]));
   }
+  for (const svg of document.querySelectorAll('.widget-html-content svg[role="img"]')) {  // a plot drawn inline
+    if (!svg.outerHTML.includes('Matplotlib')) continue;  // matplotlib's, not a grid world's
+    const sizes = [...svg.outerHTML.matchAll(/font(?:-size)?:\\s*(?:[a-z]+\\s+)*([\\d.]+)px/g)]
+      .map(m => parseFloat(m[1]));
+    const box = svg.viewBox.baseVal;
+    if (sizes.length && box && box.width && svg.clientWidth !== undefined)
+      plots.push(Math.min(...sizes) * svg.getBoundingClientRect().width / box.width);
+  }
   const grids = [...document.querySelectorAll('.widget-html-content svg')].map(svg => {
     const title = svg.querySelector('text');
     return title ? parseFloat(title.getAttribute('font-size')) * svg.getBoundingClientRect().width
@@ -793,3 +801,51 @@ def test_a_reloaded_live_page_leaves_one_kernel_stepping_not_two(tmp_path, brows
         assert sorted(share > 0.15 for share in busy.values()) == [False, True], busy
         assert "has not been heard from" not in page.inner_text("body")  # the page on show is heard
         assert not outside, f"the page asked other hosts for {outside}"
+
+
+#: every piece of text or picture of the live dashboard that an ancestor with hidden overflow cuts, or that reaches
+#: past the page's right edge: [text or tag, how many px are cut]
+CLIPPED = """() => {
+  const cut = [];
+  const root = document.querySelector('.sarsp-projector') || document.body;
+  for (const e of root.querySelectorAll('.widget-html-content td, .widget-html-content b, .widget-html-content small,'
+      + ' .widget-html-content svg, .widget-label, .widget-readout, .widget-button')) {
+    const r = e.getBoundingClientRect();
+    if (!r.width || !e.offsetParent && e.tagName !== 'svg') continue;
+    let worst = Math.max(0, r.right - document.documentElement.clientWidth);
+    for (let a = e.parentElement; a && a !== document.body; a = a.parentElement) {
+      const style = getComputedStyle(a);
+      if (style.overflowX === 'visible' && style.overflow === 'visible') continue;
+      const box = a.getBoundingClientRect();
+      worst = Math.max(worst, r.right - box.right, box.left - r.left);
+    }
+    if (e.scrollWidth > e.clientWidth + 1 && e.tagName !== 'svg')
+      worst = Math.max(worst, e.scrollWidth - e.clientWidth);
+    if (worst > 1) cut.push([(e.textContent || e.tagName).trim().slice(0, 40), Math.round(worst)]);
+  }
+  return cut;
+}"""
+
+
+def test_the_live_dashboards_numbers_and_grids_are_never_cut_at_800_1280_or_1920_px(tmp_path, browser, shots):
+    """A run under way (its key numbers, the fit's time, both phases said) in JupyterLab with the file browser
+    open, at 1920x1080, 1280x720 and 800x600: every key number, grid, label and header wraps or scales, none is
+    cut."""
+    work = tmp_path / "lab"
+    work.mkdir()
+    code = ("from sarsp_edu.teaching.live import agent_dashboard\n"
+            "live = agent_dashboard(episodes=3, n_switch_states=2)\nlive.fast_forward(1)\nlive")
+    notebook = one_cell_notebook(code, work / "dashboard.ipynb")
+    with jupyterlab(notebook, tmp_path, browser, 1920, 1080) as page:
+        run_all(page, ".widget-html-content table")
+        page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=300_000)
+        found = {}
+        for width, height in ((1920, 1080), (1280, 720), (800, 600)):
+            page.set_viewport_size({"width": width, "height": height})
+            page.wait_for_timeout(1500)
+            found[f"{width}x{height}"] = page.evaluate(CLIPPED)
+            page.locator(".widget-html-content table").first.scroll_into_view_if_needed()
+            page.screenshot(path=str(shots / f"jupyterlab-live-numbers-{width}.png"))
+        (shots / "jupyterlab-live-numbers.json").write_text(json.dumps(found, indent=1))
+        assert "offline fit" in page.inner_text(".jp-OutputArea-output")
+        assert not any(found.values()), f"cut (text, px): {found}"

@@ -394,7 +394,12 @@ def test_live_dashboard_runs_to_the_end_and_matches_a_plain_run(live):
     live.run_steps(2)
     live.fast_forward(10)
     assert live.finished
-    assert bytes(live.metrics_image.value).lstrip().startswith(b"<?xml") and b"<svg" in bytes(live.metrics_image.value)
+    svg = live.metrics_image.value  # inline, with its alt text: the final running values of both sides
+    assert svg.startswith("<svg") and 'role="img"' in svg and "<?xml" not in svg
+    episodes = len(live.experiments["tp"].records())
+    last = live.experiments["tp"].records().iloc[-1]
+    assert (f"Student-t process after {episodes} episodes: mean reward {float(last['mean_reward']):.3g}, total cost "
+            f"{float(last['total_cost']):.3g}") in html.unescape(svg.split('aria-label="')[1].split('"')[0])
     plain = run_experiment(live.config().replace(model="tp"))
     import pandas as pd
 

@@ -141,7 +141,11 @@ class ProjectorMixin:
         for control in _walk(self):
             if isinstance(control, (widgets.FloatSlider, widgets.IntSlider)):
                 width = slider_width(control.description, self.projector)
-                control.layout.width = control.layout.min_width = width
+                # its width at most the page's: on a narrow screen (JupyterLab at 800 x 600) the track gives way,
+                # not the readout
+                room = "calc(100% - 4px)"  # the row's width less the widget's own margins (2 px a side)
+                control.layout.width, control.layout.min_width = width, f"min({width}, {room})"
+                control.layout.max_width = room
 
     def set_projector(self, on: bool = True) -> None:
         """This dashboard alone in projector size (text for the back row) or back to the compact notebook size."""

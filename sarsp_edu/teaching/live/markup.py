@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import html
 import math
+import re
 
 from ...config import ACTION_MOVES
 from ..plotting import COLOURS
@@ -45,7 +46,9 @@ def gridworld_svg(layout, *, trajectory=None, unsafe_pairs=(), cell: int = 28, t
     n = layout.size
     size = n * cell
     top = round(font_size * 1.7) if title else 0
+    # its natural size at most, smaller where its box is narrower (a side of 184 px at 800 x 600): scaled, not cut
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{size + 2}" height="{size + 2 + top}" '
+             f'style="max-width:100%;height:auto" '
              f'viewBox="-1 {-1 - top} {size + 2} {size + 2 + top}" font-family="sans-serif" role="img" '
              f'aria-label="{html.escape(_describe(layout, title, trajectory, unsafe_pairs))}">']
     if title:
@@ -153,3 +156,23 @@ def decision_table_html(decision, d: float, variance_threshold: float, font_size
         + f'</table><div style="font-size:{font_size}px">safe: σ² ≤ {variance_threshold:g} and μ ≥ d = {d:g}; '
         f"chosen: {_ACTION_ARROWS[decision.action]} ({rule})</div>"
     )
+
+
+def labelled_svg(svg: bytes, label: str) -> str:
+    """Matplotlib's SVG as markup to put in a page: its XML header and doctype dropped, scaled to the width it is
+    given, with ``role="img"`` and ``label`` as its ``aria-label`` (a screen reader's alt text).
+
+    Parameters
+    ----------
+    svg : bytes
+        A whole SVG document (``render_figure(figure, "svg")``).
+    label : str
+        What it shows, in words.
+    """
+    text = svg.decode("utf-8")
+    start = text.index("<svg")
+    head_end = text.index(">", start)
+    head = re.sub(r'\s(width|height)="[^"]*"', "", text[start:head_end])
+    return (f'{head} style="display:block;width:100%;max-width:100%;height:auto" role="img" '
+            f'aria-label="{html.escape(label)}"'
+            + text[head_end:])

@@ -12,6 +12,7 @@ from .. import plotting
 from ..dashboards.framework import SNAPSHOT_WIDTH_PX, readable_png, render_figure, wipe_axes
 from ..dashboards.projector import PROJECTOR_SCALE
 from ..plotting.display import alt_metadata
+from . import markup
 from .pick import TP_AND_GP
 
 __all__ = ["AUTOPLAY_VARIABLE", "SNAPSHOT_VARIABLE", "LiveMetrics", "StaticPicture", "first_episode", "key_numbers",
@@ -113,6 +114,22 @@ def picture_alt_text(dashboard) -> str:
     return text + "."
 
 
+def metrics_alt_text(dashboard) -> str:
+    """What the metric curves show, for a screen reader: the metrics, how each side is drawn, and where each side's
+    running values stand at its last episode."""
+    labels = dashboard._legend_labels() or {name: label for name, (label, _) in dashboard.sides.items()}
+    names = [metric.replace("_", " ") for metric in LIVE_METRICS]
+    text = (f"Both agents' running metrics against the episode ({', '.join(names)}), the left side's solid with "
+            "circles, the right side's dashed with squares")
+    for name, experiment in (dashboard.experiments or {}).items():
+        records = experiment.records()
+        if len(records):
+            last = records.iloc[-1]
+            text += (f"; {labels[name]} after {len(records)} episodes: "
+                     + ", ".join(f"{label} {float(last[metric]):.3g}" for label, metric in zip(names, LIVE_METRICS)))
+    return text + "."
+
+
 class StaticPicture:
     """The live dashboard's static half (a mixin): its picture and alt text, and what it shows where.
 
@@ -174,7 +191,8 @@ class LiveMetrics:
             wipe_axes(ax)
         plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
                                    LIVE_METRICS, labels=self._legend_labels())
-        self.metrics_image.value = render_figure(self.metrics_figure, "svg")
+        svg = render_figure(self.metrics_figure, "svg")
+        self.metrics_image.value = markup.labelled_svg(svg, metrics_alt_text(self))
         self.metrics_image.layout.display = None
 
     @property

@@ -144,9 +144,11 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         self.buttons["new"].on_click(lambda _: self.reset())
         self.status = widgets.HTML("Press <b>Run</b> to start both agents.")
         # one line of fixed height: a side's "fitting ..." or "retraining ..." never moves its grid
-        self.headers = {name: widgets.HTML(layout=widgets.Layout(height="54px", overflow="hidden", width="100%"))
+        # at least two lines high (a side's title and its phase), more where a narrow screen wraps them: never cut
+        self.headers = {name: widgets.HTML(layout=widgets.Layout(min_height="54px", width="100%"))
                         for name in self.sides}
-        self.worlds = {name: widgets.HTML(layout=widgets.Layout(flex="0 0 auto")) for name in self.sides}
+        self.worlds = {name: widgets.HTML(layout=widgets.Layout(flex="0 1 auto", min_width="0", max_width="100%"))
+                       for name in self.sides}
         self.decisions = {name: widgets.HTML() for name in self.sides}
         # beside the grid where there is room for it, under it on a narrow screen
         self.summaries = {name: widgets.HTML(layout=widgets.Layout(flex="1 1 150px", min_width="150px"))
@@ -157,7 +159,8 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         self.metrics_axes = fixed_layout_axes(self.metrics_figure, ncols=len(LIVE_METRICS))
         # SVG: the browser draws the text, sharp at any size
         # hidden until first drawn: an empty image shows as a broken one
-        self.metrics_image = widgets.Image(format="svg+xml", layout=widgets.Layout(width="100%", display="none"))
+        # an SVG with its alt text, as wide as the dashboard less its margins ("auto" in a column)
+        self.metrics_image = widgets.HTML(layout=widgets.Layout(width="auto", display="none"))
         pictures, tables = [], []
         for name in self.sides:
             pictures.append(widgets.VBox(
@@ -165,7 +168,8 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
                                                   layout=widgets.Layout(align_items="flex-start",
                                                                         flex_flow="row wrap"))],
                 layout=widgets.Layout(width="50%", min_width="0")))
-            tables.append(widgets.VBox([self.decisions[name]], layout=widgets.Layout(width="50%", min_width="0")))
+            # side by side where they fit, one under the other on a narrow screen
+            tables.append(widgets.VBox([self.decisions[name]], layout=widgets.Layout(flex="1 1 340px", min_width="0")))
         self.settings_rows = [
             control_row([self.controls[k] for k in ("nu", "magnitude", "proportion", "n_switch_states")]),
             control_row([*self.buttons.values(), *(self.controls[k] for k in ("seed", "episodes")), self.speed]),
@@ -178,7 +182,7 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
             *self.settings_rows,
             self.status,
             widgets.HBox(pictures, layout=widgets.Layout(width="100%")),  # the grids and key numbers: one screen
-            widgets.HBox(tables, layout=widgets.Layout(width="100%")),
+            widgets.HBox(tables, layout=widgets.Layout(width="100%", flex_flow="row wrap")),
             self.metrics_image,
             self.page.widget,  # hidden: the page's sign of life, once a second
         ])
@@ -275,7 +279,7 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         """Stop and forget the runs; fits still under way are discarded when they end."""
         self.run.discard()
         self._drawn_key = None
-        self.metrics_image.value = b""
+        self.metrics_image.value = ""
         self.metrics_image.layout.display = "none"
 
     def build_runs(self) -> None:
@@ -402,7 +406,8 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         numbers = self.key_numbers(name)
         self.summaries[name].value = (
             f"<table style='font-size:{self._text_px - 2}px;border-collapse:collapse;margin:0 12px 0 6px'>"
-            + "".join(f"<tr><td style='padding:1px 8px 1px 0;white-space:nowrap'>"
+            # a label wraps where the box is narrow (at 800 x 600); a value is never split
+            + "".join(f"<tr><td style='padding:1px 8px 1px 0;overflow-wrap:anywhere'>"
                       f"{label.replace('S_u', 'S<sub>u</sub>')}</td>"
                       f"<td style='text-align:right;white-space:nowrap'>"
                       f"<b>{value}</b></td></tr>" for label, value in numbers)

@@ -175,8 +175,9 @@ def plot_posterior(ax, data, model: str, *, title: str | None = None, ylim=None)
     ys = data["y"]
     inside = in_view & (ys >= low) & (ys <= high)
     if inside.any():
+        # not clipped: an outlier just inside the range (at y = -4.05 of -4.1, say) is drawn whole, over the spine
         ax.scatter(data["X"][inside], ys[inside], s=40, marker="x", color=COLOURS["unsafe"], zorder=4,
-                   label="outliers")
+                   label="outliers", clip_on=False)
     label = "off scale"  # under "outliers" in the legend's column; short, for a 4-inch panel
     for mask, edge, marker in ((in_view & (ys > high), high, "^"), (in_view & (ys < low), low, "v")):
         if mask.any():
