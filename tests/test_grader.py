@@ -9,12 +9,12 @@ import pytest
 
 from sarsp_edu.teaching.exercises import EXERCISES
 from sarsp_edu.teaching.exercises.action_lists import read_actions
+from sarsp_edu.teaching.exercises.counts import read_count
 from sarsp_edu.teaching.exercises.grading import grade
 from sarsp_edu.teaching.exercises.parsing import (
     NARROWER,
     WIDER,
     Unreadable,
-    read_count,
     read_limits,
     read_side,
     read_word,
@@ -476,7 +476,7 @@ def test_a_number_word_in_a_sentence_is_read(answer):
     assert read_count(answer) == 50
 
 
-@pytest.mark.parametrize("answer", ["50, i.e. 25 per row", "50%"])
+@pytest.mark.parametrize("answer", ["50, 25", "50 (or 25)", "50%"])
 def test_a_count_beside_another_count_or_as_a_share_is_refused(answer):
     with pytest.raises(Unreadable):
         read_count(answer)
@@ -515,7 +515,7 @@ def test_actions_said_in_a_sentence_are_read(answer):
     assert read_actions(answer) == [0, 1, 2]
 
 
-@pytest.mark.parametrize("answer", ["0, 1, 2 or 3", "0, 1, 2 (not 3)", "0, 1, 2?"])
+@pytest.mark.parametrize("answer", ["0, 1, 2 or 3", "0, 1, 2 (or 3)", "0, 1, 2?"])
 def test_actions_with_a_doubt_are_refused(answer):
     with pytest.raises(Unreadable):
         read_actions(answer)
@@ -528,10 +528,16 @@ def test_maybe_is_a_doubt():
 
 
 # -- the eleventh cold pass: a contradicting reason said with another verb, a count of actions in brackets --------
+# (since the fourteenth: a reason is not graded, only a restated side is refused; the verdict says so)
 @pytest.mark.parametrize("answer", ["below, because beta exceeds n", "below; beta climbs past n"])
-def test_a_side_whose_reason_says_the_other_side_is_refused(answer):
-    with pytest.raises(Unreadable):
-        read_side(answer)
+def test_a_sides_reason_is_not_graded_and_the_verdict_says_so(answer):
+    from sarsp_edu.teaching.exercises import _verdict
+
+    assert read_side(answer) == "below"
+    right, reply = _verdict("2.5", answer)
+    assert right and reply.endswith("(Only your prediction is graded, not what you wrote after it: set your "
+                                     "reasons beside this.)")
+    assert "Only your prediction" not in _verdict("2.5", "below")[1]
 
 
 def test_a_direction_whose_reason_climbs_is_refused():
@@ -613,10 +619,11 @@ def test_a_side_with_its_reason_is_read(answer):
     assert read_side(answer) == "below"
 
 
-def test_a_reason_that_says_the_other_side_or_a_number_on_it_is_still_refused():
-    for answer in ("below 1 (beta / n = 3.3 at nu = 3)", "below, because beta exceeds n", "below (it goes up)"):
+def test_a_value_beside_the_side_or_a_restated_side_is_still_refused():
+    for answer in ("below 1 (3.3)", "below, about 3.3", "below (it goes up)", "below (not below)"):
         with pytest.raises(Unreadable):
             read_side(answer)
+    assert read_side("below 1 (beta / n = 3.3 at nu = 3)") == "below"  # a number within a reason: not graded
     with pytest.raises(Unreadable):
         read_word("narrower (wider than at nu = 3)", {"wider": WIDER, "narrower": NARROWER})
 
@@ -670,3 +677,54 @@ def test_definition_4_with_the_rewards_sizes_in_place_of_the_rewards_is_refused(
             or s1["task_success_rate"] >= a))
 
     assert not grade("6.2", EXERCISES["6.2"], sizes)[0]
+
+
+# -- the fourteenth cold pass: the prediction graded, not its reason; counts with their working; all or none -------
+@pytest.mark.parametrize("answer", ["below, as in section 3 without outliers",
+                                    "below, beta/n = 0.33 after 50 Adam steps",
+                                    "below: beta/n is about 1/3", "Below 1: the factor is about 0.35, not 3.3",
+                                    "below. With outliers it is above 1.", "below (with outliers, above)"])
+def test_numbers_and_contrasts_within_a_reason_are_not_graded(answer):
+    assert read_side(answer) == "below"
+
+
+@pytest.mark.parametrize("answer", ["narrower, but still wider than the GP's", "narrower, because beta exceeds n",
+                                    "A narrower band.", "the band will shrink"])
+def test_more_wordings_of_narrower_are_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["50 (10 x 10 / 2)", "50 (100 / 2)", "50 (5 in each of the 10 rows)",
+                                    "50: 5 per row, 10 rows", "up to 50", "no more than 50", "a maximum of 50",
+                                    "50, not 25", "50 (not 25)", "5 x 10", "10*10/2", "half of 100, so 50"])
+def test_a_count_with_its_working_a_bound_of_the_question_or_what_it_is_not_is_read(answer):
+    assert read_count(answer) == 50
+
+
+def test_a_count_refused_is_quoted_as_the_student_wrote_it():
+    with pytest.raises(Unreadable, match="Could not read '5 x 10 cells, roughly' as a whole number"):
+        read_count("5 x 10 cells, roughly")
+
+
+@pytest.mark.parametrize("answer, actions", [("all", [0, 1, 2, 3]), ("all four", [0, 1, 2, 3]),
+                                             ("every action", [0, 1, 2, 3]), ("none of them", []),
+                                             ("Actions 0 (RIGHT) and 2 (LEFT) are safe.", [0, 2]),
+                                             ("0, 2 (not 1 or 3)", [0, 2]), ("0 and 2, but not 3", [0, 2]),
+                                             ("0 and 2 are safe, 1 and 3 are not", [0, 2]),
+                                             ("0 and 2: 1 is too close and 3 is in S_u", [0, 2]),
+                                             ("0-3", [0, 1, 2, 3]), ("0 and 2 (both)", [0, 2])])
+def test_all_none_and_lists_with_what_is_not_safe_are_read(answer, actions):
+    assert read_actions(answer) == actions
+
+
+def test_a_floor_of_1e_4_on_the_posterior_variance_is_refused_and_one_of_1e_9_is_not():
+    from sarsp_edu.agent.parts import gp_posterior
+
+    def floored(floor):
+        def posterior(K, K_star, k_star_star, y, noise_variance):
+            mean, variance = gp_posterior(K, K_star, k_star_star, y, noise_variance)
+            return mean, np.maximum(variance, floor)
+        return posterior
+
+    assert not grade("2.2", EXERCISES["2.2"], floored(1e-4))[0]
+    assert grade("2.2", EXERCISES["2.2"], floored(1e-9))[0]  # below the check's tolerance: kept for stability

@@ -11,19 +11,16 @@ Examples
 --------
 >>> read_word("Above 1.", {"above": ABOVE, "below": BELOW})
 'above'
->>> read_count("12"), read_count(12.0)
-(12, 12)
->>> read_count("fifty"), read_count("Forty-two")
-(50, 42)
->>> read_count("a few")
+>>> read_side("0.37"), read_side("it goes up")
+('below', 'above')
+>>> read_side("one")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'a few' as a whole number.
+sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'one' as 'above' or 'below': it is on neither side ...
 """
 
 from __future__ import annotations
 
-import ast
 import math
 import re
 
@@ -31,7 +28,7 @@ import numpy as np
 
 from .wording import shown
 
-__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "read_count", "read_limits", "read_side", "read_word"]
+__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "has_reason", "read_limits", "read_side", "read_word"]
 
 
 class Unreadable(ValueError):
@@ -60,9 +57,10 @@ def _compared(words, *others: str) -> frozenset:
 #: the spellings of each side, for the predictions that ask 'above' or 'below' 1, 'wider' or 'narrower'
 #: a direction said as a change ('it goes down', 'decreases', 'less than before'): each the same side
 _UP = ("goes up", "increases", "increased", "grows", "rises", "more than before", "larger than before",
-       "bigger than before", "higher than before", "up", "exceeds", "climbs", "climb", "past", "beyond")
+       "bigger than before", "higher than before", "up", "exceeds", "climbs", "climb", "past", "beyond", "grow",
+       "increase", "rise", "go up")
 _DOWN = ("goes down", "decreases", "decreased", "reduced", "reduces", "shrinks", "falls", "drops", "less than before",
-         "smaller than before", "lower than before", "down")
+         "smaller than before", "lower than before", "down", "shrink", "decrease", "fall", "drop", "go down")
 
 
 def _bands(*words):
@@ -81,7 +79,7 @@ NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller"
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
                                          "the factor is", "the factor", "it gets", "it becomes", "it is", "it's",
-                                         "gets", "becomes", "is", "it"))
+                                         "gets", "becomes", "is", "it", "an", "a", "the"))
 
 #: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
 _UNITS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen "
@@ -155,44 +153,36 @@ def _trend_against(found: str, asides) -> bool:
 _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]|$)|n't|\?")
 #: a doubt, or an aside that begins by taking the answer back ('no, wider'): the answer is not read
 _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess)([^a-z]|$)|\?|^\s*no\b")
-#: what a reason may take as given, said with a direction of its own ('as nu grows', 'larger nu', 'more degrees
-#: of freedom'), and the band or factor at the question's start ('at nu = 3', 'before'): not the answer's side
-_PREMISES = (r"\b(?:as|when|while|if|since|once)?\s*(?:nu|\u03bd|the degrees of freedom|degrees of freedom)\s+"
-             r"(?:grows|increases|rises|goes up|gets (?:larger|bigger|higher)|is (?:larger|bigger|higher))\b",
-             r"\b(?:larger|bigger|higher|greater|more)\s+(?:nu|\u03bd|degrees of freedom)\b")
-_BASELINE = re.compile(r"\b(?:nu|\u03bd)\s*=\s*3(?![\d.])|\bbefore\b")
-#: a rise slower than another's is a fall of their ratio ('beta grows more slowly than n')
-_SLOWER = re.compile(r"\b(?:grows|rises|increases|climbs)\s+(?:more\s+slowly|slower|less)\s+than\b")
-#: comparatives too common in a reason to stand for a side ('more degrees of freedom', 'less surprising')
-_COMMON = frozenset(("more", "less"))
-_NEGATED = ("not", "dont", "doesnt", "isnt", "arent", "wont", "never", "cannot")
 
 
 def _disagrees(found: str, aside: str, options: dict) -> bool:
-    """Whether an aside or reason doubts the answer or says another side: 'no, wider', 'or wider', 'the band
-    widens', 'because beta exceeds n', 'not narrower' (of 'narrower'); not 'not wider', 'as nu grows ...', 'the
-    band at nu = 3 is wider'."""
+    """Whether an aside doubts the answer or restates it as another side: 'no, wider', 'or wider', '(the band
+    widens)', '(it goes up)', '(not narrower)' of 'narrower'.
+
+    A reason is not graded (the verdict says so): whether 'because beta exceeds n' argues for one side or the
+    other is for the written answer and its explanation, not for a reader of words.
+    """
     low = aside.lower()
     if _DOUBT.search(low):
         return True
-    for premise in _PREMISES:
-        low = re.sub(premise, " ", low)
-    low = _SLOWER.sub(" falls below ", low)
+    low = re.sub(r"^\s*(?:because|since|as|so|for|thus|hence|i\.e\.|e\.g\.)\s+", "", low)  # a reason's own words
     said = _read_clause(low, options)
     if said is not None:
         return said != found
-    compact, baseline = _compact(low), bool(_BASELINE.search(low))
-    for option, spellings in options.items():
-        for spelling in spellings:
-            if len(spelling) < 4 or spelling in _COMMON:
-                continue
-            for at in (m.start() for m in re.finditer(re.escape(spelling), compact)):
-                negated = compact[:at].endswith(_NEGATED)
-                if option == found and negated:
-                    return True  # 'narrower (not narrower)'
-                if option != found and not negated and not baseline:
-                    return True  # 'narrower, but wider at first'; 'narrower (the band at nu = 3 is wider)' is not
-    return False
+    # an aside that begins with another side: 'but wider at first', 'and wider than at nu = 3' (not 'larger nu')
+    first = re.match(r"\s*(?:(?:but|and|yet|though|although)\s+)?([a-z]+)\b(?!\s*(?:nu|\u03bd|n|degrees)\b)", low)
+    if first and any(first.group(1) in spellings for option, spellings in options.items() if option != found) \
+            and first.group(1) not in ("more", "less"):
+        return True
+    negated = re.match(r"\s*(?:but\s+|and\s+)?(?:not|never)\s+(.*)$", low)
+    return negated is not None and _read_clause(negated.group(1), options) == found
+
+
+def has_reason(answer) -> bool:
+    """Whether a text answer says more after its prediction (a reason, an aside): the verdict then says that
+    only the prediction was graded."""
+    text = _text(answer)
+    return text is not None and bool(_clauses(text)[1])
 
 
 def _clauses(text: str) -> tuple:
@@ -213,7 +203,8 @@ _TAILS = (r"\s+than\s+(before|at|with|for)\b.*$", r"\s+(at|for|with)\s+(nu|\u03b
 #: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
 _POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends",
                                          "rises", "climbs", "comes out", "will be", "will get", "is going to be",
-                                         "going to be", "will end up", "would be", "'ll be"))
+                                         "going to be", "will end up", "would be", "'ll be", "will", "would",
+                                         "should"))
 
 
 def _read_clause(text: str, options: dict) -> str | None:
@@ -293,91 +284,16 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1."
                              ) from None
         return "above" if value > 1 else "below"
-    # a number said beside the word must be on its side: 'below 1 (about 3.3)' says both
-    asides = re.sub(r"\b(?:at|with|for|when|where)\s+(?:nu|\u03bd|n|d)\s*=\s*-?\d+(?:\.\d+)?", " ",
-                    " ".join(_clauses(_text(answer))[1]))  # 'at nu = 3': a setting, not the value
-    numbers = [float(n) for n in re.findall(r"-?\d+(?:\.\d+)?", asides)]
+    # a value said beside the word, alone, must be on its side: 'below 1 (about 3.3)', 'below, 3.3' say both; a
+    # number within a reason is not read ('below, as in section 3')
+    numbers = []
+    for aside in _clauses(_text(answer))[1]:
+        bare = re.fullmatch(r"\s*(?:about|around|roughly|approximately|\u2248|~|=)?\s*(-?\d+(?:\.\d+)?)\s*", aside,
+                            flags=re.IGNORECASE)
+        numbers += [float(bare.group(1))] if bare else []
     if any(value != 1 and (value > 1) != (side == "above") for value in numbers):
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': its number is on the other side.")
     return side
-
-
-#: a bound, an estimate or a share where a count is asked ('less than 50', 'nearly 50', '50 is too many', '50
-#: percent', '50+'): not the count ('about 50' and 'at most 50' are)
-_NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|almost|close\s+to|slightly|a\s+bit|"
-                          r"at\s+least|up\s+to|exceed\w*|beyond|too\s+(?:many|few)|percent|per\s*cent|or\s+so)\b"
-                          r"|\d\s*\+(?!\s*\d)", re.IGNORECASE)
-#: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
-_GRID_SIZE = re.compile(r"\b\d+\s*(?:x|\u00d7|\*|-?by-?)\s*\d+\b(?!\s*/)", re.IGNORECASE)
-#: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
-_WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+()-]+)|([\d\s*x\u00d7/+()-]+)=\s*(\d+))\s*$",
-                      re.IGNORECASE)
-
-
-_OPERATIONS = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
-               ast.Div: lambda a, b: a / b}
-
-
-def _arithmetic(node) -> float:
-    """The value of a sum, difference, product or quotient of whole numbers (ValueError for anything else)."""
-    if isinstance(node, ast.Constant) and type(node.value) is int:
-        return float(node.value)
-    if isinstance(node, ast.BinOp) and type(node.op) in _OPERATIONS:
-        return _OPERATIONS[type(node.op)](_arithmetic(node.left), _arithmetic(node.right))
-    raise ValueError("not arithmetic of whole numbers")
-
-
-def _worked(text: str) -> str:
-    """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
-    the working does not give the number."""
-    match = _WORKING.match(text)
-    if not match:
-        return text
-    number, working = (match.group(1), match.group(2)) if match.group(1) else (match.group(4), match.group(3))
-    expression = re.sub(r"[x\u00d7]", "*", working, flags=re.IGNORECASE)
-    try:
-        value = _arithmetic(ast.parse(expression.strip(), mode="eval").body)
-    except (SyntaxError, ZeroDivisionError, ValueError):
-        return text
-    if value != float(number):
-        raise Unreadable(f"Could not read {shown(text)} as a whole number: its working gives {value:g}, not {number}.")
-    return number
-
-
-def read_count(answer) -> int:
-    """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
-    text = _text(answer)
-    if text is not None:
-        if _NOT_A_COUNT.search(text):
-            raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
-                             "share, not the number.")
-        answer = _GRID_SIZE.sub(" the grid ", _worked(text))
-    try:
-        value = _number(answer, "a whole number", single=True)
-    except Unreadable as refused:
-        if "two numbers" in str(refused) or "percentage" in str(refused):
-            raise
-        value = _count_in_words(answer)
-    if not math.isfinite(value) or value != int(value):
-        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
-    return int(value)
-
-
-def _count_in_words(answer) -> float:
-    """The one number a sentence gives as its count ('The grid can hold 50 unsafe cells', 'at most 50', '50 of
-    the 100 cells': a number after 'of' is a total, not the count); raises :class:`Unreadable`."""
-    text = _text(answer)
-    if text is None or _NEGATION.search(text.lower()):
-        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
-    if "%" in text:
-        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a percentage.")
-    counts = [float(m.group(2)) for m in re.finditer(r"(\bof\s+(?:the\s+)?)?(?<![\w.])(\d+(?:\.\d+)?)(?![\w.]*\d)",
-                                                       text) if m.group(1) is None]
-    counts += [word for word in (_number_word(token.replace("-", "")) for token in re.findall(
-        r"(?<!of )(?<!of the )\b[a-z]+(?:-[a-z]+)?\b", text.lower())) if word is not None]  # 'It can hold fifty'
-    if len(set(counts)) != 1:
-        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
-    return counts[0]
 
 
 def _limit_key(key) -> str | None:

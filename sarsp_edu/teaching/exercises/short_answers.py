@@ -16,7 +16,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from .action_lists import read_actions
-from .parsing import NARROWER, WIDER, read_count, read_limits, read_side, read_word
+from .counts import read_count
+from .parsing import NARROWER, WIDER, read_limits, read_side, read_word
 
 __all__ = ["Exercise", "LOOKUPS"]
 

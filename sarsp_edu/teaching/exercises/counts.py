@@ -1,0 +1,132 @@
+"""Reading a count as a student writes it (exercise 3.4): ``50``, ``"fifty"``, ``"The grid can hold 50 unsafe
+cells"``, ``"50 = 10*10/2"``, ``"at most 50"``; not ``"less than 50"``, ``"nearly 50"`` or ``"50 percent"``.
+
+Examples
+--------
+>>> read_count("12"), read_count(12.0), read_count("fifty"), read_count("50 (10 x 10 / 2)")
+(12, 12, 50, 50)
+>>> read_count("a few")
+Traceback (most recent call last):
+...
+sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'a few' as a whole number.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import re
+
+from .parsing import _DOUBT, _NEGATION, Unreadable, _clauses, _number, _number_word, _text
+from .wording import shown
+
+__all__ = ["read_count"]
+
+#: a bound, an estimate or a share where a count is asked ('less than 50', 'nearly 50', '50 is too many', '50
+#: percent', '50+'): not the count ('about 50' and 'at most 50' are)
+_NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|almost|close\s+to|slightly|a\s+bit|"
+                          r"at\s+least|up\s+to|exceed\w*|beyond|too\s+(?:many|few)|percent|per\s*cent|or\s+so)\b"
+                          r"|\d\s*\+(?!\s*\d)", re.IGNORECASE)
+#: the question's own bound, said as the answer's ('no more than 50', 'up to 50', 'a maximum of 50'): dropped
+_AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maximum\s+of\b|\bat\s+most\b",
+                      re.IGNORECASE)
+#: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
+_GRID_SIZE = re.compile(r"\b\d+\s*(?:x|\u00d7|\*|-?by-?)\s*\d+\b(?!\s*/)", re.IGNORECASE)
+#: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
+_WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+()-]+)|([\d\s*x\u00d7/+()-]+)=\s*(\d+))\s*$",
+                      re.IGNORECASE)
+
+
+_OPERATIONS = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
+               ast.Div: lambda a, b: a / b}
+
+
+def _arithmetic(node) -> float:
+    """The value of a sum, difference, product or quotient of whole numbers (ValueError for anything else)."""
+    if isinstance(node, ast.Constant) and type(node.value) is int:
+        return float(node.value)
+    if isinstance(node, ast.BinOp) and type(node.op) in _OPERATIONS:
+        return _OPERATIONS[type(node.op)](_arithmetic(node.left), _arithmetic(node.right))
+    raise ValueError("not arithmetic of whole numbers")
+
+
+def _worked(text: str) -> str:
+    """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
+    the working does not give the number."""
+    if re.fullmatch(r"[\d\s()]*\d\s*[*x\u00d7/+-][\d\s*x\u00d7/+()-]*", text, flags=re.IGNORECASE):  # '10*10/2'
+        try:
+            value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval").body)
+        except (SyntaxError, ZeroDivisionError, ValueError):
+            return text
+        return f"{value:g}" if value == int(value) else text
+    match = _WORKING.match(text)
+    if not match:
+        return text
+    number, working = (match.group(1), match.group(2)) if match.group(1) else (match.group(4), match.group(3))
+    expression = re.sub(r"[x\u00d7]", "*", working, flags=re.IGNORECASE)
+    try:
+        value = _arithmetic(ast.parse(expression.strip(), mode="eval").body)
+    except (SyntaxError, ZeroDivisionError, ValueError):
+        return text
+    if value != float(number):
+        raise Unreadable(f"Could not read {shown(text)} as a whole number: its working gives {value:g}, not {number}.")
+    return number
+
+
+def read_count(answer) -> int:
+    """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
+    text = _text(answer)
+    if text is not None:
+        main, asides = _clauses(text)
+        if _NOT_A_COUNT.search(_AT_MOST.sub(" ", main)):
+            raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
+                             "share, not the number.")
+        # the count stated first is read; an aside after it is a reason or a working, not graded ('50 (100 / 2)',
+        # '50, i.e. half of a 10x10 grid'), unless it doubts the count or gives another one alone ('50 (or 25)',
+        # '50, 25')
+        # the first clause gives the count unless its numbers are totals ('half of 100, so 50')
+        counted = bool(re.search(r"(?<!of )(?<!of the )(?<![\w.])\d", main)) or any(
+            _number_word(word) is not None for word in re.findall(r"[a-z-]+", main.lower()))
+        for aside in asides:
+            if _DOUBT.search(aside.lower()) or (counted and re.fullmatch(r"\s*\d+(?:\.\d+)?\s*", aside)):
+                raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives two numbers.")
+            negated = re.fullmatch(r"\s*not\s+(\d+)\s*", aside)
+            if negated and main and re.search(rf"(?<![\d.]){negated.group(1)}(?![\d.])", main):
+                raise Unreadable(f"Could not read {shown(answer)} as a whole number.")  # '50 (not 50)'
+        if asides and counted:
+            text = main
+        try:
+            return _read_count(_GRID_SIZE.sub(" the grid ", _worked(_AT_MOST.sub(" ", text))))
+        except Unreadable as refused:  # said of the student's words, not of what was read from them
+            why = str(refused).rpartition(" as a whole number")[2] or "."
+            raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
+    return _read_count(answer)
+
+
+def _read_count(answer) -> int:
+    try:
+        value = _number(answer, "a whole number", single=True)
+    except Unreadable as refused:
+        if "two numbers" in str(refused) or "percentage" in str(refused):
+            raise
+        value = _count_in_words(answer)
+    if not math.isfinite(value) or value != int(value):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    return int(value)
+
+
+def _count_in_words(answer) -> float:
+    """The one number a sentence gives as its count ('The grid can hold 50 unsafe cells', 'at most 50', '50 of
+    the 100 cells': a number after 'of' is a total, not the count); raises :class:`Unreadable`."""
+    text = _text(answer)
+    if text is None or _NEGATION.search(text.lower()):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    if "%" in text:
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a percentage.")
+    counts = [float(m.group(2)) for m in re.finditer(r"(\bof\s+(?:the\s+)?)?(?<![\w.])(\d+(?:\.\d+)?)(?![\w.]*\d)",
+                                                       text) if m.group(1) is None]
+    counts += [word for word in (_number_word(token.replace("-", "")) for token in re.findall(
+        r"(?<!of )(?<!of the )\b[a-z]+(?:-[a-z]+)?\b", text.lower())) if word is not None]  # 'It can hold fifty'
+    if len(set(counts)) != 1:
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    return counts[0]
