@@ -485,6 +485,12 @@ def test_a_projected_dashboard_is_readable_from_the_back_and_fits(name, tmp_path
             assert bottom <= 720, f"the grids and key numbers end at {bottom} px, below a 720 px screen"
             measured["slider_to_world_ms"] = move_slider(page, "nss", ".widget-html-content", "innerHTML", 3)
         else:
+            # the panel a prediction asks about (the ratio that lambda moves, the TP's band that nu widens, the
+            # world that nss shifts) on the same 720 px screen as its slider
+            asked = {"tail_decay": 2, "posterior": 1, "gridworld": 1}[name]
+            bottom = page.locator("img.widget-image").nth(asked).bounding_box()
+            measured["asked_panel_bottom_px"] = bottom["y"] + bottom["height"]
+            assert bottom["y"] + bottom["height"] <= 720, f"{name}: the panel asked about ends at {bottom} px"
             # a slider and a picture that depends on it
             label, nth = {"tail_decay": ("ν", 3), "posterior": ("ν", 3), "gridworld": ("nss", 2)}[name]
             page.wait_for_timeout(1000)

@@ -95,19 +95,20 @@ def tail_decay_dashboard(nu: float = NU, lam: float = 5.0) -> Dashboard:
         )
         return {"densities": densities, "ratios": ratios}, info
 
-    # The two density panels are 4 inches wide: side by side in projector size in an 850 px notebook.
+    # 3.6, 3.6 and 4 inches: the three side by side in projector size on a 1280 px screen (Voila), so that the
+    # lambda slider and the ratio it moves are on one 720 px screen; two and one in an 850 px notebook.
     panels = [
-        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"]), 4.0, inputs=("nu",),
+        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"]), 3.6, inputs=("nu",),
               label_offsets=(24, 34), alt=lambda nu, **_: (
                   f"Linear scale: the density f(x) against x of the Gaussian N(0, 1) (dashed) and of the Student-t "
                   f"with nu = {nu:g} (solid). Both peak at x = 0; the Student-t is lower at the peak and higher in "
                   "the flanks.")),
-        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"], log=True), 4.0,
+        Panel(lambda ax, result, **_: plotting.plot_densities(ax, result["densities"], log=True), 3.6,
               inputs=("nu",), label_offsets=(24, 40), alt=lambda nu, **_: (
                   "Log scale: the same two densities on a logarithmic y axis, where the tails show. The Gaussian's "
                   f"falls away as a downward parabola; the Student-t's (nu = {nu:g}) falls slowly and stays orders "
                   "of magnitude above it far from 0.")),
-        Panel(lambda ax, result, nu, **_: plotting.plot_tail_ratio_comparison(ax, result["ratios"], nu), 4.4,
+        Panel(lambda ax, result, nu, **_: plotting.plot_tail_ratio_comparison(ax, result["ratios"], nu), 4.0,
               inputs=("nu", "lam"), label_offsets=(24, 40), alt=lambda nu, lam, **_: (
                   f"The Karamata ratio f(lambda x)/f(x) for lambda = {lam:g} against x, on a logarithmic y axis. "
                   f"The Student-t's ratio (nu = {nu:g}, solid) levels off at its limit lambda^(-1-nu), a thin "
