@@ -39,7 +39,7 @@ import os
 from .capstone import CAPSTONE
 from .coding import CODING  # the exercises in which the student writes a function, by "tutorial.number"
 from .grading import CodingExercise, Mistake, explained, grade, run_prediction, same
-from .parsing import Unreadable, has_reason
+from .parsing import Unreadable
 from .short_answers import LOOKUPS, Exercise
 
 __all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
@@ -76,9 +76,7 @@ def _verdict(exercise: str, answer, reuse: bool = False, **context) -> tuple[boo
     except Unreadable as unread:
         return False, f"{unread} Accepted: {item.accepted}."
     if item.is_right(value, **context):
-        note = (" (Only your prediction is graded, not what you wrote after it: set your reasons beside this.)"
-                if has_reason(answer) else "")
-        return True, explained(item.explanation) + note
+        return True, explained(item.explanation)
     return False, item.hint
 
 

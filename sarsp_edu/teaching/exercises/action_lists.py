@@ -17,7 +17,7 @@ import re
 
 import numpy as np
 
-from .parsing import _NEGATION, Unreadable, _number, _text
+from .parsing import _DOUBT, _PREFACE, Unreadable, _number, _text
 from .wording import shown
 
 __all__ = ["read_actions"]
@@ -71,44 +71,34 @@ _LIST = re.compile(r"^[\s,;&+\[\]{}0-3]*(?:(?:\b(?:and|right|down|left|up|action
 #: every action, or none: 'all', 'all four', 'every action', 'none of them'
 _EVERY = re.compile(r"^\s*(?:all(?:\s+four)?(?:\s+(?:of\s+them|actions?))?|every(?:\s+action|thing)?|0\s*-\s*3|"
                     r"0\s+to\s+3)\s*$", re.IGNORECASE)
-_NONE = re.compile(r"^\s*(?:none(?:\s+of\s+them)?|nothing|no\s+actions?|no|\[\s*\])\s*$", re.IGNORECASE)
+_NONE = re.compile(r"^\s*(?:none(?:\s+of\s+them)?|nothing|no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
+
+
+#: what a list of actions alone does not hold: a clause, an aside, a reason, what is not safe, an addition
+_MORE = re.compile(r"[;:\u2013\u2014()]|\s-\s|\b(?:but|because|since|as|not|unsafe|also|too|except|if|when)\b",
+                   re.IGNORECASE)
 
 
 def _read_text(text: str, answer) -> list[int]:
-    text = _unnamed(text, answer).strip().rstrip(".!")
-    # '0, 1 and 2 (three actions)', '0 and 2 (both)': a count of them, not an action
-    text = re.sub(r"\(\s*(?:(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?|both|all)\s*\)", " ", text, flags=re.I)
-    # the clauses after the list: what is not safe (checked against the list), or a reason (not graded)
-    parts = re.split(r"\s*(?:[;:\u2013\u2014()]|\s-\s|,\s*but\s+|\s+but\s+(?=not\b))\s*", text)
-    trailing = re.search(r",\s*([^,]*\bnot\b[^,]*)$", parts[0])  # '0 and 2 are safe, 1 and 3 are not'
-    if trailing:
-        parts[0], parts[1:1] = parts[0][:trailing.start()], [trailing.group(1)]
-    said, unsafe = parts[0], [part for part in parts[1:] if re.search(r"\bnot\b|\bunsafe\b", part, re.I)]
-    for part in parts[1:]:
-        if _NEGATION.search(part.lower()) and part not in unsafe:  # '0, 2 (or 1)', '0 (maybe)': a doubt
-            raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
-    if re.search(r"\bnot\b|\bunsafe\b", said, re.I):  # the list itself says 'not' ('0 or not')
-        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers.")
+    what = "a list of action numbers"
+    if _DOUBT.search(text):
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
+    text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!")
+    # '0, 1 and 2 (three actions)': a count of them beside the list, not an action
+    text = re.sub(r"\s*\(\s*(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", "", text, flags=re.I)
+    said = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?|only|just)\b", " ", text, flags=re.I).strip()
+    everything_but = _ALL_BUT.match(said)
     if _EVERY.match(said):
-        actions = [0, 1, 2, 3]
-    elif _NONE.match(said):
-        actions = []
-    else:
-        said = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?|only|just)\b", " ", said, flags=re.I)
-        everything_but = _ALL_BUT.match(said)
-        items = [item for item in re.split(r"(?:[\s,;&+\[\]\(\){}]|\band\b)+",
-                                           everything_but.group(1) if everything_but else said, flags=re.I) if item]
-        actions = _numbered(items)
-        if everything_but:
-            actions = sorted(set(range(4)) - set(actions))
-    for part in unsafe:
-        named = re.sub(r"\b(not|safe|unsafe|is|are|and|or|the|actions?|either|nor|neither)\b", " ", part, flags=re.I)
-        named = [item for item in re.split(r"[^a-z0-9]+", named, flags=re.I) if item]
-        if _LIST.match(" ".join(named)):  # 'UP is not safe', 'not 1 or 3': the actions it names
-            both = set(_numbered(named)) & set(actions)
-            if both:
-                raise Unreadable(f"{shown(answer)} calls action {min(both)} safe and not safe.")
-    return actions
+        return [0, 1, 2, 3]
+    if _NONE.match(said):
+        return []
+    if _MORE.search(everything_but.group(1) if everything_but else said):
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
+                         f"'0, 2'), as the question asks; a reason belongs in the written answer below")
+    items = [item for item in re.split(r"(?:[\s,;&+\[\]{}]|\band\b)+",
+                                       everything_but.group(1) if everything_but else said, flags=re.I) if item]
+    actions = _numbered(items)
+    return sorted(set(range(4)) - set(actions)) if everything_but else actions
 
 
 def _numbered(items) -> list[int]:

@@ -1,9 +1,10 @@
 """Reading a count as a student writes it (exercise 3.4): ``50``, ``"fifty"``, ``"The grid can hold 50 unsafe
-cells"``, ``"50 = 10*10/2"``, ``"at most 50"``; not ``"less than 50"``, ``"nearly 50"`` or ``"50 percent"``.
+cells"``, ``"50 = 10*10/2"``, ``"at most 50"``; not ``"less than 50"``, ``"nearly 50"``, ``"50 percent"`` or a
+count with more after it (``"50 (a checkerboard)"``: the prediction is read alone).
 
 Examples
 --------
->>> read_count("12"), read_count(12.0), read_count("fifty"), read_count("50 (10 x 10 / 2)")
+>>> read_count("12"), read_count(12.0), read_count("fifty"), read_count("50 = 10 x 10 / 2")
 (12, 12, 50, 50)
 >>> read_count("a few")
 Traceback (most recent call last):
@@ -17,7 +18,7 @@ import ast
 import math
 import re
 
-from .parsing import _DOUBT, _NEGATION, Unreadable, _clauses, _number, _number_word, _text
+from .parsing import _NEGATION, Unreadable, _number, _number_word, _text, alone
 from .wording import shown
 
 __all__ = ["read_count"]
@@ -25,10 +26,10 @@ __all__ = ["read_count"]
 #: a bound, an estimate or a share where a count is asked ('less than 50', 'nearly 50', '50 is too many', '50
 #: percent', '50+'): not the count ('about 50' and 'at most 50' are)
 _NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|almost|close\s+to|slightly|a\s+bit|"
-                          r"at\s+least|up\s+to|exceed\w*|beyond|too\s+(?:many|few)|percent|per\s*cent|or\s+so)\b"
-                          r"|\d\s*\+(?!\s*\d)", re.IGNORECASE)
+                          r"at\s+least|exceed\w*|beyond|too\s+(?:many|few)|percent|per\s*cent|or\s+so|minimum|"
+                          r"min)\b|\d\s*\+(?!\s*\d)|[<>\u2265]", re.IGNORECASE)
 #: the question's own bound, said as the answer's ('no more than 50', 'up to 50', 'a maximum of 50'): dropped
-_AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maximum\s+of\b|\bat\s+most\b",
+_AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maximum\s+of\b|\bat\s+most\b|<=|\u2264",
                       re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b\d+\s*(?:x|\u00d7|\*|-?by-?)\s*\d+\b(?!\s*/)", re.IGNORECASE)
@@ -74,33 +75,20 @@ def _worked(text: str) -> str:
 
 
 def read_count(answer) -> int:
-    """A whole number (int, float, numpy scalar, 0-d array or text such as '50'); raises :class:`Unreadable`."""
+    """A whole number (int, float, numpy scalar, 0-d array or text such as '50'), alone (as
+    :func:`~sarsp_edu.teaching.exercises.parsing.alone` reads it); raises :class:`Unreadable`."""
     text = _text(answer)
-    if text is not None:
-        main, asides = _clauses(text)
-        if _NOT_A_COUNT.search(_AT_MOST.sub(" ", main)):
-            raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
-                             "share, not the number.")
-        # the count stated first is read; an aside after it is a reason or a working, not graded ('50 (100 / 2)',
-        # '50, i.e. half of a 10x10 grid'), unless it doubts the count or gives another one alone ('50 (or 25)',
-        # '50, 25')
-        # the first clause gives the count unless its numbers are totals ('half of 100, so 50')
-        counted = bool(re.search(r"(?<!of )(?<!of the )(?<![\w.])\d", main)) or any(
-            _number_word(word) is not None for word in re.findall(r"[a-z-]+", main.lower()))
-        for aside in asides:
-            if _DOUBT.search(aside.lower()) or (counted and re.fullmatch(r"\s*\d+(?:\.\d+)?\s*", aside)):
-                raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives two numbers.")
-            negated = re.fullmatch(r"\s*not\s+(\d+)\s*", aside)
-            if negated and main and re.search(rf"(?<![\d.]){negated.group(1)}(?![\d.])", main):
-                raise Unreadable(f"Could not read {shown(answer)} as a whole number.")  # '50 (not 50)'
-        if asides and counted:
-            text = main
-        try:
-            return _read_count(_GRID_SIZE.sub(" the grid ", _worked(_AT_MOST.sub(" ", text))))
-        except Unreadable as refused:  # said of the student's words, not of what was read from them
-            why = str(refused).rpartition(" as a whole number")[2] or "."
-            raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
-    return _read_count(answer)
+    if text is None:
+        return _read_count(answer)
+    text = alone(text, answer, "a whole number")
+    if _NOT_A_COUNT.search(_AT_MOST.sub(" ", text)):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
+                         "share, not the number.")
+    try:
+        return _read_count(_GRID_SIZE.sub(" the grid ", _worked(_AT_MOST.sub(" ", text))))
+    except Unreadable as refused:  # said of the student's words, not of what was read from them
+        why = str(refused).rpartition(" as a whole number")[2] or "."
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
 
 
 def _read_count(answer) -> int:

@@ -28,7 +28,7 @@ import numpy as np
 
 from .wording import shown
 
-__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "has_reason", "read_limits", "read_side", "read_word"]
+__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "alone", "read_limits", "read_side", "read_word"]
 
 
 class Unreadable(ValueError):
@@ -78,7 +78,9 @@ NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller"
                   "<", "more narrow", "less wide", "not as wide", "beta > n", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
-                                         "the factor is", "the factor", "it gets", "it becomes", "it is", "it's",
+                                         "the tp's variance factor is", "the variance factor is", "the factor is",
+                                         "the factor", "variance_scale_", "beta / n", "beta/n", "beta over n is",
+                                         "it gets", "it becomes", "it is", "it's",
                                          "gets", "becomes", "is", "it", "an", "a", "the"))
 
 #: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
@@ -117,6 +119,11 @@ def _text(answer) -> str | None:
 def read_word(answer, options: dict) -> str:
     """The option (a key of ``options``) whose spellings include ``answer``; raises :class:`Unreadable`.
 
+    A prediction is read alone: an answer that doubts itself ('narrower, probably'), or says more than the
+    prediction (a reason, a condition, an aside: 'narrower, because ...', 'narrower when nu = 3'), is not read,
+    and its reply asks for the prediction alone (the reason belongs in the written answer, which no check
+    grades).  Reading reasons word by word accepted wrong predictions and refused right ones.
+
     Parameters
     ----------
     answer : object
@@ -124,65 +131,48 @@ def read_word(answer, options: dict) -> str:
     options : dict
         ``{option: spellings}``, the spellings a set of compacted forms such as :data:`ABOVE`.
     """
+    names = " or ".join(repr(option) for option in options)
     text = _text(answer)
     if text is not None:
-        main, asides = _clauses(text)
-        found = _read_clause(main, options)
-        if found is None and not asides:
-            found = _read_clause(text, options)
-        if found is not None and (any(_disagrees(found, aside, options) for aside in asides)
-                                  or _trend_against(found, asides)):
-            found = None  # 'narrower (no, wider)', 'narrower, but wider at first': refused, never flipped
+        text = alone(text, answer, names)
+        found = _read_clause(text, options)
         if found is not None:
             return found
-    names = " or ".join(repr(option) for option in options)
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
-
-
-def _trend_against(found: str, asides) -> bool:
-    """Whether an aside's 'from A to B' goes the other way than the answer ('narrower, the factor goes from 5.10
-    to 6': a rise, where narrower is a fall)."""
-    down = found in ("narrower", "below")
-    for a, b in re.findall(r"from\s+(-?\d+(?:\.\d+)?)\s+to\s+(-?\d+(?:\.\d+)?)", " ".join(asides).lower()):
-        if float(a) != float(b) and (float(b) < float(a)) != down:
-            return True
-    return False
 
 
 #: a word that negates what follows it, or a doubt: an aside holding one is not read past
 _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]|$)|n't|\?")
-#: a doubt, or an aside that begins by taking the answer back ('no, wider'): the answer is not read
-_DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess)([^a-z]|$)|\?|^\s*no\b")
+#: a doubt or a hedge anywhere in an answer: it is not read
+_DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly|likely|think|believe|suppose|"
+                    r"not sure|not certain|uncertain|don'?t know|no idea)([^a-z]|$)|\?", re.IGNORECASE)
+#: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
+_PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+predict(?:\s+that)?|"
+                      r"the\s+answer\s+is\s*:?|answer\s*:)\s*", re.IGNORECASE)
+#: the reply to an answer that says more than its prediction
+ALONE = ("write the prediction alone, as the question asks; a reason belongs in the written answer below, "
+         "which no check grades")
 
 
-def _disagrees(found: str, aside: str, options: dict) -> bool:
-    """Whether an aside doubts the answer or restates it as another side: 'no, wider', 'or wider', '(the band
-    widens)', '(it goes up)', '(not narrower)' of 'narrower'.
+def alone(text: str, answer, what: str) -> str:
+    """``text``, its preface dropped, if it is a prediction alone; else :class:`Unreadable` saying why (a doubt,
+    or more than the prediction: a reason, a condition, an aside).
 
-    A reason is not graded (the verdict says so): whether 'because beta exceeds n' argues for one side or the
-    other is for the written answer and its explanation, not for a reader of words.
+    Parameters
+    ----------
+    text : str
+        The answer as text.
+    answer : object
+        The answer as given (quoted in the reply).
+    what : str
+        What the answer is read as, for the reply ('a whole number', "'wider' or 'narrower'").
     """
-    low = aside.lower()
-    if _DOUBT.search(low):
-        return True
-    low = re.sub(r"^\s*(?:because|since|as|so|for|thus|hence|i\.e\.|e\.g\.)\s+", "", low)  # a reason's own words
-    said = _read_clause(low, options)
-    if said is not None:
-        return said != found
-    # an aside that begins with another side: 'but wider at first', 'and wider than at nu = 3' (not 'larger nu')
-    first = re.match(r"\s*(?:(?:but|and|yet|though|although)\s+)?([a-z]+)\b(?!\s*(?:nu|\u03bd|n|degrees)\b)", low)
-    if first and any(first.group(1) in spellings for option, spellings in options.items() if option != found) \
-            and first.group(1) not in ("more", "less"):
-        return True
-    negated = re.match(r"\s*(?:but\s+|and\s+)?(?:not|never)\s+(.*)$", low)
-    return negated is not None and _read_clause(negated.group(1), options) == found
-
-
-def has_reason(answer) -> bool:
-    """Whether a text answer says more after its prediction (a reason, an aside): the verdict then says that
-    only the prediction was graded."""
-    text = _text(answer)
-    return text is not None and bool(_clauses(text)[1])
+    if _DOUBT.search(text):
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
+    text = _PREFACE.sub("", text, count=1).strip()
+    if _clauses(text)[1]:
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: {ALONE}.")
+    return text
 
 
 def _clauses(text: str) -> tuple:
@@ -196,10 +186,13 @@ def _clauses(text: str) -> tuple:
     return first.strip(), [*asides, *(clause for clause in others if clause.strip())]
 
 
-#: what a student may add after the answer, dropped: a comparison with before or nu = 3, the question's own
-#: nu = 30, the change that makes it ('as nu grows'), where it heads ('towards the GP's band')
-_TAILS = (r"\s+than\s+(before|at|with|for)\b.*$", r"\s+(at|for|with)\s+(nu|\u03bd)\s*=\s*30\b.*$",
-          r"\s+(as|when|while|if)\s+(nu|\u03bd)\b.*$", r"\s+towards?\b.*$")
+#: what a student may add after the prediction without changing it, dropped: a comparison with before or with
+#: nu = 3, the question's own nu = 30 and its own change ('as nu grows'), where the band heads ('towards the GP's
+#: band'); any other condition ('when nu = 3', 'as nu decreases') leaves the answer unread
+_TAILS = (r"\s+than\s+(before|(at|with|for)\s+(nu|\u03bd)\s*=\s*3(?![\d.]))\s*$",
+          r"\s+(at|for|with)\s+(nu|\u03bd)\s*=\s*30(?![\d.])\s*$",
+          r"\s+(as|when|while|if|once)\s+(nu|\u03bd)\s+(grows|increases|rises|goes\s+up|gets\s+(larger|bigger))\s*$",
+          r"\s+towards?\s+(the\s+)?(gp|gaussian)\b[\w\s']*$", r"\s+without\s+outliers\s*$")
 #: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
 _POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends",
                                          "rises", "climbs", "comes out", "will be", "will get", "is going to be",
@@ -272,28 +265,22 @@ def _number(answer, what: str, single: bool = False) -> float:
 
 def read_side(answer) -> str:
     """'above' or 'below' 1: a word (:func:`read_word` with :data:`ABOVE` and :data:`BELOW`), or a number on
-    that side of 1 (0.37 is 'below'); raises :class:`Unreadable`, for 1 itself too."""
+    that side of 1 (0.37 is 'below'), alone (as :func:`alone` reads it); raises :class:`Unreadable`, for 1
+    itself too."""
+    text = _text(answer)
+    if text is not None:
+        alone(text, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
     try:
-        side = read_word(answer, {"above": ABOVE, "below": BELOW})
+        return read_word(answer, {"above": ABOVE, "below": BELOW})
     except Unreadable:
         try:
-            value = _number(answer, "a number")
+            value = _number(answer if text is None else _PREFACE.sub("", text, count=1), "a number")
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         if value == 1 or math.isnan(value):
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1."
                              ) from None
         return "above" if value > 1 else "below"
-    # a value said beside the word, alone, must be on its side: 'below 1 (about 3.3)', 'below, 3.3' say both; a
-    # number within a reason is not read ('below, as in section 3')
-    numbers = []
-    for aside in _clauses(_text(answer))[1]:
-        bare = re.fullmatch(r"\s*(?:about|around|roughly|approximately|\u2248|~|=)?\s*(-?\d+(?:\.\d+)?)\s*", aside,
-                            flags=re.IGNORECASE)
-        numbers += [float(bare.group(1))] if bare else []
-    if any(value != 1 and (value > 1) != (side == "above") for value in numbers):
-        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': its number is on the other side.")
-    return side
 
 
 def _limit_key(key) -> str | None:
