@@ -614,9 +614,12 @@ def test_tutorial_4s_agents_move_seconds_after_run_all_in_jupyterlab(tmp_path, b
         in_class = time.time() - started
         page.evaluate("document.querySelector('.widget-html-content svg').scrollIntoView()")  # redrawn each step
         page.screenshot(path=str(shots / "jupyterlab-tutorial4-moving.png"))
+        watched = page.evaluate(WATCH, 10)  # the steps shown while the later cells run in the same kernel
+        rates = [len(times) / 10 for times in watched["times"]]
         (shots / "jupyterlab-tutorial4.json").write_text(json.dumps(
             {"run_all_to_first_step_s": {"nothing_fitted_yet": rehearsal, "fits_stored_by_a_rehearsal": in_class},
-             "later_cells_still_running": busy}, indent=1))
+             "later_cells_still_running": busy, "steps_per_second_while_later_cells_run": rates,
+             "load": os.getloadavg()[0]}, indent=1))
         page.locator(loaded).nth(1).wait_for(timeout=60_000)  # both sides loaded their fits
         assert page.locator(loaded).count() == 2
         assert page.locator(".jp-OutputArea-output .jp-RenderedText:has-text('Traceback')").count() == 0
