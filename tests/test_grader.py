@@ -753,3 +753,11 @@ def test_a_prediction_with_a_preface_or_the_factors_name_is_read(answer, side):
 def test_all_or_none_of_the_actions_is_read(answer, actions):
     assert read_actions(answer) == actions
 
+
+
+def test_the_moved_readers_still_import_from_parsing_with_a_warning():
+    from sarsp_edu.teaching.exercises import parsing
+
+    for name in ("read_count", "read_actions"):
+        with pytest.warns(DeprecationWarning, match=f"parsing.{name} moved to"):
+            assert getattr(parsing, name)("50" if name == "read_count" else "0, 2") in (50, [0, 2])

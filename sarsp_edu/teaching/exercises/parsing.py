@@ -321,3 +321,18 @@ def read_limits(answer) -> dict:
     if missing:
         raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
     return limits
+
+
+#: readers moved to modules of their own (0.4): importable from here for one release, with a warning
+_MOVED_READERS = {"read_actions": "action_lists", "read_count": "counts"}
+
+
+def __getattr__(name: str):
+    if name in _MOVED_READERS:
+        import importlib
+        import warnings
+
+        module = f"{__package__}.{_MOVED_READERS[name]}"
+        warnings.warn(f"{__name__}.{name} moved to {module}.{name}", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(module), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
