@@ -12,8 +12,6 @@ from sarsp_edu.teaching.exercises.action_lists import read_actions
 from sarsp_edu.teaching.exercises.counts import read_count
 from sarsp_edu.teaching.exercises.grading import grade
 from sarsp_edu.teaching.exercises.parsing import (
-    ABOVE,
-    BELOW,
     NARROWER,
     WIDER,
     Unreadable,
@@ -744,9 +742,10 @@ def test_the_questions_own_bound_is_read(answer):
                                           ("I predict below", "below"), ("My prediction: narrower", "narrower"),
                                           ("Answer: narrower", "narrower"), ("I predict narrower", "narrower")])
 def test_a_prediction_with_a_preface_or_the_factors_name_is_read(answer, side):
-    options = {"above": ABOVE, "below": BELOW} if side in ("above", "below") else {"wider": WIDER,
-                                                                                    "narrower": NARROWER}
-    assert read_word(answer, options) == side
+    if side in ("above", "below"):
+        assert read_side(answer) == side
+    else:
+        assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == side
 
 
 @pytest.mark.parametrize("answer, actions", [("no safe actions", []), ("all four", [0, 1, 2, 3])])
@@ -761,3 +760,72 @@ def test_the_moved_readers_still_import_from_parsing_with_a_warning():
     for name in ("read_count", "read_actions"):
         with pytest.warns(DeprecationWarning, match=f"parsing.{name} moved to"):
             assert getattr(parsing, name)("50" if name == "read_count" else "0, 2") in (50, [0, 2])
+
+
+# -- the sixteenth cold pass: endings read only where they are the question's own; a count stated, not judged ----
+@pytest.mark.parametrize("answer", ["narrower towards the GP but actually wider", "narrower without outliers"])
+def test_a_direction_with_a_further_ending_is_not_read(answer):
+    with pytest.raises(Unreadable):
+        read_word(answer, {"wider": WIDER, "narrower": NARROWER})
+
+
+@pytest.mark.parametrize("answer", ["below 1 at nu = 30", "below as nu grows"])
+def test_a_side_under_exercise_2_6s_conditions_is_not_read(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+@pytest.mark.parametrize("answer", ["50 is wrong", "50 is too high", "50 cannot fit", "Fifty is too high",
+                                    "50 in a checkerboard pattern", "50 I reckon"])
+def test_a_count_judged_or_followed_by_words_is_not_read(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+def test_a_wrong_working_does_not_give_the_answer_away():
+    with pytest.raises(Unreadable, match="its working does not give 25") as refused:
+        read_count("25 = 10*10/2")
+    assert "50" not in str(refused.value)
+
+
+@pytest.mark.parametrize("answer, said", [("0, 2 (three actions)", "counts three actions where its list names 2"),
+                                          ("RIGHT = 1", "names action 1 as RIGHT")])
+def test_an_action_count_or_name_that_disagrees_is_refused(answer, said):
+    with pytest.raises(Unreadable, match=said):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer, actions", [("(0, 2)", [0, 2]), ("Safe actions: 0, 2", [0, 2]),
+                                             ("Safe: 0 and 2", [0, 2]), ("0 as well as 2", [0, 2]),
+                                             ("both 0 and 2", [0, 2]), ("RIGHT = 0 and LEFT = 2", [0, 2]),
+                                             ("RIGHT/LEFT", [0, 2]), ("there are none", []), ("empty", []),
+                                             ("none of the four", []), ("all 4", [0, 1, 2, 3]),
+                                             ("every one", [0, 1, 2, 3]), ("all of the actions", [0, 1, 2, 3]),
+                                             ("0 through 3", [0, 1, 2, 3]), ("0 and 2 (two actions)", [0, 2])])
+def test_more_wordings_of_a_list_of_actions_are_read(answer, actions):
+    assert read_actions(answer) == actions
+
+
+@pytest.mark.parametrize("answer", ["The factor is 0.4", "The variance factor is 0.4", "It's 0.4",
+                                    "variance_scale_ = 0.4", "beta/n = 0.67", "variance_scale_ is below 1",
+                                    "beta_ / n < 1", "The fitted factor is below 1",
+                                    "The variance factor stays below 1",
+                                    "It decreases below 1", "It will drop below 1", "the factor will fall below one"])
+def test_the_factor_named_or_falling_below_1_is_read(answer):
+    assert read_side(answer) == "below"
+
+
+@pytest.mark.parametrize("answer", ["The TP's band gets narrower", "Its band is narrower",
+                                    "The band at nu = 30 is narrower", "At nu = 30 the band is narrower",
+                                    "narrower for larger nu", "narrower at nu = 30.0", "narrower at 30",
+                                    "I predict: narrower"])
+def test_the_band_named_or_at_the_questions_nu_is_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+@pytest.mark.parametrize("answer", [{"lambda < 1": np.inf, "lambda = 1": "1 (wrong: 0)", "lambda > 1": 0},
+                                    {"lambda < 1": "inf", "lambda = 1": "1", "lambda > 1": "0, probably"},
+                                    "inf, 1, 0 (the Gaussian decays too fast)", "inf, 1, 0?"])
+def test_limits_with_asides_or_doubts_are_not_read(answer):
+    with pytest.raises(Unreadable):
+        read_limits(answer)

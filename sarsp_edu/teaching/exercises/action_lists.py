@@ -69,9 +69,10 @@ def read_actions(answer) -> list[int]:
 _LIST = re.compile(r"^[\s,;&+\[\]{}0-3]*(?:(?:\b(?:and|right|down|left|up|actions?|safe|are|is|the|only|just)\b|"
                    r"[\s,;&+\[\]{}0-3])*)$", re.IGNORECASE)
 #: every action, or none: 'all', 'all four', 'every action', 'none of them'
-_EVERY = re.compile(r"^\s*(?:all(?:\s+four)?(?:\s+(?:of\s+them|actions?))?|every(?:\s+action|thing)?|0\s*-\s*3|"
-                    r"0\s+to\s+3)\s*$", re.IGNORECASE)
-_NONE = re.compile(r"^\s*(?:none(?:\s+of\s+them)?|nothing|no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
+_EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+actions))|\s+actions?)?|"
+                    r"every(?:\s+action|\s+one|thing)?|0\s*-\s*3|0\s+(?:to|through)\s+3)\s*$", re.IGNORECASE)
+_NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four))?|there\s+are\s+none|nothing|empty|"
+                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
 
 
 #: what a list of actions alone does not hold: a clause, an aside, a reason, what is not safe, an addition
@@ -84,21 +85,45 @@ def _read_text(text: str, answer) -> list[int]:
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
     text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!")
-    # '0, 1 and 2 (three actions)': a count of them beside the list, not an action
-    text = re.sub(r"\s*\(\s*(?:one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", "", text, flags=re.I)
+    text = _LABEL.sub("", text, count=1)  # 'Safe actions: 0, 2'
+    text = re.sub(r"^\((.*)\)$", r"\1", text.strip())  # '(0, 2)', a tuple as Python prints it
+    text = re.sub(r"\b(right|down|left|up)\s*=\s*([0-3])\b", _named_equals(answer), text, flags=re.I)
+    text = re.sub(r"\bboth\s+|\bas\s+well\s+as\b", lambda m: "" if m.group(0).startswith("both") else " and ",
+                  text, flags=re.I)
+    # '0, 1 and 2 (three actions)': a count of them beside the list, checked against it
+    counted = re.search(r"\s*\(\s*(one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", text, flags=re.I)
+    if counted:
+        text = text[:counted.start()] + text[counted.end():]
     said = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?|only|just)\b", " ", text, flags=re.I).strip()
     everything_but = _ALL_BUT.match(said)
-    if _EVERY.match(said):
+    if _EVERY.match(text) or _EVERY.match(said):
         return [0, 1, 2, 3]
-    if _NONE.match(said):
+    if _NONE.match(text) or _NONE.match(said):
         return []
     if _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
-                         f"'0, 2'), as the question asks; a reason belongs in the written answer below")
-    items = [item for item in re.split(r"(?:[\s,;&+\[\]{}]|\band\b)+",
+                         f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
+    items = [item for item in re.split(r"(?:[\s,;&+/\[\]{}]|\band\b)+",
                                        everything_but.group(1) if everything_but else said, flags=re.I) if item]
     actions = _numbered(items)
-    return sorted(set(range(4)) - set(actions)) if everything_but else actions
+    actions = sorted(set(range(4)) - set(actions)) if everything_but else actions
+    if counted and _COUNTS[counted.group(1).lower()] != len(actions):
+        raise Unreadable(f"{shown(answer)} counts {counted.group(1)} actions where its list names {len(actions)}.")
+    return actions
+
+
+_COUNTS = {"one": 1, "two": 2, "three": 3, "four": 4, "1": 1, "2": 2, "3": 3, "4": 4}
+#: a label before the list ('Safe actions: 0, 2', 'Safe: 0 and 2', 'actions: 0, 2')
+_LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)\s*:\s*", re.IGNORECASE)
+
+
+def _named_equals(answer):
+    """'RIGHT = 0': the number, once the name agrees with it."""
+    def number(match):
+        if _ACTIONS[match.group(1).lower()] != int(match.group(2)):
+            raise Unreadable(f"{shown(answer)} names action {match.group(2)} as {match.group(1).upper()}: {_NAMES}.")
+        return match.group(2)
+    return number
 
 
 def _numbered(items) -> list[int]:

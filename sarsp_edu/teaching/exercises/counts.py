@@ -70,7 +70,7 @@ def _worked(text: str) -> str:
     except (SyntaxError, ZeroDivisionError, ValueError):
         return text
     if value != float(number):
-        raise Unreadable(f"Could not read {shown(text)} as a whole number: its working gives {value:g}, not {number}.")
+        raise Unreadable(f"Could not read {shown(text)} as a whole number: its working does not give {number}.")
     return number
 
 
@@ -103,11 +103,22 @@ def _read_count(answer) -> int:
     return int(value)
 
 
+_NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"
+_STATES_A_COUNT = re.compile(
+    r"^(?:(?:the\s+(?:grid|board|world)|it|a\s+10\s*x\s*10\s+grid)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
+    rf"has|have)\s+)?(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"
+    r"(?:\s+(?:at\s+most|of\s+(?:the\s+)?\d+(?:\s+(?:cells|states|squares))?))?$", re.IGNORECASE)
+
+
 def _count_in_words(answer) -> float:
     """The one number a sentence gives as its count ('The grid can hold 50 unsafe cells', 'at most 50', '50 of
     the 100 cells': a number after 'of' is a total, not the count); raises :class:`Unreadable`."""
     text = _text(answer)
     if text is None or _NEGATION.search(text.lower()):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    # only a sentence that states the count ('The grid can hold 50 unsafe cells', '50 unsafe cells', '50 of the
+    # 100 cells'): not one that judges it ('50 is wrong', '50 is too high', '50 cannot fit')
+    if not _STATES_A_COUNT.match(text.strip().rstrip(".!")):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
     if "%" in text:
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a percentage.")

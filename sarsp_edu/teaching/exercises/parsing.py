@@ -78,8 +78,12 @@ NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller"
                   "<", "more narrow", "less wide", "not as wide", "beta > n", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
+                                         "the tp's band gets", "the tp's band is", "its band is", "its band gets",
+                                         "the band at nu = 30 is", "the band at nu=30 is", "the fitted factor is",
+                                         "the variance factor stays", "the factor stays", "beta_ / n", "beta_/n",
                                          "the tp's variance factor is", "the variance factor is", "the factor is",
-                                         "the factor", "variance_scale_", "beta / n", "beta/n", "beta over n is",
+                                         "the factor", "variance_scale_ is", "variance_scale_", "beta / n", "beta/n",
+                                         "beta over n is",
                                          "it gets", "it becomes", "it is", "it's",
                                          "gets", "becomes", "is", "it", "an", "a", "the"))
 
@@ -116,7 +120,7 @@ def _text(answer) -> str | None:
     return str(answer) if isinstance(answer, str) else None
 
 
-def read_word(answer, options: dict) -> str:
+def read_word(answer, options: dict, tails=None) -> str:
     """The option (a key of ``options``) whose spellings include ``answer``; raises :class:`Unreadable`.
 
     A prediction is read alone: an answer that doubts itself ('narrower, probably'), or says more than the
@@ -130,12 +134,15 @@ def read_word(answer, options: dict) -> str:
         The student's answer; only text (str, numpy's str, bytes) can be read.
     options : dict
         ``{option: spellings}``, the spellings a set of compacted forms such as :data:`ABOVE`.
+    tails : tuple of str, optional
+        Patterns of endings that leave the prediction as it is, dropped; default: exercise 2.6's (the
+        question's own nu = 30 and its own change of nu, 'than before', 'towards the GP').
     """
     names = " or ".join(repr(option) for option in options)
     text = _text(answer)
     if text is not None:
         text = alone(text, answer, names)
-        found = _read_clause(text, options)
+        found = _read_clause(text, options, _TAILS if tails is None else tails)
         if found is not None:
             return found
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
@@ -147,8 +154,9 @@ _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]
 _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly|likely|think|believe|suppose|"
                     r"not sure|not certain|uncertain|don'?t know|no idea)([^a-z]|$)|\?", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
-_PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+predict(?:\s+that)?|"
-                      r"the\s+answer\s+is\s*:?|answer\s*:)\s*", re.IGNORECASE)
+_PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
+                      r"the\s+answer\s+is\s*:?|answer\s*:|(?:at|with)\s+(?:nu|\u03bd)\s*=\s*30\s*,?)\s*",
+                      re.IGNORECASE)
 #: the reply to an answer that says more than its prediction
 ALONE = ("write the prediction alone, as the question asks; a reason belongs in the written answer below, "
          "which no check grades")
@@ -192,17 +200,20 @@ def _clauses(text: str) -> tuple:
 _TAILS = (r"\s+than\s+(before|(at|with|for)\s+(nu|\u03bd)\s*=\s*3(?![\d.]))\s*$",
           r"\s+(at|for|with)\s+(nu|\u03bd)\s*=\s*30(?![\d.])\s*$",
           r"\s+(as|when|while|if|once)\s+(nu|\u03bd)\s+(grows|increases|rises|goes\s+up|gets\s+(larger|bigger))\s*$",
-          r"\s+towards?\s+(the\s+)?(gp|gaussian)\b[\w\s']*$", r"\s+without\s+outliers\s*$")
+          r"\s+towards?\s+(the\s+)?(gp|gaussian)('s)?(\s+(band|process|one))?\s*$",
+          r"\s+(for|with)\s+(larger|bigger|higher)\s+(nu|\u03bd)\s*$", r"\s+at\s+(nu\s*=\s*)?30(\.0+)?\s*$")
+#: 2.5's own condition (its question is asked without outliers), dropped there alone
+_WITHOUT_OUTLIERS = r"\s+without\s+outliers\s*$"
 #: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
 _POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends",
                                          "rises", "climbs", "comes out", "will be", "will get", "is going to be",
                                          "going to be", "will end up", "would be", "'ll be", "will", "would",
-                                         "should"))
+                                         "should", "decreases", "decrease", "will drop", "will fall", "stays"))
 
 
-def _read_clause(text: str, options: dict) -> str | None:
-    """The option one clause names (lead-ins and tails dropped), or None."""
-    for tail in _TAILS:
+def _read_clause(text: str, options: dict, tails=_TAILS) -> str | None:
+    """The option one clause names (lead-ins and ``tails`` dropped), or None."""
+    for tail in tails:
         text = re.sub(tail, "", text, flags=re.IGNORECASE)
     compact = _compact(text)
     rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
@@ -263,6 +274,11 @@ def _number(answer, what: str, single: bool = False) -> float:
         raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
 
 
+#: the factor named before its value ('The factor is 0.4', 'variance_scale_ = 0.4', "It's 0.4", 'beta/n = 0.67')
+_FACTOR_IS = re.compile(r"^\s*(?:the\s+(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?factor|variance_scale_|"
+                        r"beta_?\s*/\s*n|it'?s|it\s+is)\s*(?:is|=)?\s*", re.IGNORECASE)
+
+
 def read_side(answer) -> str:
     """'above' or 'below' 1: a word (:func:`read_word` with :data:`ABOVE` and :data:`BELOW`), or a number on
     that side of 1 (0.37 is 'below'), alone (as :func:`alone` reads it); raises :class:`Unreadable`, for 1
@@ -271,10 +287,11 @@ def read_side(answer) -> str:
     if text is not None:
         alone(text, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
     try:
-        return read_word(answer, {"above": ABOVE, "below": BELOW})
+        return read_word(answer, {"above": ABOVE, "below": BELOW}, tails=(_WITHOUT_OUTLIERS,))
     except Unreadable:
         try:
-            value = _number(answer if text is None else _PREFACE.sub("", text, count=1), "a number")
+            value = _number(answer if text is None else _FACTOR_IS.sub("", _PREFACE.sub("", text, count=1), count=1),
+                            "a number")
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         if value == 1 or math.isnan(value):
@@ -303,6 +320,10 @@ def read_limits(answer) -> dict:
     Three limits in the question's order (lambda < 1, = 1, > 1) are read too: a list, a tuple or text such as
     'inf, 1, 0'."""
     text = _text(answer)
+    if text is not None and _DOUBT.search(text):
+        raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
+    if text is not None and re.search(r"[()]|\bbecause\b", text):
+        raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: {ALONE}.")
     if text is not None and len([part for part in re.split(r"[,;]", text) if part.strip()]) == 3:
         answer = [part.strip() for part in re.split(r"[,;]", text) if part.strip()]
     if isinstance(answer, (list, tuple)) and len(answer) == 3:
@@ -316,7 +337,10 @@ def read_limits(answer) -> dict:
             raise Unreadable(f"Could not read the key {shown(key)} as one of lambda < 1, lambda = 1, lambda > 1.")
         if side in limits:
             raise Unreadable(f"The key {shown(key)} names lambda {side[0]} 1 a second time.")
-        limits[side] = _number(value, f"the limit for lambda {side[0]} 1")
+        what = f"the limit for lambda {side[0]} 1"
+        if _text(value) is not None:
+            value = alone(_text(value), value, what)  # '0 (1 for small x)', '0, probably': not read
+        limits[side] = _number(value, what)
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]
     if missing:
         raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
