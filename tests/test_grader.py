@@ -829,3 +829,46 @@ def test_the_band_named_or_at_the_questions_nu_is_read(answer):
 def test_limits_with_asides_or_doubts_are_not_read(answer):
     with pytest.raises(Unreadable):
         read_limits(answer)
+
+
+# -- the seventeenth cold pass: no action named is not 'none'; limits beyond a float; endings with a full stop -----
+@pytest.mark.parametrize("answer", ["", ".", "and", "Safe actions:", "()", "{}", "as well as"])
+def test_an_answer_that_names_no_action_is_not_none(answer):
+    with pytest.raises(Unreadable):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("value", ["1e400", "9e999", "1e-400"])
+def test_a_limit_beyond_a_floats_range_is_not_read(value):
+    with pytest.raises(Unreadable):
+        read_limits({"lambda < 1": value, "lambda = 1": 1, "lambda > 1": 0})
+
+
+def test_the_limits_are_exact_numbers():
+    from sarsp_edu.teaching.exercises import _verdict
+
+    assert _verdict("1.4", {"lambda < 1": np.inf, "lambda = 1": 1, "lambda > 1": 0})[0]
+    for almost in ("0.9999999999", 1.0000000001):
+        assert not _verdict("1.4", {"lambda < 1": np.inf, "lambda = 1": almost, "lambda > 1": 0})[0]
+
+
+@pytest.mark.parametrize("answer", ["Narrower at nu = 30.", "narrower as nu grows.", "Narrower towards the GP.",
+                                    "narrower towards the GP\u2019s band", "narrower as nu grows towards the GP",
+                                    "narrower when nu is 30", "narrower if nu = 30", "narrower at nu of 30"])
+def test_the_questions_own_endings_are_read_with_a_full_stop_or_one_after_another(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["below 1 without outliers.", "Below without outliers!", "beta/n is below 1",
+                                    "beta / n is below one", "beta_/n is below 1"])
+def test_more_wordings_of_below_1_are_read(answer):
+    assert read_side(answer) == "below"
+
+
+@pytest.mark.parametrize("answer", ["50 = 10*10/2.", "5 x 10.", "A 10 x 10 grid can hold 50",
+                                    "The 10 x 10 grid can hold 50", "50 on a 10 x 10 grid", "50 is the answer",
+                                    "50 is my prediction", "The maximum is 50", "exactly 50", "max 50", "maximum 50",
+                                    "50 at the most", "It's 50", "There can be 50", "50 out of 100", "fifty = 100/2",
+                                    "fifty = 10*10/2", "50 = 10*10/2 cells", "(10*10)/2"])
+def test_more_statements_of_the_count_are_read(answer):
+    assert read_count(answer) == 50

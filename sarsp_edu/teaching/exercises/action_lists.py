@@ -71,7 +71,7 @@ _LIST = re.compile(r"^[\s,;&+\[\]{}0-3]*(?:(?:\b(?:and|right|down|left|up|action
 #: every action, or none: 'all', 'all four', 'every action', 'none of them'
 _EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+actions))|\s+actions?)?|"
                     r"every(?:\s+action|\s+one|thing)?|0\s*-\s*3|0\s+(?:to|through)\s+3)\s*$", re.IGNORECASE)
-_NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four))?|there\s+are\s+none|nothing|empty|"
+_NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four(?:\s+actions)?))?|there\s+are\s+none|nothing|empty|"
                    r"no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
 
 
@@ -105,10 +105,14 @@ def _read_text(text: str, answer) -> list[int]:
                          f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
     items = [item for item in re.split(r"(?:[\s,;&+/\[\]{}]|\band\b)+",
                                        everything_but.group(1) if everything_but else said, flags=re.I) if item]
+    if not items:  # '', 'Safe actions:', 'and': no action named, which is not 'none'
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it names no action (write 'none' for none).")
     actions = _numbered(items)
     actions = sorted(set(range(4)) - set(actions)) if everything_but else actions
     if counted and _COUNTS[counted.group(1).lower()] != len(actions):
-        raise Unreadable(f"{shown(answer)} counts {counted.group(1)} actions where its list names {len(actions)}.")
+        plural = "s" if _COUNTS[counted.group(1).lower()] > 1 else ""
+        raise Unreadable(f"{shown(answer)} counts {counted.group(1)} action{plural} where its list names "
+                         f"{len(actions)}.")
     return actions
 
 

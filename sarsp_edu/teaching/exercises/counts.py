@@ -52,6 +52,14 @@ def _arithmetic(node) -> float:
 
 
 def _worked(text: str) -> str:
+    text = re.sub(r"\s+(?:unsafe\s+)?(?:cells|states|squares)\s*$", "", text, flags=re.I)  # '50 = 10*10/2 cells'
+    word = re.match(r"^\s*([a-z]+(?:-[a-z]+)?)\s*=", text, flags=re.I)  # 'fifty = 100/2'
+    if word and _number_word(word.group(1).lower().replace("-", "")) is not None:
+        text = f"{_number_word(word.group(1).lower().replace('-', '')):g}" + text[word.end() - 1:]
+    return _checked_working(text)
+
+
+def _checked_working(text: str) -> str:
     """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
     the working does not give the number."""
     if re.fullmatch(r"[\d\s()]*\d\s*[*x\u00d7/+-][\d\s*x\u00d7/+()-]*", text, flags=re.IGNORECASE):  # '10*10/2'
@@ -85,7 +93,7 @@ def read_count(answer) -> int:
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
                          "share, not the number.")
     try:
-        return _read_count(_GRID_SIZE.sub(" the grid ", _worked(_AT_MOST.sub(" ", text))))
+        return _read_count(_GRID_SIZE.sub(" gridsize ", _worked(_AT_MOST.sub(" ", text))))
     except Unreadable as refused:  # said of the student's words, not of what was read from them
         why = str(refused).rpartition(" as a whole number")[2] or "."
         raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
@@ -105,9 +113,12 @@ def _read_count(answer) -> int:
 
 _NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"
 _STATES_A_COUNT = re.compile(
-    r"^(?:(?:the\s+(?:grid|board|world)|it|a\s+10\s*x\s*10\s+grid)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
-    rf"has|have)\s+)?(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"
-    r"(?:\s+(?:at\s+most|of\s+(?:the\s+)?\d+(?:\s+(?:cells|states|squares))?))?$", re.IGNORECASE)
+    r"^(?:(?:(?:the|a)\s+(?:gridsize\s+)?(?:grid|board|world)|it)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
+    r"has|have)\s+|it'?s\s+|it\s+is\s+|there\s+can\s+be\s+|the\s+maximum\s+is\s+|exactly\s+|max(?:imum)?\s+)?"
+    rf"(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"
+    r"(?:\s+(?:at\s+(?:the\s+)?most|is\s+(?:the|my)\s+(?:answer|prediction)|out\s+of\s+(?:the\s+)?\d+|"
+    r"(?:on|in)\s+(?:a|the)\s+(?:gridsize\s+)?grid|of\s+(?:the\s+)?\d+(?:\s+(?:cells|states|squares))?))?$",
+    re.IGNORECASE)
 
 
 def _count_in_words(answer) -> float:

@@ -82,7 +82,10 @@ _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the ban
                                          "the band at nu = 30 is", "the band at nu=30 is", "the fitted factor is",
                                          "the variance factor stays", "the factor stays", "beta_ / n", "beta_/n",
                                          "the tp's variance factor is", "the variance factor is", "the factor is",
-                                         "the factor", "variance_scale_ is", "variance_scale_", "beta / n", "beta/n",
+                                         "the factor", "variance_scale_ is", "variance_scale_",
+                                         "beta / n is", "beta/n is",
+                                         "beta_/n is",
+                                         "beta_ / n is", "beta / n", "beta/n",
                                          "beta over n is",
                                          "it gets", "it becomes", "it is", "it's",
                                          "gets", "becomes", "is", "it", "an", "a", "the"))
@@ -152,7 +155,7 @@ def read_word(answer, options: dict, tails=None) -> str:
 _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]|$)|n't|\?")
 #: a doubt or a hedge anywhere in an answer: it is not read
 _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly|likely|think|believe|suppose|"
-                    r"not sure|not certain|uncertain|don'?t know|no idea)([^a-z]|$)|\?", re.IGNORECASE)
+                    r"not sure|not certain|uncertain|don'?t know|no idea|reckon)([^a-z]|$)|\?", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
 _PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
                       r"the\s+answer\s+is\s*:?|answer\s*:|(?:at|with)\s+(?:nu|\u03bd)\s*=\s*30\s*,?)\s*",
@@ -160,6 +163,20 @@ _PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i
 #: the reply to an answer that says more than its prediction
 ALONE = ("write the prediction alone, as the question asks; a reason belongs in the written answer below, "
          "which no check grades")
+
+
+def _is_arithmetic(text: str) -> bool:
+    """Whether ``text`` is one sum, difference, product or quotient of numbers ('(10*10)/2'; not '50 (100 / 2)')."""
+    import ast
+
+    if not re.fullmatch(r"[\d\s()*x\u00d7/+.-]+", text, flags=re.I):
+        return False
+    try:
+        tree = ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval")
+    except SyntaxError:
+        return False
+    return all(isinstance(node, (ast.Expression, ast.BinOp, ast.Constant, ast.operator, ast.UnaryOp, ast.unaryop))
+               for node in ast.walk(tree))
 
 
 def alone(text: str, answer, what: str) -> str:
@@ -177,7 +194,9 @@ def alone(text: str, answer, what: str) -> str:
     """
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
-    text = _PREFACE.sub("", text, count=1).strip()
+    text = re.sub(r"[.!\u2026]+\s*$", "", _PREFACE.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
+    if _is_arithmetic(text):  # a working in brackets, '(10*10)/2': no aside
+        return text
     if _clauses(text)[1]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: {ALONE}.")
     return text
@@ -198,7 +217,7 @@ def _clauses(text: str) -> tuple:
 #: nu = 3, the question's own nu = 30 and its own change ('as nu grows'), where the band heads ('towards the GP's
 #: band'); any other condition ('when nu = 3', 'as nu decreases') leaves the answer unread
 _TAILS = (r"\s+than\s+(before|(at|with|for)\s+(nu|\u03bd)\s*=\s*3(?![\d.]))\s*$",
-          r"\s+(at|for|with)\s+(nu|\u03bd)\s*=\s*30(?![\d.])\s*$",
+          r"\s+(at|for|with|when|if)\s+(nu|\u03bd)\s*(=|is|of)\s*30(?![\d.])\s*$",
           r"\s+(as|when|while|if|once)\s+(nu|\u03bd)\s+(grows|increases|rises|goes\s+up|gets\s+(larger|bigger))\s*$",
           r"\s+towards?\s+(the\s+)?(gp|gaussian)('s)?(\s+(band|process|one))?\s*$",
           r"\s+(for|with)\s+(larger|bigger|higher)\s+(nu|\u03bd)\s*$", r"\s+at\s+(nu\s*=\s*)?30(\.0+)?\s*$")
@@ -213,8 +232,9 @@ _POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lie
 
 def _read_clause(text: str, options: dict, tails=_TAILS) -> str | None:
     """The option one clause names (lead-ins and ``tails`` dropped), or None."""
-    for tail in tails:
-        text = re.sub(tail, "", text, flags=re.IGNORECASE)
+    for _ in range(3):  # 'narrower as nu grows towards the GP': one ending after another
+        for tail in tails:
+            text = re.sub(tail, "", text, flags=re.IGNORECASE)
     compact = _compact(text)
     rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
     rests += [rest[len(verb):] for rest in list(rests) for verb in _POSITIONS if rest.startswith(verb)]
@@ -259,7 +279,10 @@ def _number(answer, what: str, single: bool = False) -> float:
         if fraction and int(fraction.group(2)):
             return int(fraction.group(1)) / int(fraction.group(2))
         try:
-            return float(compact)
+            value = float(compact)
+            if (math.isinf(value) and "inf" not in compact) or (value == 0 and re.search(r"[1-9]", compact)):
+                raise Unreadable(f"Could not read {shown(answer)} as {what}: it is beyond a float's range.")
+            return value
         except ValueError:
             word = _number_word(compact)
             if word is None:

@@ -92,7 +92,7 @@ def picture(dashboard) -> bytes:
         text.text(0, 0.0, key, va="bottom", linespacing=1.4, color="0.3", transform=text.transAxes)
     if bottom is not None and dashboard.metrics_shown:
         axes = bottom.subplots(1, len(LIVE_METRICS))
-        plotting.plot_live_metrics(axes, {m: e.records() for m, e in dashboard.experiments.items()},
+        plotting.plot_live_metrics(axes, _records_in_side_order(dashboard),
                                    LIVE_METRICS, labels=dashboard._legend_labels())
     return readable_png([figure])
 
@@ -114,6 +114,13 @@ def picture_alt_text(dashboard) -> str:
     return text + "."
 
 
+def _records_in_side_order(dashboard) -> dict:
+    """Each side's records in the order of the dashboard's sides (left first), whichever side's fit ended first:
+    the left side is drawn solid with circles, the right dashed with squares."""
+    experiments = dashboard.experiments or {}
+    return {name: experiments[name].records() for name in dashboard.sides if name in experiments}
+
+
 def metrics_alt_text(dashboard) -> str:
     """What the metric curves show, for a screen reader: the metrics, how each side is drawn, and where each side's
     running values stand at its last episode."""
@@ -121,8 +128,7 @@ def metrics_alt_text(dashboard) -> str:
     names = [metric.replace("_", " ") for metric in LIVE_METRICS]
     text = (f"Both agents' running metrics against the episode ({', '.join(names)}), the left side's solid with "
             "circles, the right side's dashed with squares")
-    for name, experiment in (dashboard.experiments or {}).items():
-        records = experiment.records()
+    for name, records in _records_in_side_order(dashboard).items():
         if len(records):
             last = records.iloc[-1]
             text += (f"; {labels[name]} after {len(records)} episodes: "
@@ -189,7 +195,7 @@ class LiveMetrics:
         self._metrics_drawn_at = now
         for ax in self.metrics_axes:
             wipe_axes(ax)
-        plotting.plot_live_metrics(self.metrics_axes, {m: e.records() for m, e in self.experiments.items()},
+        plotting.plot_live_metrics(self.metrics_axes, _records_in_side_order(self),
                                    LIVE_METRICS, labels=self._legend_labels())
         svg = render_figure(self.metrics_figure, "svg")
         self.metrics_image.value = markup.labelled_svg(svg, metrics_alt_text(self))
