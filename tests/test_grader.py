@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import itertools
+from decimal import Decimal
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -872,3 +874,51 @@ def test_more_wordings_of_below_1_are_read(answer):
                                     "fifty = 10*10/2", "50 = 10*10/2 cells", "(10*10)/2"])
 def test_more_statements_of_the_count_are_read(answer):
     assert read_count(answer) == 50
+
+
+# -- the eighteenth cold pass: two numbers across a dash, another grid's size, limits not exactly 0, 1 or infinity --
+@pytest.mark.parametrize("answer", [{"lambda < 1": np.inf, "lambda = 1": 1, "lambda > 1": "0 - 5"},
+                                    {"lambda < 1": np.inf, "lambda = 1": "0.99999999999999999999", "lambda > 1": 0},
+                                    "inf, 0.99999999999999999999, 0",
+                                    {"lambda < 1": np.inf, "lambda = 1": Fraction(999999999999999999, 10**18),
+                                     "lambda > 1": 0},
+                                    {"lambda < 1": np.inf, "lambda = 1": 1, "lambda > 1": Fraction(1, 10**400)},
+                                    {"lambda < 1": Decimal("1e400"), "lambda = 1": 1, "lambda > 1": 0}])
+def test_limits_not_exactly_zero_one_or_infinity_are_not_read(answer):
+    with pytest.raises(Unreadable):
+        read_limits(answer)
+
+
+@pytest.mark.parametrize("answer", [{"lambda < 1": Decimal("Infinity"), "lambda = 1": Decimal(1),
+                                     "lambda > 1": Fraction(0)},
+                                    [np.inf, np.float64(1), np.int64(0)], "inf, 1, 0", "infinity; 1.0; 0"])
+def test_exact_limits_of_any_type_are_read(answer):
+    assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("answer", ["0.5 - -1", "0.9 - -0.5"])
+def test_two_numbers_across_a_dash_are_not_a_side(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+@pytest.mark.parametrize("answer", ["A 20 x 20 grid can hold 50", "50 in a 5 x 5 grid", "A 10 x 5 grid can hold 50"])
+def test_another_grids_size_is_not_the_questions(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+@pytest.mark.parametrize("answer", ["50 max", "50 exactly", "The most is 50", "The largest number is 50",
+                                    "it is exactly 50", "It's exactly 50.", "max. 50", "50 on the board"])
+def test_still_more_statements_of_the_count_are_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("answer", ["0.4 without outliers", "The factor is 0.4 without outliers",
+                                    "beta/n is 0.4 without outliers", "0.4 without outliers."])
+def test_a_value_of_the_factor_without_outliers_is_read(answer):
+    assert read_side(answer) == "below"
+
+
+def test_a_list_ending_in_an_ellipsis_is_read():
+    assert read_actions("RIGHT and LEFT\u2026") == [0, 2]

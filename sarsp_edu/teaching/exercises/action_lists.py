@@ -84,7 +84,7 @@ def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
-    text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!")
+    text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!\u2026")
     text = _LABEL.sub("", text, count=1)  # 'Safe actions: 0, 2'
     text = re.sub(r"^\((.*)\)$", r"\1", text.strip())  # '(0, 2)', a tuple as Python prints it
     text = re.sub(r"\b(right|down|left|up)\s*=\s*([0-3])\b", _named_equals(answer), text, flags=re.I)

@@ -32,7 +32,7 @@ _NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|a
 _AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maximum\s+of\b|\bat\s+most\b|<=|\u2264",
                       re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
-_GRID_SIZE = re.compile(r"\b\d+\s*(?:x|\u00d7|\*|-?by-?)\s*\d+\b(?!\s*/)", re.IGNORECASE)
+_GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
 #: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
 _WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+()-]+)|([\d\s*x\u00d7/+()-]+)=\s*(\d+))\s*$",
                       re.IGNORECASE)
@@ -114,9 +114,11 @@ def _read_count(answer) -> int:
 _NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"
 _STATES_A_COUNT = re.compile(
     r"^(?:(?:(?:the|a)\s+(?:gridsize\s+)?(?:grid|board|world)|it)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
-    r"has|have)\s+|it'?s\s+|it\s+is\s+|there\s+can\s+be\s+|the\s+maximum\s+is\s+|exactly\s+|max(?:imum)?\s+)?"
+    r"has|have)\s+|(?:it'?s\s+|it\s+is\s+)?exactly\s+|it'?s\s+|it\s+is\s+|there\s+can\s+be\s+|"
+    r"the\s+(?:maximum|most|largest\s+number|largest\s+count)\s+is\s+|max(?:imum)?\.?\s+)?"
     rf"(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"
-    r"(?:\s+(?:at\s+(?:the\s+)?most|is\s+(?:the|my)\s+(?:answer|prediction)|out\s+of\s+(?:the\s+)?\d+|"
+    r"(?:\s+(?:at\s+(?:the\s+)?most|max|exactly|is\s+(?:the|my)\s+(?:answer|prediction|maximum)|on\s+the\s+board|"
+    r"out\s+of\s+(?:the\s+)?\d+|"
     r"(?:on|in)\s+(?:a|the)\s+(?:gridsize\s+)?grid|of\s+(?:the\s+)?\d+(?:\s+(?:cells|states|squares))?))?$",
     re.IGNORECASE)
 

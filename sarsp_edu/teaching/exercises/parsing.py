@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import re
+from decimal import Decimal
 
 import numpy as np
 
@@ -169,8 +170,8 @@ def _is_arithmetic(text: str) -> bool:
     """Whether ``text`` is one sum, difference, product or quotient of numbers ('(10*10)/2'; not '50 (100 / 2)')."""
     import ast
 
-    if not re.fullmatch(r"[\d\s()*x\u00d7/+.-]+", text, flags=re.I):
-        return False
+    if not re.fullmatch(r"[\d\s()*x\u00d7/.]+", text, flags=re.I) or not re.search(r"[*x\u00d7/]", text, flags=re.I):
+        return False  # a product or a quotient: '0 - 5' is two numbers, not a working
     try:
         tree = ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval")
     except SyntaxError:
@@ -313,7 +314,9 @@ def read_side(answer) -> str:
         return read_word(answer, {"above": ABOVE, "below": BELOW}, tails=(_WITHOUT_OUTLIERS,))
     except Unreadable:
         try:
-            value = _number(answer if text is None else _FACTOR_IS.sub("", _PREFACE.sub("", text, count=1), count=1),
+            bare = None if text is None else re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text),
+                                                    flags=re.I)
+            value = _number(answer if text is None else _FACTOR_IS.sub("", _PREFACE.sub("", bare, count=1), count=1),
                             "a number")
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
@@ -321,6 +324,24 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1."
                              ) from None
         return "above" if value > 1 else "below"
+
+
+def _exact(given, value: float, what: str) -> float:
+    """``value`` where ``given`` is exactly it: a limit of 0 or 1 written as 0.99999999999999999999 (text, a
+    Fraction, a Decimal) rounds to 1 as a float but is not 1, and 1e400 overflows to infinity but is not it."""
+    if math.isinf(value) or value == int(value):
+        text = _text(given)
+        if text is not None:  # a number written in digits must be the value exactly; a word is ('one', 'infinite')
+            digits = re.search(r"[+-]?\d+(?:\.\d*)?(?:e[+-]?\d+)?", text, flags=re.I)
+            exact = digits is None or (not math.isinf(value) and Decimal(digits.group(0)) == Decimal(value))
+        else:
+            try:
+                exact = math.isinf(value) and given == value or not math.isinf(value) and given == int(value)
+            except (TypeError, ValueError, ArithmeticError):
+                exact = False
+        if not exact:
+            raise Unreadable(f"Could not read {shown(given)} as {what}: it is not exactly {value:g}.")
+    return value
 
 
 def _limit_key(key) -> str | None:
@@ -363,7 +384,7 @@ def read_limits(answer) -> dict:
         what = f"the limit for lambda {side[0]} 1"
         if _text(value) is not None:
             value = alone(_text(value), value, what)  # '0 (1 for small x)', '0, probably': not read
-        limits[side] = _number(value, what)
+        limits[side] = _exact(value, _number(value, what), what)
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]
     if missing:
         raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
