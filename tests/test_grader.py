@@ -537,9 +537,9 @@ def test_a_posterior_that_takes_one_prior_variance_for_every_test_point_is_refus
     assert not grade("2.2", EXERCISES["2.2"], first_only)[0]
 
 
-def test_a_hedged_limit_is_read():
-    assert read_limits({"lambda < 1": "inf", "lambda = 1": "about 1", "lambda > 1": 0}) == {"<1": np.inf, "=1": 1.0,
-                                                                                            ">1": 0.0}
+def test_a_hedged_limit_is_refused_since_the_nineteenth_pass():  # the limits are exact numbers
+    with pytest.raises(Unreadable, match="a limit is exact"):
+        read_limits({"lambda < 1": "inf", "lambda = 1": "about 1", "lambda > 1": 0})
 
 
 # -- the thirteenth cold pass: a count's bound or estimate, the smallest posterior variance, one float past an
@@ -922,3 +922,49 @@ def test_a_value_of_the_factor_without_outliers_is_read(answer):
 
 def test_a_list_ending_in_an_ellipsis_is_read():
     assert read_actions("RIGHT and LEFT\u2026") == [0, 2]
+
+
+# -- the nineteenth cold pass: a NaN limit answered, not raised; counts beside 'all'; hedged limits; lists that go on --
+def test_a_nan_limit_is_a_wrong_answer_not_an_error():
+    from sarsp_edu.teaching.exercises import _verdict
+
+    for answer in ({"lambda < 1": np.inf, "lambda = 1": 1, "lambda > 1": "nan"}, [np.inf, np.nan, 0], "inf, nan, 0"):
+        right, reply = _verdict("1.4", answer)
+        assert not right and reply
+
+
+@pytest.mark.parametrize("answer", ["all (three actions)", "none (two actions)", "0, 2, \u2026", "0, 2, ...",
+                                    "0, 2, etc."])
+def test_all_or_none_with_another_count_or_a_list_that_goes_on_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer", ["Safe actions = 0, 2", "Safe actions - 0, 2", "Safe actions \u2013 0, 2",
+                                    "safe actions \u2192 0, 2", "Safe actions are: 0, 2",
+                                    "The safe actions are: 0 and 2"])
+def test_a_list_after_a_label_is_read(answer):
+    assert read_actions(answer) == [0, 2]
+
+
+@pytest.mark.parametrize("value", ["about 1", "~1", "\u2248 1", "approximately 1", "roughly 1"])
+def test_a_hedged_limit_is_not_exact(value):
+    with pytest.raises(Unreadable, match="a limit is exact"):
+        read_limits({"lambda < 1": np.inf, "lambda = 1": value, "lambda > 1": 0})
+
+
+def test_exact_limits_in_sympy_floats_quotients_exponents_and_brackets_are_read():
+    import sympy as sp
+
+    for answer in ({"lambda < 1": np.inf, "lambda = 1": sp.Float(1), "lambda > 1": sp.Float(0)},
+                   {"lambda < 1": np.inf, "lambda = 1": "3/3", "lambda > 1": "0e5"},
+                   {"lambda < 1": "(inf)", "lambda = 1": "(1)", "lambda > 1": "(0)"}):
+        assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("answer", ["(50)", "50 = (10*10)/2", "(10*10)/2 = 50", "50 = (10 x 10) / 2", "The max is 50",
+                                    "The maximum number is 50", "The largest is 50", "50 is the max", "50 is the most",
+                                    "The most it can hold is 50", "The maximum number of unsafe cells is 50",
+                                    "The upper limit is 50", "The max number is fifty"])
+def test_the_count_in_brackets_with_a_working_or_as_the_maximum_is_read(answer):
+    assert read_count(answer) == 50

@@ -84,6 +84,8 @@ def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
+    if re.search(r",\s*(?:\.\.\.|\u2026|etc\.?)\s*$", text):  # '0, 2, ...': the list goes on
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it says the list goes on; name every safe action.")
     text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!\u2026")
     text = _LABEL.sub("", text, count=1)  # 'Safe actions: 0, 2'
     text = re.sub(r"^\((.*)\)$", r"\1", text.strip())  # '(0, 2)', a tuple as Python prints it
@@ -96,10 +98,12 @@ def _read_text(text: str, answer) -> list[int]:
         text = text[:counted.start()] + text[counted.end():]
     said = re.sub(r"\b(actions?|are|is|the|safe|ones|moves?|only|just)\b", " ", text, flags=re.I).strip()
     everything_but = _ALL_BUT.match(said)
-    if _EVERY.match(text) or _EVERY.match(said):
-        return [0, 1, 2, 3]
-    if _NONE.match(text) or _NONE.match(said):
-        return []
+    every = [0, 1, 2, 3] if _EVERY.match(text) or _EVERY.match(said) else None
+    every = [] if every is None and (_NONE.match(text) or _NONE.match(said)) else every
+    if every is not None:
+        if counted and _COUNTS[counted.group(1).lower()] != len(every):  # 'all (three actions)'
+            raise Unreadable(f"{shown(answer)} counts {counted.group(1)} where it names {len(every)} actions.")
+        return every
     if _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
                          f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
@@ -118,7 +122,8 @@ def _read_text(text: str, answer) -> list[int]:
 
 _COUNTS = {"one": 1, "two": 2, "three": 3, "four": 4, "1": 1, "2": 2, "3": 3, "4": 4}
 #: a label before the list ('Safe actions: 0, 2', 'Safe: 0 and 2', 'actions: 0, 2')
-_LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)\s*:\s*", re.IGNORECASE)
+_LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)?\s*(?::|=|-|\u2013|\u2192|->)\s*",
+                    re.IGNORECASE)
 
 
 def _named_equals(answer):

@@ -115,9 +115,11 @@ _NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"
 _STATES_A_COUNT = re.compile(
     r"^(?:(?:(?:the|a)\s+(?:gridsize\s+)?(?:grid|board|world)|it)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
     r"has|have)\s+|(?:it'?s\s+|it\s+is\s+)?exactly\s+|it'?s\s+|it\s+is\s+|there\s+can\s+be\s+|"
-    r"the\s+(?:maximum|most|largest\s+number|largest\s+count)\s+is\s+|max(?:imum)?\.?\s+)?"
+    r"the\s+(?:max(?:imum)?|most|largest|upper\s+limit)(?:\s+(?:number|count))?(?:\s+of\s+(?:unsafe\s+)?"
+    r"(?:cells|states|squares))?(?:\s+it\s+can\s+hold)?\s+is\s+|max(?:imum)?\.?\s+)?"
     rf"(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"
-    r"(?:\s+(?:at\s+(?:the\s+)?most|max|exactly|is\s+(?:the|my)\s+(?:answer|prediction|maximum)|on\s+the\s+board|"
+    r"(?:\s+(?:at\s+(?:the\s+)?most|max|exactly|is\s+(?:the|my)\s+(?:answer|prediction|maximum|max|most)|"
+    r"on\s+the\s+board|"
     r"out\s+of\s+(?:the\s+)?\d+|"
     r"(?:on|in)\s+(?:a|the)\s+(?:gridsize\s+)?grid|of\s+(?:the\s+)?\d+(?:\s+(?:cells|states|squares))?))?$",
     re.IGNORECASE)

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 import re
 from decimal import Decimal
+from fractions import Fraction
 
 import numpy as np
 
@@ -196,8 +197,14 @@ def alone(text: str, answer, what: str) -> str:
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
     text = re.sub(r"[.!\u2026]+\s*$", "", _PREFACE.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
-    if _is_arithmetic(text):  # a working in brackets, '(10*10)/2': no aside
-        return text
+    whole = re.fullmatch(r"\(([^()]*)\)", text)  # '(0.4)', '(50)': the value in brackets
+    if whole:
+        text = whole.group(1).strip()
+    sides = text.split("=")
+    plain = r"\s*\d+(?:\.\d+)?\s*|\s*[a-z]+(?:-[a-z]+)?\s*"  # a number, in digits or a word
+    if all(_is_arithmetic(side.strip()) or re.fullmatch(plain, side, flags=re.I) for side in sides) and any(
+            _is_arithmetic(side.strip()) for side in sides):
+        return text  # a working in brackets, '(10*10)/2', '50 = (10*10)/2': no aside
     if _clauses(text)[1]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: {ALONE}.")
     return text
@@ -281,7 +288,8 @@ def _number(answer, what: str, single: bool = False) -> float:
             return int(fraction.group(1)) / int(fraction.group(2))
         try:
             value = float(compact)
-            if (math.isinf(value) and "inf" not in compact) or (value == 0 and re.search(r"[1-9]", compact)):
+            mantissa = compact.split("e")[0]
+            if (math.isinf(value) and "inf" not in compact) or (value == 0 and re.search(r"[1-9]", mantissa)):
                 raise Unreadable(f"Could not read {shown(answer)} as {what}: it is beyond a float's range.")
             return value
         except ValueError:
@@ -326,19 +334,34 @@ def read_side(answer) -> str:
         return "above" if value > 1 else "below"
 
 
+#: an approximate value, said as one ('about 1', '~1', 'roughly infinity')
+_HEDGED = re.compile(r"^\s*(?:about|around|roughly|approximately|nearly|almost|close\s+to|~|\u2248)", re.IGNORECASE)
+
+
 def _exact(given, value: float, what: str) -> float:
     """``value`` where ``given`` is exactly it: a limit of 0 or 1 written as 0.99999999999999999999 (text, a
     Fraction, a Decimal) rounds to 1 as a float but is not 1, and 1e400 overflows to infinity but is not it."""
+    if math.isnan(value):  # judged by the check: no limit is NaN
+        return value
     if math.isinf(value) or value == int(value):
         text = _text(given)
         if text is not None:  # a number written in digits must be the value exactly; a word is ('one', 'infinite')
+            if _HEDGED.match(text):  # 'about 1': a limit is an exact number
+                raise Unreadable(f"Could not read {shown(given)} as {what}: a limit is exact, not about a value.")
+            quotient = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*(\d+)\s*", text)
             digits = re.search(r"[+-]?\d+(?:\.\d*)?(?:e[+-]?\d+)?", text, flags=re.I)
-            exact = digits is None or (not math.isinf(value) and Decimal(digits.group(0)) == Decimal(value))
+            if quotient and int(quotient.group(2)):
+                exact = Fraction(int(quotient.group(1)), int(quotient.group(2))) == value
+            else:
+                exact = digits is None or (not math.isinf(value) and Decimal(digits.group(0)) == Decimal(value))
         else:
             try:
-                exact = math.isinf(value) and given == value or not math.isinf(value) and given == int(value)
-            except (TypeError, ValueError, ArithmeticError):
-                exact = False
+                exact = Decimal(str(given)) == Decimal(value)  # sympy's Float(1), a Decimal, a numpy float
+            except (ArithmeticError, ValueError, TypeError):
+                try:
+                    exact = given == value if math.isinf(value) else given == int(value)  # a Fraction, a Rational
+                except (TypeError, ValueError, ArithmeticError):
+                    exact = False
         if not exact:
             raise Unreadable(f"Could not read {shown(given)} as {what}: it is not exactly {value:g}.")
     return value
