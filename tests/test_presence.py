@@ -39,7 +39,7 @@ def test_outside_a_kernel_no_page_is_listened_to_and_nothing_stops():
     assert not page.listening and not page.gone() and page.widget.playing is False
 
 
-def test_a_page_never_heard_is_armed_every_few_seconds_and_gone_after_its_silence(monkeypatch):
+def test_a_page_never_heard_is_armed_every_few_seconds_and_never_taken_for_gone(monkeypatch):
     monkeypatch.setenv(SILENCE_VARIABLE, "30")
     clock = Clock()
     page = PagePresence(listening=True, clock=clock)
@@ -52,11 +52,11 @@ def test_a_page_never_heard_is_armed_every_few_seconds_and_gone_after_its_silenc
     assert toggles == [True]
     clock.now += ARM_EVERY
     page.arm()
-    assert toggles == [True, False, True]  # off and on: a view drawn since starts counting
-    clock.now += 28
-    assert not page.gone()
-    clock.now += 2.5
-    assert page.gone()
+    clock.now += ARM_EVERY
+    page.arm()
+    assert toggles == [True, False, True]  # off, then on at the next call: a view drawn since starts counting
+    clock.now += 300
+    assert not page.gone()  # never heard: its counter may not have started, and a run is not stopped for that
 
 
 def test_a_page_heard_is_not_armed_again_and_is_gone_only_after_its_last_count(monkeypatch):
@@ -127,3 +127,47 @@ def test_a_run_whose_page_counts_from_another_thread_steps_and_stops_when_the_co
         counting.clear()
         counter.join()
         run.close()
+
+
+class Events:
+    """IPython's ``shell.events``, as far as a page's presence uses them."""
+
+    def __init__(self):
+        self.callbacks = {"pre_run_cell": [], "post_run_cell": []}
+
+    def register(self, event, callback):
+        self.callbacks[event].append(callback)
+
+    def unregister(self, event, callback):
+        self.callbacks[event].remove(callback)
+
+    def trigger(self, event):
+        for callback in list(self.callbacks[event]):
+            callback(None)
+
+
+class Shell:
+    def __init__(self):
+        self.events = Events()
+
+
+def test_a_kernel_busy_with_a_cell_is_not_a_silent_page(monkeypatch):
+    """While the kernel runs a cell (Run All of the cells below the dashboard) it reads none of the page's counts:
+    the run must not stop for that silence, which restarts when the cell ends."""
+    monkeypatch.setenv(SILENCE_VARIABLE, "30")
+    clock, shell = Clock(), Shell()
+    page = PagePresence(listening=True, clock=clock, shell=shell)
+    page.watch()
+    clock.now += 1
+    page.widget.value += 1  # heard once
+    shell.events.trigger("pre_run_cell")
+    clock.now += 300  # five minutes of cells: no count read
+    assert not page.gone()
+    shell.events.trigger("post_run_cell")
+    clock.now += 29
+    assert not page.gone()  # 29 s since the cell ended
+    clock.now += 2
+    assert page.gone()
+    page.close()
+    assert shell.events.callbacks == {"pre_run_cell": [], "post_run_cell": []}
+    page.close()  # twice: nothing left to unregister

@@ -7,7 +7,7 @@ go on animating its agents at about a core each until the server ends it.
 ``ipywidgets.Play`` counts up once a second *in the browser*, and each count
 reaches the kernel as a change of its value.  While a live run runs, its
 thread looks at the time of the last count (:meth:`PagePresence.gone`); when
-the page has said nothing for :data:`SILENCE_SECONDS` (a page in a hidden tab
+the page, heard before, has said nothing for :data:`SILENCE_SECONDS` (a page in a hidden tab
 is still heard: browsers slow a hidden tab's timers to about one a minute, not
 to none) the run stops and says why, and the kernel, idle now, is left to the
 server's idle culling (``voila.json``).  *Run* starts it again where the page
@@ -15,13 +15,19 @@ is still there (after a reload in JupyterLab, say).
 
 A ``Play`` widget starts counting only when its ``playing`` turns on after its
 view is drawn, which the kernel cannot see: while the page has not been heard
-since the run began, the run's thread turns it off and on again every
+since the run began, the run's thread turns it off, then on, one change every
 :data:`ARM_EVERY` seconds (:meth:`PagePresence.arm`).  Outside a kernel (a
 script, a test without a browser) there is no page to hear, and nothing stops.
 
-Who owns what: the counts are written by the kernel's main thread (the
-widget's observer, ``_heard``) and read by the run's thread; a float is
-replaced whole, so the reader sees the last count or the one before.
+While the kernel runs a cell (a *Run All* of the cells below the dashboard),
+it reads no message, the page's counts included: that silence is not the
+page's, and it does not count (IPython's ``pre_run_cell`` and
+``post_run_cell`` events say when a cell runs).
+
+Who owns what: the counts and the cells' beginnings and ends are written by
+the kernel's main thread (the widget's observer and the events' callbacks)
+and read by the run's thread; each is a float or a bool replaced whole, so
+the reader sees the last value or the one before.
 """
 
 from __future__ import annotations
@@ -75,10 +81,21 @@ class PagePresence:
         The seconds the silences are measured in (a test's own clock).
     """
 
-    def __init__(self, listening: bool | None = None, clock=time.monotonic):
+    def __init__(self, listening: bool | None = None, clock=time.monotonic, shell=None):
         import ipywidgets as widgets
 
         self.listening = in_a_kernel() if listening is None else bool(listening)
+        #: while the kernel runs a cell it reads no message, the page's counts included: silence then is the
+        #: kernel's, not the page's (a Run All of the cells below the dashboard can take minutes)
+        self.busy, self._idle_since = False, None
+        self._shell = shell
+        if self._shell is None and self.listening and in_a_kernel():
+            from IPython import get_ipython
+
+            self._shell = get_ipython()
+        if self._shell is not None:
+            self._shell.events.register("pre_run_cell", self._cell_began)
+            self._shell.events.register("post_run_cell", self._cell_ended)
         self.silence = silence_seconds()
         self._clock = clock
         self.widget = widgets.Play(value=0, min=0, max=2**31 - 1, interval=INTERVAL_MS, playing=False,
@@ -93,6 +110,22 @@ class PagePresence:
     def _heard(self, change) -> None:  # the kernel's main thread: a count from the page
         self.last_heard = self._clock()
 
+    def _cell_began(self, info=None) -> None:  # the kernel's main thread, as it begins a cell
+        self.busy = True
+
+    def _cell_ended(self, result=None) -> None:  # the kernel's main thread, as a cell ends: the silence restarts
+        self.busy, self._idle_since = False, self._clock()
+
+    def close(self) -> None:
+        """Stop listening to the kernel's cells (the dashboard is closed)."""
+        if self._shell is not None:
+            for event, callback in (("pre_run_cell", self._cell_began), ("post_run_cell", self._cell_ended)):
+                try:
+                    self._shell.events.unregister(event, callback)
+                except ValueError:  # not registered (closed twice)
+                    pass
+            self._shell = None
+
     def watch(self) -> None:
         """A run begins: the page must be heard from now on (the run's thread)."""
         self._since, self._armed = self._clock(), None
@@ -104,13 +137,18 @@ class PagePresence:
         if not self.listening or heard or (self._armed is not None and now - self._armed < ARM_EVERY):
             return
         self._armed = now
-        self.widget.playing = False  # off and on: a view drawn since starts counting on the change
-        self.widget.playing = True
+        # off at one call, on at the next: a view drawn since starts counting when it turns on.  Both at once
+        # raced with the page's own answer to 'off' (its pause sends playing = False back), which could stop
+        # the count the 'on' had just started
+        self.widget.playing = not self.widget.playing
 
     def gone(self) -> bool:
-        """Whether the page has said nothing for ``silence`` seconds since the watch began (False where no page
-        can be heard, or before :meth:`watch`)."""
-        if not self.listening or self._since is None:
+        """Whether the page, heard since the watch began, has said nothing for ``silence`` seconds since (False
+        where no page can be heard, before :meth:`watch`, while a cell runs, and while the page has not been heard:
+        a counter that did not start is not a page that went away)."""
+        if not self.listening or self._since is None or self.busy:
             return False
-        last = self._since if self.last_heard is None else max(self.last_heard, self._since)
+        if self.last_heard is None or self.last_heard < self._since:
+            return False  # never heard since the run began: its counter may not have started; no run stops for that
+        last = max(t for t in (self.last_heard, self._idle_since) if t is not None)
         return self._clock() - last > self.silence

@@ -359,6 +359,8 @@ class AgentDashboard(LiveMetrics, StaticPicture, ProjectorMixin, widgets.VBox):
         """Stop the agents and the fits under way, and close the dashboard's widgets (it cannot be shown again)."""
         if hasattr(self, "run"):  # ipywidgets closes a widget when it is collected, even one half-built
             self.run.close()
+        if hasattr(self, "page"):
+            self.page.close()
         super().close()
 
     # -- the view's half of the controller -------------------------------------------------
