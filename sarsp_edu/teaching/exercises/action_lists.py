@@ -28,8 +28,6 @@ _NAMES = "RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3"
 #: an action said with its name beside its number, either way round: 'RIGHT (0)', '0 (RIGHT)'
 _NAMED = (re.compile(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", re.IGNORECASE),
           re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE))
-#: a clause that names the actions that are not safe ('UP is not safe', '3 is unsafe')
-_NOT_SAFE = re.compile(r"\bnot\s+safe\b|\bunsafe\b", re.IGNORECASE)
 #: every action but some: 'all but 3', 'everything except UP', 'all actions except 3'
 _ALL_BUT = re.compile(r"^\s*(?:all|every(?:thing|\s+action)?|all\s+(?:the\s+)?actions)\s+(?:but|except)\s+(.+)$",
                       re.IGNORECASE)
@@ -65,9 +63,6 @@ def read_actions(answer) -> list[int]:
     return _numbered(array.tolist())
 
 
-#: a clause that is a list of actions and nothing else ('0, 1 and 2', 'RIGHT, LEFT', '[0, 2]')
-_LIST = re.compile(r"^[\s,;&+\[\]{}0-3]*(?:(?:\b(?:and|right|down|left|up|actions?|safe|are|is|the|only|just)\b|"
-                   r"[\s,;&+\[\]{}0-3])*)$", re.IGNORECASE)
 #: every action, or none: 'all', 'all four', 'every action', 'none of them'
 _EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+actions))|\s+actions?)?|"
                     r"every(?:\s+action|\s+one|thing)?|0\s*-\s*3|0\s+(?:to|through)\s+3)\s*$", re.IGNORECASE)

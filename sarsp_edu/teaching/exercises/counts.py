@@ -52,10 +52,13 @@ def _arithmetic(node) -> float:
 
 
 def _worked(text: str) -> str:
-    text = re.sub(r"\s+(?:unsafe\s+)?(?:cells|states|squares)\s*$", "", text, flags=re.I)  # '50 = 10*10/2 cells'
-    word = re.match(r"^\s*([a-z]+(?:-[a-z]+)?)\s*=", text, flags=re.I)  # 'fifty = 100/2'
-    if word and _number_word(word.group(1).lower().replace("-", "")) is not None:
-        text = f"{_number_word(word.group(1).lower().replace('-', '')):g}" + text[word.end() - 1:]
+    """``text`` with its unit dropped and a number word before '=' in digits ('fifty = 100/2 cells' ->
+    '50 = 100/2'), then its working checked (:func:`_checked_working`)."""
+    text = re.sub(r"\s+(?:unsafe\s+)?(?:cells|states|squares)\s*$", "", text, flags=re.I)
+    word = re.match(r"^\s*([a-z]+(?:-[a-z]+)?)\s*=", text, flags=re.I)
+    value = None if word is None else _number_word(word.group(1).lower().replace("-", ""))
+    if value is not None:
+        text = f"{value:g}" + text[word.end() - 1:]
     return _checked_working(text)
 
 
