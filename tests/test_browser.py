@@ -822,3 +822,37 @@ def test_the_live_dashboards_numbers_and_grids_are_never_cut_at_800_1280_or_1920
         (shots / "jupyterlab-live-numbers.json").write_text(json.dumps(found, indent=1))
         assert "offline fit" in page.inner_text(".jp-OutputArea-output")
         assert not any(found.values()), f"cut (text, px): {found}"
+def _busy_kernels(server, seconds: float = 3.0) -> dict:
+    """Each kernel's share of a core over ``seconds`` (its own process: the agents step there)."""
+    import psutil
+
+    running = {pid: psutil.Process(pid) for pid in kernels(server)}
+    before = {pid: sum(p.cpu_times()[:2]) for pid, p in running.items()}
+    time.sleep(seconds)
+    return {pid: (sum(p.cpu_times()[:2]) - before[pid]) / seconds for pid, p in running.items()}
+
+
+def test_a_reloaded_live_page_leaves_one_kernel_stepping_not_two(tmp_path, browser, shots, monkeypatch):
+    """A reload starts a new kernel; the old one hears no more from its page and stops its agents within the
+    page's silence (5 s here, 90 s by default), so that one kernel steps, not two, and the idle one is left to
+    the culling that the shipped voila.json sets."""
+    monkeypatch.setenv("SARSP_EDU_AUTOPLAY", "1")  # the test run keeps it off elsewhere (conftest.py)
+    monkeypatch.setenv("SARSP_EDU_PAGE_SILENCE", "5")
+    monkeypatch.setenv("SARSP_EDU_CACHE", str(tmp_path / "fits"))  # the second page loads the first one's fits
+    assert json.loads((ROOT / "voila.json").read_text())["MappingKernelManager"]["cull_idle_timeout"] > 0
+    with offline_voila_page("live_dashboard.ipynb", tmp_path, browser) as (server, page, url, outside):
+        page.goto(url, wait_until="commit", timeout=60_000)
+        page.wait_for_selector(".widget-slider .noUi-handle", timeout=60_000)
+        assert None not in page.evaluate(FIRST_STEPS, 240), "the first page's agents did not step"
+        page.reload(wait_until="commit", timeout=60_000)
+        page.wait_for_selector(".widget-slider .noUi-handle", timeout=60_000)
+        assert None not in page.evaluate(FIRST_STEPS, 240), "the reloaded page's agents did not step"
+        time.sleep(5 + 4)  # the old page's silence, and the run's look at it (every second)
+        busy = _busy_kernels(server)
+        page.screenshot(path=str(shots / "voila-live-dashboard-reloaded.png"))
+        (shots / "voila-live-dashboard-reloaded.json").write_text(json.dumps(
+            {"kernels_cpu_share": list(busy.values())}, indent=1))
+        assert len(busy) == 2, f"two kernels (the old page's and the new one's), but: {processes(list(busy))}"
+        assert sorted(share > 0.15 for share in busy.values()) == [False, True], busy
+        assert "has not been heard from" not in page.inner_text("body")  # the page on show is heard
+        assert not outside, f"the page asked other hosts for {outside}"

@@ -39,7 +39,19 @@ def test_outside_a_kernel_no_page_is_listened_to_and_nothing_stops():
     assert not page.listening and not page.gone() and page.widget.playing is False
 
 
-def test_a_page_never_heard_is_armed_every_few_seconds_and_never_taken_for_gone(monkeypatch):
+def test_nothing_is_armed_before_the_page_draws_a_view(monkeypatch):
+    """A page still loading must draw the counter with 'playing' off, or its view never starts counting."""
+    clock = Clock()
+    page = PagePresence(listening=True, clock=clock)
+    assert page.widget._view_count == 0  # the page is asked to report its views
+    page.watch()
+    for _ in range(5):
+        page.arm()
+        clock.now += ARM_EVERY
+    assert page.widget.playing is False and page.drawn_at is None
+
+
+def test_a_view_drawn_turns_the_count_on_at_once_and_is_armed_again_only_while_unheard(monkeypatch):
     monkeypatch.setenv(SILENCE_VARIABLE, "30")
     clock = Clock()
     page = PagePresence(listening=True, clock=clock)
@@ -47,14 +59,36 @@ def test_a_page_never_heard_is_armed_every_few_seconds_and_never_taken_for_gone(
     page.widget.observe(lambda change: toggles.append(change["new"]), names="playing")
     assert not page.gone()  # not watched yet: no run
     page.watch()
-    page.arm()
-    page.arm()  # again at once: not re-armed
+    page.widget._view_count = 1  # as the page reports a view drawn (the kernel's main thread)
+    assert toggles == [True] and page.drawn_at == clock.now
+    page.arm()  # at once: the count was just turned on
     assert toggles == [True]
     clock.now += ARM_EVERY
     page.arm()
     clock.now += ARM_EVERY
     page.arm()
-    assert toggles == [True, False, True]  # off, then on at the next call: a view drawn since starts counting
+    assert toggles == [True, False, True]  # not heard: off, then on at the next call
+    page.widget.value += 1  # heard
+    clock.now += ARM_EVERY
+    page.arm()
+    assert toggles == [True, False, True]
+    page.widget._view_count = 0  # a view removed (a closed tab): nothing turned on or off
+    assert toggles == [True, False, True]
+    clock.now += 300
+    page.widget._view_count = 1
+    assert toggles == [True, False, True]  # a view drawn with 'playing' on (a reload in JupyterLab) ...
+    page.arm()
+    clock.now += ARM_EVERY
+    page.arm()
+    assert toggles == [True, False, True, False, True]  # ... is armed by the run's thread: off, then on
+
+
+def test_a_page_never_heard_is_never_taken_for_gone(monkeypatch):
+    monkeypatch.setenv(SILENCE_VARIABLE, "30")
+    clock = Clock()
+    page = PagePresence(listening=True, clock=clock)
+    page.watch()
+    page.widget._view_count = 1
     clock.now += 300
     assert not page.gone()  # never heard: its counter may not have started, and a run is not stopped for that
 
@@ -64,6 +98,7 @@ def test_a_page_heard_is_not_armed_again_and_is_gone_only_after_its_last_count(m
     clock = Clock()
     page = PagePresence(listening=True, clock=clock)
     page.watch()
+    page.widget._view_count = 1
     page.arm()
     clock.now += 1
     page.widget.value += 1  # the page counts

@@ -14,20 +14,30 @@ server's idle culling (``voila.json``).  *Run* starts it again where the page
 is still there (after a reload in JupyterLab, say).
 
 A ``Play`` widget starts counting only when its ``playing`` turns on after its
-view is drawn, which the kernel cannot see: while the page has not been heard
-since the run began, the run's thread turns it off, then on, one change every
-:data:`ARM_EVERY` seconds (:meth:`PagePresence.arm`).  Outside a kernel (a
-script, a test without a browser) there is no page to hear, and nothing stops.
+view is drawn.  The widget asks the page to report its views (ipywidgets'
+``_view_count``): when the page says it has drawn one, the kernel turns the
+count on (a Voila page: at once, since its new kernel's ``playing`` is off).  A
+view drawn while ``playing`` is already on (a notebook reloaded in JupyterLab,
+whose page rebuilds the widget as the kernel left it) does not count; the run's
+thread then turns it off, then on, one change every :data:`ARM_EVERY` seconds,
+until the page is heard (:meth:`PagePresence.arm`).  Before any view is drawn
+nothing is touched, so that a page that is still loading draws ``playing`` off.
+Outside a kernel (a script, a test without a browser) there is no page to hear,
+and nothing stops.
 
 While the kernel runs a cell (a *Run All* of the cells below the dashboard),
 it reads no message, the page's counts included: that silence is not the
 page's, and it does not count (IPython's ``pre_run_cell`` and
 ``post_run_cell`` events say when a cell runs).
 
-Who owns what: the counts and the cells' beginnings and ends are written by
-the kernel's main thread (the widget's observer and the events' callbacks)
-and read by the run's thread; each is a float or a bool replaced whole, so
-the reader sees the last value or the one before.
+Who owns what: the counts, the views drawn and the cells' beginnings and ends
+are written by the kernel's main thread (the widget's observers and the
+events' callbacks) and read by the run's thread; each is a float or a bool
+replaced whole, so the reader sees the last value or the one before.  The
+widget's ``playing`` is changed by the main thread when a view is drawn and by
+the run's thread in :meth:`~PagePresence.arm`, never both for one view: the
+run's thread leaves it alone for :data:`ARM_EVERY` seconds after the main
+thread has set it.
 """
 
 from __future__ import annotations
@@ -101,14 +111,25 @@ class PagePresence:
         self.widget = widgets.Play(value=0, min=0, max=2**31 - 1, interval=INTERVAL_MS, playing=False,
                                    show_repeat=False, description="page presence",
                                    layout=widgets.Layout(width="0px", height="0px", overflow="hidden",
-                                                         visibility="hidden", margin="0px"))
+                                                         visibility="hidden", margin="0px"),
+                                   _view_count=0)  # 0, not None: the page reports each view it draws
         self.widget.observe(self._heard, names="value")
+        self.widget.observe(self._drawn, names="_view_count")
+        self.drawn_at = None  # when the page last drew a view of the counter (the clock's seconds); None: never
         self.last_heard = None  # when the page last counted (the clock's seconds); None: never
         self._since = None  # when the current watch began (a run's start)
         self._armed = None  # when the count was last (re)started
 
     def _heard(self, change) -> None:  # the kernel's main thread: a count from the page
         self.last_heard = self._clock()
+
+    def _drawn(self, change) -> None:  # the kernel's main thread: the page drew (or removed) a view
+        if not self.listening or (change["new"] or 0) <= (change["old"] or 0):
+            return  # a view removed (a closed notebook tab): its silence will tell
+        self.drawn_at = self._clock()
+        if not self.widget.playing:
+            self._armed = self.drawn_at
+            self.widget.playing = True  # the view, drawn, sees 'playing' turn on: it counts from now
 
     def _cell_began(self, info=None) -> None:  # the kernel's main thread, as it begins a cell
         self.busy = True
@@ -128,18 +149,19 @@ class PagePresence:
 
     def watch(self) -> None:
         """A run begins: the page must be heard from now on (the run's thread)."""
-        self._since, self._armed = self._clock(), None
+        self._since = self._clock()
 
     def arm(self) -> None:
-        """Start the page's count if it has not been heard since the watch began (the run's thread)."""
+        """Start the page's count where a view is drawn but not heard since (the run's thread)."""
         now = self._clock()
-        heard = self.last_heard is not None and self._since is not None and self.last_heard >= self._since
-        if not self.listening or heard or (self._armed is not None and now - self._armed < ARM_EVERY):
+        if not self.listening or self.drawn_at is None or self._since is None:
+            return  # no view drawn yet: 'playing' is left off for the page to draw it so
+        heard = self.last_heard is not None and self.last_heard >= self.drawn_at  # the view drawn last counts
+        if heard or (self._armed is not None and now - self._armed < ARM_EVERY):
             return
         self._armed = now
-        # off at one call, on at the next: a view drawn since starts counting when it turns on.  Both at once
-        # raced with the page's own answer to 'off' (its pause sends playing = False back), which could stop
-        # the count the 'on' had just started
+        # off at one call, on at the next: the view sees 'playing' turn on.  Both at once raced with the page's
+        # own answer to 'off' (its pause sends playing = False back), which could stop the count just started
         self.widget.playing = not self.widget.playing
 
     def gone(self) -> bool:
