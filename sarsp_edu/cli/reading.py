@@ -71,6 +71,8 @@ def _tables(args, parser) -> int:
     print(_LEGEND)
     print(f"\nTable 2: each metric's mean over the configurations, TP against GP\n{_format_table(tables['mean'])}")
     print("\n" + _verdict_counts(tables["table1"]))
+    _print_backup((key, name, getattr(comparison, name.lower())) for key, comparison in results.comparisons.items()
+                  for name in ("TP", "GP"))
     sections = _beside_paper_sections(tables) + _beside_authors_sections(tables, results.base.episodes)
     if args.all:
         for key, frame in tables.items():
@@ -251,7 +253,7 @@ def _model_tables(args, parser) -> int:
     if unsupported:
         parser.error(f"{', '.join(unsupported)}: not for a model sweep's folder, whose tables are Table 2 with a "
                      "third column, its tests, Definition 4 and each configuration over the cells run so far")
-    from ..experiments.sweep.model_tables import model_sweep_tables
+    from ..experiments.sweep.model_tables import MODEL_NAMES, model_sweep_tables
     from ..experiments.sweep.models import load_model_sweep
 
     try:
@@ -269,6 +271,9 @@ def _model_tables(args, parser) -> int:
     print(_LEGEND)
     print(f"\nTable 2 with a third model: each metric's mean over the configurations run\n"
           f"{_format_table(tables['mean'])}")
+    _print_backup((key, name, result) for key, run in sorted(runs.items())
+                  for name, result in (("TP", paired.comparisons[key].tp), ("GP", paired.comparisons[key].gp),
+                                       (MODEL_NAMES[run.config.model], run)))
     print(f"\nThe third model against TP and GP over configurations\n{_format_table(tables['tests'])}")
     print(f"\nDefinition 4 in each configuration\n{_format_table(tables['definition4'])}")
     print(f"\nEach configuration: the mean over its seeds run\n{_format_table(tables['configurations'])}")
@@ -404,3 +409,11 @@ def _write_markdown(parser, args, text: str) -> None:
         atomic_write_text(args.markdown, text, replace=args.overwrite)
     except FileExistsError:
         parser.error(f"--markdown {args.markdown} was written by another command meanwhile; --overwrite replaces it")
+
+
+def _print_backup(runs) -> None:
+    """Each model's share of decisions left to the backup rule, over the configurations of ``runs``."""
+    from ..experiments.decisions import backup_levels, backup_shares
+
+    print("\nDecisions left to the backup rule (no action safe): each model's share over the configurations, "
+          f"with a 95% bootstrap interval\n{_format_table(backup_levels(backup_shares(runs)))}")
