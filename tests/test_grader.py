@@ -920,8 +920,13 @@ def test_a_value_of_the_factor_without_outliers_is_read(answer):
     assert read_side(answer) == "below"
 
 
-def test_a_list_ending_in_an_ellipsis_is_read():
-    assert read_actions("RIGHT and LEFT\u2026") == [0, 2]
+def test_a_list_with_an_ellipsis_anywhere_is_refused_as_going_on():
+    # read as [0, 2] until the twentieth pass, which found '0 and 2 and ...' read so: an ellipsis may say the list
+    # goes on, wherever it stands, and a refusal that names the form is safer than a list guessed short
+    for answer in ("RIGHT and LEFT\u2026", "0, 2, \u2026.", "0, 2, ....", "0, 2, \u2026!", "0 and 2 and ...",
+                   "RIGHT and LEFT and \u2026", "0, 2 & ...", "0, 2 and \u2026", "0, 2 and so on"):
+        with pytest.raises(Unreadable, match="goes on"):
+            read_actions(answer)
 
 
 # -- the nineteenth cold pass: a NaN limit answered, not raised; counts beside 'all'; hedged limits; lists that go on --
@@ -968,3 +973,82 @@ def test_exact_limits_in_sympy_floats_quotients_exponents_and_brackets_are_read(
                                     "The upper limit is 50", "The max number is fifty"])
 def test_the_count_in_brackets_with_a_working_or_as_the_maximum_is_read(answer):
     assert read_count(answer) == 50
+
+
+# -- the twentieth cold pass: hedges after a lead-in, counts for lists, whole numbers only exactly, more wordings --
+@pytest.mark.parametrize("value", ["it is about 1", "it is about infinity", "it is approximately 0", "It is \u2248 1",
+                                   "it is around 1"])
+def test_a_limit_hedged_after_a_lead_in_is_not_exact(value):
+    with pytest.raises(Unreadable, match="a limit is exact"):
+        read_limits({"lambda < 1": np.inf, "lambda = 1": value, "lambda > 1": 0})
+    with pytest.raises(Unreadable, match="a limit is exact"):
+        read_limits(f"inf, {value}, 0")
+
+
+@pytest.mark.parametrize("answer", ["3 actions", "three actions", "3 safe actions", "three safe actions",
+                                    "three actions are safe", "2 actions are safe", "one action", "four moves"])
+def test_a_count_of_actions_is_not_a_list_of_them(answer):
+    with pytest.raises(Unreadable, match="it counts the safe actions"):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer", ["zero actions", "zero safe actions", "0 actions"])
+def test_zero_actions_is_none(answer):
+    assert read_actions(answer) == []
+
+
+@pytest.mark.parametrize("answer", ["50.0000000000000001", "49.99999999999999999", "4.99999999999999999e1",
+                                    Decimal("49.99999999999999999999"), Fraction(4999999999999999999999, 10**20)])
+def test_a_count_that_only_rounds_to_a_whole_number_is_not_one(answer):
+    with pytest.raises(Unreadable, match="not exactly 50"):
+        read_count(answer)
+
+
+def test_an_action_number_that_only_rounds_to_a_whole_number_is_not_one():
+    import sympy as sp
+
+    for answer in ("0, 1.99999999999999999999", [0, Decimal("1.99999999999999999999")],
+                   [0, Fraction(199999999999999999999, 10**20)], [0, sp.Float("1.99999999999999999999", 30)]):
+        with pytest.raises(Unreadable, match="not exactly 2"):
+            read_actions(answer)
+
+
+@pytest.mark.parametrize("answer", ["safe actions -> 0, 2", "Safe actions -> RIGHT, LEFT", "safe -> 0, 2",
+                                    "actions -> 0 and 2", "safe actions => 0, 2", "Safe actions \u2014 0, 2",
+                                    "0; 2", "0;2", "RIGHT; LEFT", "[0; 2]"])
+def test_a_list_after_an_arrow_or_with_semicolons_is_read(answer):
+    assert read_actions(answer) == [0, 2]
+
+
+@pytest.mark.parametrize("answer", ["narrowed", "less broad", "not as broad", "getting narrower", "Its band narrows"])
+def test_more_wordings_of_a_narrower_band_are_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["widened", "more broad", "getting wider", "Its band widens"])
+def test_the_same_wordings_of_a_wider_band_are_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "wider"
+
+
+@pytest.mark.parametrize("answer", ["< 1.0", "<1.0", "< one"])
+def test_a_comparison_with_one_written_otherwise_is_read(answer):
+    assert read_side(answer) == "below"
+
+
+def test_positive_infinity_and_a_bracketed_dividend_are_read():
+    assert read_limits({"lambda < 1": "positive infinity", "lambda = 1": 1, "lambda > 1": 0})["<1"] == np.inf
+    assert read_count("(100)/2") == 50
+
+
+def test_a_limit_whose_text_cannot_be_made_is_refused_not_raised():
+    class Stubborn:
+        def __float__(self):
+            return 1.0
+
+        def __str__(self):
+            raise RuntimeError("no text")
+
+    from sarsp_edu.teaching.exercises import _verdict
+
+    right, reply = _verdict("1.4", {"lambda < 1": np.inf, "lambda = 1": Stubborn(), "lambda > 1": 0})
+    assert not right and reply

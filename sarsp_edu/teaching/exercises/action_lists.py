@@ -1,5 +1,6 @@
 """Reading a list of actions as a student writes it (exercise 4.4): ``[0, 2]``, ``"0, 2"``, ``"RIGHT and LEFT"``,
-``"0 (RIGHT), 2 (LEFT)"``, ``"all but 3"``, ``"0, 1, 2; 3 is not safe"``, a boolean mask of the four actions.
+``"0 (RIGHT), 2 (LEFT)"``, ``"all but 3"``, ``"0; 2"``, a boolean mask of the four actions; not a list that
+goes on (``"0, 2, ..."``) or a count (``"3 actions"``).
 
 Examples
 --------
@@ -17,7 +18,7 @@ import re
 
 import numpy as np
 
-from .parsing import _DOUBT, _PREFACE, Unreadable, _number, _text
+from .parsing import _DOUBT, _PREFACE, Unreadable, _number, _text, exactly
 from .wording import shown
 
 __all__ = ["read_actions"]
@@ -79,7 +80,7 @@ def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
-    if re.search(r",\s*(?:\.\.\.|\u2026|etc\.?)\s*$", text):  # '0, 2, ...': the list goes on
+    if re.search(r"\.{2,}|\u2026|\betc\b|\band\s+so\s+on\b", text, flags=re.I):  # '0, 2, ...': the list goes on
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it says the list goes on; name every safe action.")
     text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!\u2026")
     text = _LABEL.sub("", text, count=1)  # 'Safe actions: 0, 2'
@@ -99,7 +100,14 @@ def _read_text(text: str, answer) -> list[int]:
         if counted and _COUNTS[counted.group(1).lower()] != len(every):  # 'all (three actions)'
             raise Unreadable(f"{shown(answer)} counts {counted.group(1)} where it names {len(every)} actions.")
         return every
-    if _MORE.search(everything_but.group(1) if everything_but else said):
+    count = _COUNTED.search(text)  # '3 actions', 'three safe actions': how many, not which
+    if count:
+        if count.group(1).lower() in ("0", "zero") and re.fullmatch(r"\s*(?:0|zero)\s*", said, flags=re.I):
+            return []  # 'zero actions', 'zero safe actions are safe': none
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it counts the safe actions; name them (for "
+                         f"example '0, 2').")
+    semicolons = re.fullmatch(rf"[\s\[\]()]*{_ITEM}(?:\s*;\s*{_ITEM})+[\s\[\]()]*", said, flags=re.I)  # '0; 2'
+    if not semicolons and _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
                          f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
     items = [item for item in re.split(r"(?:[\s,;&+/\[\]{}]|\band\b)+",
@@ -115,10 +123,14 @@ def _read_text(text: str, answer) -> list[int]:
     return actions
 
 
+#: a count of actions ('3 actions', 'three safe actions', 'two moves'), where the actions themselves are asked
+_COUNTED = re.compile(r"\b(zero|one|two|three|four|[0-4])\s+(?:safe\s+)?(?:actions?|moves?)\b", re.IGNORECASE)
+#: one action, by number or name
+_ITEM = r"(?:[0-3]|right|down|left|up)"
 _COUNTS = {"one": 1, "two": 2, "three": 3, "four": 4, "1": 1, "2": 2, "3": 3, "4": 4}
 #: a label before the list ('Safe actions: 0, 2', 'Safe: 0 and 2', 'actions: 0, 2')
-_LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)?\s*(?::|=|-|\u2013|\u2192|->)\s*",
-                    re.IGNORECASE)
+_LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)?\s*"
+                    r"(?:->|=>|\u2192|:|=|-|\u2013|\u2014)\s*", re.IGNORECASE)
 
 
 def _named_equals(answer):
@@ -140,6 +152,7 @@ def _numbered(items) -> list[int]:
             raise Unreadable(f"Could not read {shown(item)} as an action number.") from None
         if number not in (0, 1, 2, 3):
             raise Unreadable(f"{shown(item)} is not an action: they are numbered 0 to 3.")
+        number = exactly(item, number, "an action number")  # 1.99999999999999999999 is not action 2
         if int(number) in actions:
             raise Unreadable(f"Your list names action {int(number)} twice: name each safe action once.")
         actions.add(int(number))

@@ -18,7 +18,7 @@ import ast
 import math
 import re
 
-from .parsing import _NEGATION, Unreadable, _number, _number_word, _text, alone
+from .parsing import _NEGATION, Unreadable, _number, _number_word, _text, alone, exactly
 from .wording import shown
 
 __all__ = ["read_count"]
@@ -65,7 +65,7 @@ def _worked(text: str) -> str:
 def _checked_working(text: str) -> str:
     """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
     the working does not give the number."""
-    if re.fullmatch(r"[\d\s()]*\d\s*[*x\u00d7/+-][\d\s*x\u00d7/+()-]*", text, flags=re.IGNORECASE):  # '10*10/2'
+    if re.fullmatch(r"[\d\s()]*[\d)]\s*[*x\u00d7/+-][\d\s*x\u00d7/+()-]*", text, flags=re.IGNORECASE):  # '(100)/2'
         try:
             value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval").body)
         except (SyntaxError, ZeroDivisionError, ValueError):
@@ -111,7 +111,7 @@ def _read_count(answer) -> int:
         value = _count_in_words(answer)
     if not math.isfinite(value) or value != int(value):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
-    return int(value)
+    return int(exactly(answer, value, "a whole number"))  # 49.99999999999999999 is no whole number
 
 
 _NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"

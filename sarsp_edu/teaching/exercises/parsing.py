@@ -69,18 +69,23 @@ def _bands(*words):
     """Each comparative alone, of the band, and against before or nu = 3 ('smaller band', 'narrower than at nu = 3')."""
     return (*words, *(f"{word} {tail}" for word in words for tail in ("band", "than before", "than at nu = 3",
                                                                        "than at nu=3", "than with nu = 3")))
-ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "factor > 1",
+ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "> 1.0", "> one",
+                  "factor > 1",
                   "1 < factor", "beta > n", *_UP)
-BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower"), "<", "< 1", "factor < 1", "1 > factor",
+BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower"), "<", "< 1", "< 1.0", "< one",
+                  "factor < 1", "1 > factor",
                   "beta < n",
                   *_DOWN)
-WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "more", ">", "more wide",
-               "less narrow", "not as narrow", "beta < n", *_UP)  # beta < n: the factor rises towards 1
-NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows", "less",
-                  "<", "more narrow", "less wide", "not as wide", "beta > n", *_DOWN)
+WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "widened", "broadens",
+               "broadened", "more", ">", "more wide", "more broad", "less narrow", "not as narrow", "less tight",
+               "getting wider", "getting broader", "beta < n", *_UP)  # beta < n: the factor rises towards 1
+NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows",
+                  "narrowed", "tightens", "tightened", "less", "<", "more narrow", "less wide", "not as wide",
+                  "less broad", "not as broad", "getting narrower", "getting tighter", "beta > n", *_DOWN)
 #: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
 _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
                                          "the tp's band gets", "the tp's band is", "its band is", "its band gets",
+                                         "its band", "the tp's band",
                                          "the band at nu = 30 is", "the band at nu=30 is", "the fitted factor is",
                                          "the variance factor stays", "the factor stays", "beta_ / n", "beta_/n",
                                          "the tp's variance factor is", "the variance factor is", "the factor is",
@@ -280,7 +285,8 @@ def _number(answer, what: str, single: bool = False) -> float:
                      "approximately", "\u2248", "~"):  # a hedge: 'about 1' is 1
             if compact.startswith(lead):
                 compact = compact[len(lead):]
-        compact = {"infinity": "inf", "+infinity": "inf", "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
+        compact = {"infinity": "inf", "+infinity": "inf", "positiveinfinity": "inf", "plusinfinity": "inf",
+                   "oo": "inf", "-infinity": "-inf", "-oo": "-inf",
                    "infinite": "inf", "diverges": "inf", "itdiverges": "inf"}.get(compact, compact)
         compact = re.sub(r"(unsafecells|cells|unsafestates|states|squares)$", "", compact)  # '50 cells'
         fraction = re.fullmatch(r"(-?\d+)/(\d+)", compact)  # '1/3'
@@ -335,35 +341,43 @@ def read_side(answer) -> str:
 
 
 #: an approximate value, said as one ('about 1', '~1', 'roughly infinity')
-_HEDGED = re.compile(r"^\s*(?:about|around|roughly|approximately|nearly|almost|close\s+to|~|\u2248)", re.IGNORECASE)
+_HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|nearly|almost|close\s+to)\b|[~\u2248]", re.IGNORECASE)
 
 
 def _exact(given, value: float, what: str) -> float:
     """``value`` where ``given`` is exactly it: a limit of 0 or 1 written as 0.99999999999999999999 (text, a
-    Fraction, a Decimal) rounds to 1 as a float but is not 1, and 1e400 overflows to infinity but is not it."""
-    if math.isnan(value):  # judged by the check: no limit is NaN
+    Fraction, a Decimal) rounds to 1 as a float but is not 1, and 1e400 overflows to infinity but is not it; and a
+    limit is not hedged ('about 1')."""
+    text = _text(given)
+    if text is not None and not math.isnan(value) and _HEDGED.search(text):  # a limit is an exact number
+        raise Unreadable(f"Could not read {shown(given)} as {what}: a limit is exact, not about a value.")
+    return exactly(given, value, what)
+
+
+def exactly(given, value: float, what: str) -> float:
+    """``value`` where ``given`` is exactly it, for a whole or infinite ``value`` read from ``given`` (its digits
+    as written, a Decimal, a Fraction, a sympy number): 49.99999999999999999 rounds to 50.0 as a float but is not
+    50; raises :class:`Unreadable`.  NaN and values that are neither whole nor infinite are returned as they are."""
+    if math.isnan(value) or not (math.isinf(value) or value == int(value)):
         return value
-    if math.isinf(value) or value == int(value):
-        text = _text(given)
-        if text is not None:  # a number written in digits must be the value exactly; a word is ('one', 'infinite')
-            if _HEDGED.match(text):  # 'about 1': a limit is an exact number
-                raise Unreadable(f"Could not read {shown(given)} as {what}: a limit is exact, not about a value.")
-            quotient = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*(\d+)\s*", text)
-            digits = re.search(r"[+-]?\d+(?:\.\d*)?(?:e[+-]?\d+)?", text, flags=re.I)
-            if quotient and int(quotient.group(2)):
-                exact = Fraction(int(quotient.group(1)), int(quotient.group(2))) == value
-            else:
-                exact = digits is None or (not math.isinf(value) and Decimal(digits.group(0)) == Decimal(value))
+    text = _text(given)
+    if text is not None:  # a number written in digits must be the value exactly; a word is ('one', 'infinite')
+        quotient = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*(\d+)\s*", text)
+        digits = re.search(r"[+-]?\d+(?:\.\d*)?(?:e[+-]?\d+)?", text, flags=re.I)
+        if quotient and int(quotient.group(2)):
+            exact = Fraction(int(quotient.group(1)), int(quotient.group(2))) == value
         else:
+            exact = digits is None or (not math.isinf(value) and Decimal(digits.group(0)) == Decimal(value))
+    else:
+        try:
+            exact = Decimal(str(given)) == Decimal(value)  # sympy's Float(1), a Decimal, a numpy float
+        except Exception:  # noqa: BLE001 - any object's str(): one that cannot be read as a Decimal is compared
             try:
-                exact = Decimal(str(given)) == Decimal(value)  # sympy's Float(1), a Decimal, a numpy float
-            except (ArithmeticError, ValueError, TypeError):
-                try:
-                    exact = given == value if math.isinf(value) else given == int(value)  # a Fraction, a Rational
-                except (TypeError, ValueError, ArithmeticError):
-                    exact = False
-        if not exact:
-            raise Unreadable(f"Could not read {shown(given)} as {what}: it is not exactly {value:g}.")
+                exact = bool(given == value if math.isinf(value) else given == int(value))  # a Fraction, a Rational
+            except Exception:  # noqa: BLE001 - nor compared: not exactly the value
+                exact = False
+    if not exact:
+        raise Unreadable(f"Could not read {shown(given)} as {what}: it is not exactly {value:g}.")
     return value
 
 
