@@ -1052,3 +1052,46 @@ def test_a_limit_whose_text_cannot_be_made_is_refused_not_raised():
 
     right, reply = _verdict("1.4", {"lambda < 1": np.inf, "lambda = 1": Stubborn(), "lambda > 1": 0})
     assert not right and reply
+
+
+# -- the twenty-first cold pass: counts said with 'ones' or in other digits, 'it's' before a limit, past forms --
+@pytest.mark.parametrize("answer", ["three safe ones", "3 safe ones", "the three safe ones", "3 ones are safe",
+                                    "two safe ones", "\uff13 actions", "\u0663 actions", "\U0001d7d1 actions",
+                                    "\uff12 actions", "\u0662 safe actions", "\uff10 safe moves"])
+def test_a_count_in_any_words_or_digits_is_not_a_list(answer):
+    with pytest.raises(Unreadable, match="it counts the safe actions"):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer, actions", [("two actions: 0 and 2", [0, 2]), ("the two actions 0 and 2", [0, 2]),
+                                             ("three: 0, 1, 2", [0, 1, 2]), ("zero; two", [0, 2]),
+                                             ("zero; 2", [0, 2]), ("safe \u21d2 0, 2", [0, 2]),
+                                             ("safe --> 0, 2", [0, 2]), ("safe \u27f6 0, 2", [0, 2]),
+                                             ("safe \u2013> 0, 2", [0, 2]), ("safe: -> 0, 2", [0, 2]),
+                                             ("2 and 0", [0, 2])])
+def test_a_list_after_its_count_or_an_arrow_is_read(answer, actions):
+    assert read_actions(answer) == actions
+
+
+def test_a_list_whose_count_disagrees_with_it_is_refused():
+    with pytest.raises(Unreadable, match="counts three actions where its list names 2"):
+        read_actions("three actions: 0 and 2")
+
+
+def test_its_before_a_limit_is_read():
+    for answer in ({"lambda < 1": "it's infinity", "lambda = 1": "it's 1", "lambda > 1": "it\u2019s 0"},
+                   "it's inf, it's 1, it's 0",
+                   {"lambda < 1": "inf", "lambda = 1": "It's 1.", "lambda > 1": "it's zero"}):
+        assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("answer", ["has narrowed", "it has narrowed", "became narrower", "it became narrower",
+                                    "has become narrower", "got narrower", "it got narrower", "has gotten narrower",
+                                    "grew narrower", "shrank", "it shrank", "has shrunk", "it has tightened"])
+def test_a_narrower_band_in_the_past_or_perfect_is_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+def test_a_negated_past_form_is_not_read():
+    with pytest.raises(Unreadable):
+        read_word("it has not narrowed", {"wider": WIDER, "narrower": NARROWER})

@@ -60,9 +60,10 @@ def _compared(words, *others: str) -> frozenset:
 #: a direction said as a change ('it goes down', 'decreases', 'less than before'): each the same side
 _UP = ("goes up", "increases", "increased", "grows", "rises", "more than before", "larger than before",
        "bigger than before", "higher than before", "up", "exceeds", "climbs", "climb", "past", "beyond", "grow",
-       "increase", "rise", "go up")
+       "increase", "rise", "go up", "grew", "rose", "went up", "climbed")
 _DOWN = ("goes down", "decreases", "decreased", "reduced", "reduces", "shrinks", "falls", "drops", "less than before",
-         "smaller than before", "lower than before", "down", "shrink", "decrease", "fall", "drop", "go down")
+         "smaller than before", "lower than before", "down", "shrink", "decrease", "fall", "drop", "go down",
+         "shrank", "shrunk", "fell", "dropped", "went down")
 
 
 def _bands(*words):
@@ -94,6 +95,8 @@ _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the ban
                                          "beta_/n is",
                                          "beta_ / n is", "beta / n", "beta/n",
                                          "beta over n is",
+                                         "it has become", "has become", "it has gotten", "has gotten",
+                                         "it became", "became", "it got", "got", "it grew", "grew", "it has", "has",
                                          "it gets", "it becomes", "it is", "it's",
                                          "gets", "becomes", "is", "it", "an", "a", "the"))
 
@@ -281,7 +284,7 @@ def _number(answer, what: str, single: bool = False) -> float:
         if single and others and mine and others - {float(mine[0])}:  # '50, i.e. 25 per row': two counts
             raise Unreadable(f"Could not read {shown(answer)} as {what}: it gives two numbers.")
         compact = _compact(text)
-        for lead in ("theansweris", "answer:", "itis", "it's", "thereare", "about", "around", "roughly",
+        for lead in ("theansweris", "answer:", "itis", "its", "it\u2019s", "thereare", "about", "around", "roughly",
                      "approximately", "\u2248", "~"):  # a hedge: 'about 1' is 1
             if compact.startswith(lead):
                 compact = compact[len(lead):]
