@@ -1095,3 +1095,42 @@ def test_a_narrower_band_in_the_past_or_perfect_is_read(answer):
 def test_a_negated_past_form_is_not_read():
     with pytest.raises(Unreadable):
         read_word("it has not narrowed", {"wider": WIDER, "narrower": NARROWER})
+
+
+# -- the twenty-second cold pass: 'one' after a number word is an action; lead-ins one after another; past verbs --
+@pytest.mark.parametrize("answer, actions", [("zero one two", [0, 1, 2]), ("[zero one two]", [0, 1, 2]),
+                                             ("zero one", [0, 1]), ("three two one zero", [0, 1, 2, 3]),
+                                             ("two one", [1, 2]), ("Two actions: [0, 2]", [0, 2]),
+                                             ("two actions: (0, 2)", [0, 2]), ("2 actions: {0, 2}", [0, 2])])
+def test_number_words_in_a_row_are_actions_and_a_bracketed_list_may_follow_its_count(answer, actions):
+    assert read_actions(answer) == actions
+
+
+@pytest.mark.parametrize("answer", ["2: LEFT", "1: LEFT", "1: 3"])  # '2: LEFT' may name action 2
+def test_a_bare_number_and_a_colon_is_not_read_as_a_count(answer):
+    with pytest.raises(Unreadable, match="write the safe actions alone"):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer", ["the band has shrunk", "The band became narrower.", "The band got narrower!",
+                                    "the band got narrower at nu = 30", "the band grew narrower",
+                                    "its band has narrowed", "the TP's band has narrowed",
+                                    "the band has become narrower", "the band got tighter", "the band has tightened",
+                                    "its band got smaller"])
+def test_a_band_named_before_a_past_form_is_read(answer):
+    assert read_word(answer, {"wider": WIDER, "narrower": NARROWER}) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["it fell below 1", "fell below one", "dropped below 1", "it went below 1",
+                                    "went down below 1", "has fallen below 1", "it has dropped below 1",
+                                    "it fell under 1", "has decreased below 1", "the factor fell below 1",
+                                    "the factor dropped below one", "it shrank below 1", "the variance factor fell",
+                                    "the variance factor falls", "the variance factor goes down"])
+def test_a_past_verb_before_the_side_is_read(answer):
+    assert read_side(answer) == "below"
+
+
+@pytest.mark.parametrize("answer", ["the band has not narrowed", "never fell below 1"])
+def test_a_negated_direction_is_still_refused(answer):
+    with pytest.raises(Unreadable):
+        read_word(answer, {"wider": WIDER, "narrower": NARROWER}) if "band" in answer else read_side(answer)

@@ -89,10 +89,12 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(r"\bboth\s+|\bas\s+well\s+as\b", lambda m: "" if m.group(0).startswith("both") else " and ",
                   text, flags=re.I)
     # 'two actions: 0 and 2', 'the three safe ones 0, 1, 2': a count before the list, said as one after it
-    before = re.match(rf"^\s*(?:the\s+)?(one|two|three|four|[1-4])(?:\s+(?:safe\s+)?(?:actions?|moves?|ones?)\s*"
-                      rf"(?::|are)?|\s*:)\s*({_ITEM}\b.*)$", text, flags=re.I)
+    # ('2: LEFT' may name action 2: a digit is a count only with 'actions' after it)
+    before = re.match(rf"^\s*(?:the\s+)?(?:(one|two|three|four|[1-4])\s+(?:safe\s+)?(?:actions?|moves?|ones)\s*"
+                      rf"(?::|are)?|(one|two|three|four)\s*:)\s*[\[({{]?\s*({_ITEM}\b.*)$", text, flags=re.I)
     if before:
-        text = f"{before.group(2)} ({before.group(1)} actions)"
+        listed = re.sub(r"[])}]\s*$", "", before.group(3))  # '(0, 2)': its closing bracket too
+        text = f"{listed} ({before.group(1) or before.group(2)} actions)"
     # '0, 1 and 2 (three actions)': a count of them beside the list, checked against it
     counted = re.search(r"\s*\(\s*(one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", text, flags=re.I)
     if counted:
@@ -129,7 +131,8 @@ def _read_text(text: str, answer) -> list[int]:
 
 
 #: a count of actions ('3 actions', 'three safe actions', 'two moves'), where the actions themselves are asked
-_COUNTED = re.compile(r"\b(zero|one|two|three|four|\d+)\s+(?:safe\s+)?(?:actions?|moves?|ones?)\b", re.IGNORECASE)
+_COUNTED = re.compile(r"\b(zero|one|two|three|four|\d+)\s+(?:(?:safe\s+)?(?:actions?|moves?|ones)|safe\s+one)\b",
+                      re.IGNORECASE)
 #: one action, by number or name
 _ITEM = r"(?:[0-3]|zero|one|two|three|right|down|left|up)"
 _COUNTS = {"one": 1, "two": 2, "three": 3, "four": 4, "1": 1, "2": 2, "3": 3, "4": 4}

@@ -89,6 +89,7 @@ _LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the ban
                                          "its band", "the tp's band",
                                          "the band at nu = 30 is", "the band at nu=30 is", "the fitted factor is",
                                          "the variance factor stays", "the factor stays", "beta_ / n", "beta_/n",
+                                         "the tp's variance factor", "the variance factor", "the fitted factor",
                                          "the tp's variance factor is", "the variance factor is", "the factor is",
                                          "the factor", "variance_scale_ is", "variance_scale_",
                                          "beta / n is", "beta/n is",
@@ -243,7 +244,11 @@ _WITHOUT_OUTLIERS = r"\s+without\s+outliers\s*$"
 _POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends",
                                          "rises", "climbs", "comes out", "will be", "will get", "is going to be",
                                          "going to be", "will end up", "would be", "'ll be", "will", "would",
-                                         "should", "decreases", "decrease", "will drop", "will fall", "stays"))
+                                         "should", "decreases", "decrease", "will drop", "will fall", "stays",
+                                         "has fallen", "has dropped", "has decreased", "has gone", "has risen",
+                                         "has increased", "fell", "dropped", "decreased", "went down", "went up",
+                                         "goes down", "goes up", "went", "sank", "shrank",
+                                         "dips", "dipped", "rose", "increased", "climbed", "grew"))
 
 
 def _read_clause(text: str, options: dict, tails=_TAILS) -> str | None:
@@ -252,7 +257,10 @@ def _read_clause(text: str, options: dict, tails=_TAILS) -> str | None:
         for tail in tails:
             text = re.sub(tail, "", text, flags=re.IGNORECASE)
     compact = _compact(text)
-    rests = [compact] + [compact[len(lead):] for lead in _LEAD_INS if compact.startswith(lead)]
+    rests = [compact]
+    for _ in range(3):  # 'the band' + 'has' + 'shrunk': lead-ins one after another
+        rests += [rest[len(lead):] for rest in rests for lead in _LEAD_INS if rest.startswith(lead)]
+        rests = list(dict.fromkeys(rests))
     rests += [rest[len(verb):] for rest in list(rests) for verb in _POSITIONS if rest.startswith(verb)]
     for option, spellings in options.items():  # every lead-in that fits is tried ('its' and 'it' + 'shrinks')
         if any(rest in spellings for rest in rests):
