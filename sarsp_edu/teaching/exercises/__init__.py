@@ -11,7 +11,9 @@ misprinted equation ...), never the answer.  A few short "predict, then run"
 questions take a value, or a function returning it (:mod:`.short_answers`).  The
 capstone, exercise 7.1 (:mod:`.capstone`), takes the six functions of
 exercises 2.1 to 2.3 and 4.1 to 4.3 as the agent's decision and runs that
-agent beside the package's.  In a Voila page (a dashboard served as an app)
+agent beside the package's; exercise 7.2 (:mod:`.own_rule`) runs a safety rule the
+student designs beside the package's agent and checks that it is a valid part and that its run was made (the
+choice of agent is argued in writing).  In a Voila page (a dashboard served as an app)
 ``check`` prints nothing: a page shows no exercise.
 
 Examples
@@ -39,13 +41,14 @@ import os
 from .capstone import CAPSTONE
 from .coding import CODING  # the exercises in which the student writes a function, by "tutorial.number"
 from .grading import CodingExercise, Mistake, explained, grade, run_prediction, same
+from .own_rule import OWN_RULE
 from .parsing import Unreadable
 from .short_answers import LOOKUPS, Exercise
 
 __all__ = ["CODING", "EXERCISES", "CodingExercise", "Exercise", "Mistake", "check", "grade", "is_right", "same"]
 
 #: every exercise, by "tutorial.number": the coding ones, the short answers and the capstone
-EXERCISES: dict = dict(sorted({**CODING, **LOOKUPS, **CAPSTONE}.items(),
+EXERCISES: dict = dict(sorted({**CODING, **LOOKUPS, **CAPSTONE, **OWN_RULE}.items(),
                               key=lambda item: tuple(map(int, item[0].split(".")))))
 #: set in a kernel that Voila runs: a page served as an app shows no exercise, so ``check`` prints nothing there
 VOILA_VARIABLE = "VOILA_KERNEL_ID"
@@ -60,6 +63,8 @@ def _verdict(exercise: str, answer, reuse: bool = False, **context) -> tuple[boo
         return grade(exercise, CODING[exercise], answer)
     if exercise in CAPSTONE:  # config= and progress= may come in the context
         return CAPSTONE[exercise].verdict(answer, reuse=reuse, **context)
+    if exercise in OWN_RULE:  # run= comes in the context
+        return OWN_RULE[exercise].verdict(answer, reuse=reuse, **context)
     item = LOOKUPS[exercise]
     returned = ""
     if callable(answer):  # a prediction written as a function: my_prediction() returns it

@@ -138,8 +138,9 @@ def _experiments(config, parts):
 class _Progress:
     """Where the check is while it runs: one line in a notebook (emptied at the end), else a tqdm bar."""
 
-    def __init__(self, enabled: bool, episodes: int):
+    def __init__(self, enabled: bool, episodes: int, label: str = "Exercise 7.1"):
         self.handle = self.bar = None
+        self.label = label
         self.shown = 0.0
         if not enabled:
             return
@@ -157,12 +158,12 @@ class _Progress:
         else:
             from tqdm.auto import tqdm
 
-            self.bar = tqdm(total=episodes, desc="Exercise 7.1", unit="episode", leave=False, file=sys.stderr)
+            self.bar = tqdm(total=episodes, desc=label, unit="episode", leave=False, file=sys.stderr)
 
     def say(self, text: str, episodes_done: int | None = None) -> None:
         now = time.perf_counter()
         if self.handle is not None and (now - self.shown > 0.3 or episodes_done is None):
-            self.handle.update({"text/plain": f"Exercise 7.1: {text}"}, raw=True)
+            self.handle.update({"text/plain": f"{self.label}: {text}"}, raw=True)
             self.shown = now
         if self.bar is not None:
             self.bar.set_postfix_str(text, refresh=False)

@@ -368,7 +368,17 @@ def _exact(given, value: float, what: str) -> float:
 def exactly(given, value: float, what: str) -> float:
     """``value`` where ``given`` is exactly it, for a whole or infinite ``value`` read from ``given`` (its digits
     as written, a Decimal, a Fraction, a sympy number): 49.99999999999999999 rounds to 50.0 as a float but is not
-    50; raises :class:`Unreadable`.  NaN and values that are neither whole nor infinite are returned as they are."""
+    50; raises :class:`Unreadable`.  NaN and values that are neither whole nor infinite are returned as they are.
+
+    Parameters
+    ----------
+    given : object
+        The student's answer as written (text, a Decimal, a Fraction, a sympy or numpy number).
+    value : float
+        What was read from it.
+    what : str
+        What it is read as, for the refusal ('a whole number', 'an action number').
+    """
     if math.isnan(value) or not (math.isinf(value) or value == int(value)):
         return value
     text = _text(given)
