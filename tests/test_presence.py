@@ -83,22 +83,24 @@ def test_a_view_drawn_turns_the_count_on_at_once_and_is_armed_again_only_while_u
     assert toggles == [True, False, True, False, True]  # ... is armed by the run's thread: off, then on
 
 
-def test_a_page_never_heard_is_never_taken_for_gone(monkeypatch):
+def _watched_and_drawn(monkeypatch):
+    """A page whose run began (silence 30 s) and whose counter the page has drawn: (clock, page)."""
     monkeypatch.setenv(SILENCE_VARIABLE, "30")
     clock = Clock()
     page = PagePresence(listening=True, clock=clock)
     page.watch()
     page.widget._view_count = 1
+    return clock, page
+
+
+def test_a_page_never_heard_is_never_taken_for_gone(monkeypatch):
+    clock, page = _watched_and_drawn(monkeypatch)
     clock.now += 300
     assert not page.gone()  # never heard: its counter may not have started, and a run is not stopped for that
 
 
 def test_a_page_heard_is_not_armed_again_and_is_gone_only_after_its_last_count(monkeypatch):
-    monkeypatch.setenv(SILENCE_VARIABLE, "30")
-    clock = Clock()
-    page = PagePresence(listening=True, clock=clock)
-    page.watch()
-    page.widget._view_count = 1
+    clock, page = _watched_and_drawn(monkeypatch)
     page.arm()
     clock.now += 1
     page.widget.value += 1  # the page counts
