@@ -13,11 +13,11 @@ from sarsp_edu.teaching.exercises import EXERCISES
 from sarsp_edu.teaching.exercises.action_lists import read_actions
 from sarsp_edu.teaching.exercises.counts import read_count
 from sarsp_edu.teaching.exercises.grading import grade
+from sarsp_edu.teaching.exercises.limits import read_limits
 from sarsp_edu.teaching.exercises.parsing import (
     NARROWER,
     WIDER,
     Unreadable,
-    read_limits,
     read_side,
     read_word,
 )

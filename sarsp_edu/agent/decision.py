@@ -17,7 +17,7 @@ import numpy as np
 from ..config import TAIL_DELTA
 
 __all__ = ["Decision", "LearnOutcome", "choose_action", "choose_with_backup", "corrects", "override_known_unsafe",
-           "safe_actions"]
+           "pick", "safe_actions"]
 
 
 @dataclass
@@ -138,9 +138,23 @@ def choose_action(mu_cost, var_cost, mu_reward, known_unsafe, d: float, variance
         safe = (var_cost <= variance_threshold) & (mu_cost >= d)
     else:
         safe = ~np.asarray(known_unsafe, dtype=bool) & (np.asarray(tail) <= tail_delta)
+    action, backup = pick(safe, mu_reward)
+    return action, safe, backup
+
+
+def pick(safe, mu_reward) -> tuple[int, bool]:
+    """``(action, backup)`` from a safe set: the safe action of highest predicted reward, else the backup (the
+    highest predicted reward of all); ties to the lowest action number.
+
+    Parameters
+    ----------
+    safe : ndarray of bool, shape (n_actions,)
+    mu_reward : ndarray of shape (n_actions,)
+        Predicted reward, -inf for the actions known unsafe (:func:`override_known_unsafe`).
+    """
     if safe.any():
-        return int(np.argmax(np.where(safe, mu_reward, -np.inf))), safe, False
-    return int(np.argmax(mu_reward)), safe, True
+        return int(np.argmax(np.where(safe, mu_reward, -np.inf))), False
+    return int(np.argmax(mu_reward)), True
 
 
 def safe_actions(mu_cost, var_cost, known_unsafe, d: float, variance_threshold: float) -> np.ndarray:

@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from ...agent.decision import override_known_unsafe, pick
 from ...config import ExperimentConfig
 from ...experiments.metrics import backup_share, prefers
 from .capstone import _experiments, _Progress
@@ -103,10 +104,7 @@ def _choose_with(rule):
     """The agent's choice from the rule's safe set: its safe action of highest predicted reward, or the backup."""
     def choose(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold):
         safe = np.asarray(rule(mu_cost, var_cost, known_unsafe, d, variance_threshold)).astype(bool)
-        reward = np.where(np.asarray(known_unsafe, bool), -np.inf, np.asarray(mu_reward, float))
-        if safe.any():
-            return int(np.argmax(np.where(safe, reward, -np.inf))), False
-        return int(np.argmax(reward)), True
+        return pick(safe, override_known_unsafe(mu_cost, var_cost, mu_reward, known_unsafe)[2])
     return choose
 
 

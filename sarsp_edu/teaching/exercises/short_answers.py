@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 from .action_lists import read_actions
 from .counts import read_count
-from .parsing import NARROWER, WIDER, read_limits, read_side, read_word
+from .limits import read_limits
+from .parsing import NARROWER, WIDER, read_side, read_word
 
 __all__ = ["Exercise", "LOOKUPS"]
 

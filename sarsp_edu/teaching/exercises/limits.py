@@ -1,0 +1,75 @@
+"""Reading three limits as a student writes them (exercise 1.4): a dict keyed 'lambda < 1', 'lambda = 1' and
+'lambda > 1' (also 'λ<1', 'lam < 1' ...), a list of three in that order, or text such as 'inf, 1, 0'; each limit
+exact ('about 1' and 0.99999999999999999999 are not 1).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .parsing import _DOUBT, ALONE, Unreadable, _compact, _number, _text, alone, exactly
+from .wording import shown
+
+__all__ = ["read_limits"]
+
+
+#: an approximate value, said as one ('about 1', '~1', 'roughly infinity')
+_HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|nearly|almost|close\s+to)\b|[~\u2248]", re.IGNORECASE)
+
+
+def _exact(given, value: float, what: str) -> float:
+    """``value`` where ``given`` is exactly it: a limit of 0 or 1 written as 0.99999999999999999999 (text, a
+    Fraction, a Decimal) rounds to 1 as a float but is not 1, and 1e400 overflows to infinity but is not it; and a
+    limit is not hedged ('about 1')."""
+    text = _text(given)
+    if text is not None and not math.isnan(value) and _HEDGED.search(text):  # a limit is an exact number
+        raise Unreadable(f"Could not read {shown(given)} as {what}: a limit is exact, not about a value.")
+    return exactly(given, value, what)
+
+
+def _limit_key(key) -> str | None:
+    """'lambda < 1', 'λ<1', 'lam < 1', '< 1' ... as '<1'; None for anything else."""
+    text = _text(key)
+    if text is None:
+        return None
+    compact = _compact(text)
+    for name in ("lambda", "lam", "l"):
+        if compact.startswith(name):
+            compact = compact[len(name):]
+            break
+    compact = re.sub(r"(?<=[<=>])1\.0*$", "1", compact)  # 'lambda < 1.0'
+    return compact if compact in ("<1", "=1", ">1") else None
+
+
+def read_limits(answer) -> dict:
+    """A dict of the three limits, keyed '<1', '=1', '>1' (floats, inf allowed); raises :class:`Unreadable`.
+
+    Three limits in the question's order (lambda < 1, = 1, > 1) are read too: a list, a tuple or text such as
+    'inf, 1, 0'."""
+    text = _text(answer)
+    if text is not None and _DOUBT.search(text):
+        raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
+    if text is not None and re.search(r"[()]|\bbecause\b", text):
+        raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: {ALONE}.")
+    if text is not None and len([part for part in re.split(r"[,;]", text) if part.strip()]) == 3:
+        answer = [part.strip() for part in re.split(r"[,;]", text) if part.strip()]
+    if isinstance(answer, (list, tuple)) and len(answer) == 3:
+        answer = dict(zip(("lambda < 1", "lambda = 1", "lambda > 1"), answer))
+    if not isinstance(answer, dict):
+        raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits.")
+    limits = {}
+    for key, value in answer.items():
+        side = _limit_key(key)
+        if side is None:
+            raise Unreadable(f"Could not read the key {shown(key)} as one of lambda < 1, lambda = 1, lambda > 1.")
+        if side in limits:
+            raise Unreadable(f"The key {shown(key)} names lambda {side[0]} 1 a second time.")
+        what = f"the limit for lambda {side[0]} 1"
+        if _text(value) is not None:
+            value = alone(_text(value), value, what)  # '0 (1 for small x)', '0, probably': not read
+        limits[side] = _exact(value, _number(value, what), what)
+    missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]
+    if missing:
+        raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
+    return limits
