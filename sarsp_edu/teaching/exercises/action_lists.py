@@ -88,13 +88,14 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(r"\b(right|down|left|up)\s*=\s*([0-3])\b", _named_equals(answer), text, flags=re.I)
     text = re.sub(r"\bboth\s+|\bas\s+well\s+as\b", lambda m: "" if m.group(0).startswith("both") else " and ",
                   text, flags=re.I)
-    # 'two actions: 0 and 2', 'the three safe ones 0, 1, 2': a count before the list, said as one after it
-    # ('2: LEFT' may name action 2: a digit is a count only with 'actions' after it)
-    before = re.match(rf"^\s*(?:the\s+)?(?:(one|two|three|four|[1-4])\s+(?:safe\s+)?(?:actions?|moves?|ones)\s*"
-                      rf"(?::|are)?|(one|two|three|four)\s*:)\s*[\[({{]?\s*({_ITEM}\b.*)$", text, flags=re.I)
+    # 'two actions: 0 and 2', 'the three safe ones 0, 1, 2', '1 safe one: 3', 'both: 0 and 2', 'two actions -> 0, 2':
+    # a count before the list, said as one after it ('2: LEFT' may name action 2: a digit is a count only with
+    # 'actions' after it)
+    before = _COUNT_FIRST.match(text)
     if before:
-        listed = re.sub(r"[])}]\s*$", "", before.group(3))  # '(0, 2)': its closing bracket too
-        text = f"{listed} ({before.group(1) or before.group(2)} actions)"
+        listed = re.sub(r"[])}]\s*$", "", before.group("list"))  # '(0, 2)': its closing bracket too
+        count = next(group for group in before.group("counted", "bare", "single") if group)
+        text = f"{listed} ({'two' if count.lower() == 'both' else count} actions)"
     # '0, 1 and 2 (three actions)': a count of them beside the list, checked against it
     counted = re.search(r"\s*\(\s*(one|two|three|four|[1-4])\s+(?:safe\s+)?actions?\s*\)", text, flags=re.I)
     if counted:
@@ -117,7 +118,7 @@ def _read_text(text: str, answer) -> list[int]:
     if not semicolons and _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
                          f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
-    items = [item for item in re.split(r"(?:[\s,;&+/\[\]{}]|\band\b)+",
+    items = [item for item in re.split(r"(?:[\s,;&+/\[\]{}'\"]|\band\b)+",
                                        everything_but.group(1) if everything_but else said, flags=re.I) if item]
     if not items:  # '', 'Safe actions:', 'and': no action named, which is not 'none'
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it names no action (write 'none' for none).")
@@ -125,7 +126,7 @@ def _read_text(text: str, answer) -> list[int]:
     actions = sorted(set(range(4)) - set(actions)) if everything_but else actions
     if counted and _COUNTS[counted.group(1).lower()] != len(actions):
         plural = "s" if _COUNTS[counted.group(1).lower()] > 1 else ""
-        raise Unreadable(f"{shown(answer)} counts {counted.group(1)} action{plural} where its list names "
+        raise Unreadable(f"{shown(answer)} counts {counted.group(1)} action{plural} where its list holds "
                          f"{len(actions)}.")
     return actions
 
@@ -136,6 +137,13 @@ _COUNTED = re.compile(r"\b(zero|one|two|three|four|\d+)\s+(?:(?:safe\s+)?(?:acti
 #: one action, by number or name
 _ITEM = r"(?:[0-3]|zero|one|two|three|right|down|left|up)"
 _COUNTS = {"one": 1, "two": 2, "three": 3, "four": 4, "1": 1, "2": 2, "3": 3, "4": 4}
+#: a count of the actions, then their list: 'two actions: 0, 2', 'the three safe ones 0, 1, 2', '1 safe one: 3',
+#: 'both: 0 and 2', "two actions -> ['RIGHT', 'LEFT']"
+_COUNT_FIRST = re.compile(
+    rf"^\s*(?:the\s+)?(?:(?P<counted>one|two|three|four|[1-4])\s+(?:safe\s+)?(?:actions?|moves?|ones)|"
+    rf"(?P<single>one|1)\s+safe\s+one|(?P<bare>one|two|three|four|both)(?=\s*(?::|->|=>|\u2192)))\s*"
+    rf"(?::\s*->|-->|->|=>|\u21d2|\u2192|:|=|are|-|\u2013|\u2014)?\s*[\[({{]?\s*['\"]?(?P<list>{_ITEM}\b.*)$",
+    re.IGNORECASE)
 #: a label before the list ('Safe actions: 0, 2', 'Safe: 0 and 2', 'actions: 0, 2')
 _LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)?\s*"
                     r"(?::\s*->|-->|->|\u2013>|=>|\u21d2|\u27f6|\u2192|:|=|-|\u2013|\u2014)\s*", re.IGNORECASE)

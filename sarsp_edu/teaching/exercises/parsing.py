@@ -28,6 +28,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from .sentences import parse
 from .wording import shown
 
 __all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "alone", "exactly", "read_side", "read_word"]
@@ -83,24 +84,6 @@ WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide"
 NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows",
                   "narrowed", "tightens", "tightened", "less", "<", "more narrow", "less wide", "not as wide",
                   "less broad", "not as broad", "getting narrower", "getting tighter", "beta > n", *_DOWN)
-#: words a student may write before the answer ('it gets narrower', 'the factor is below 1'), dropped
-_LEAD_INS = tuple(_compact(s) for s in ("the band gets", "the band is", "the band becomes", "the band",
-                                         "the tp's band gets", "the tp's band is", "its band is", "its band gets",
-                                         "its band", "the tp's band",
-                                         "the band at nu = 30 is", "the band at nu=30 is", "the fitted factor is",
-                                         "the variance factor stays", "the factor stays", "beta_ / n", "beta_/n",
-                                         "the tp's variance factor", "the variance factor", "the fitted factor",
-                                         "the tp's variance factor is", "the variance factor is", "the factor is",
-                                         "the factor", "variance_scale_ is", "variance_scale_",
-                                         "beta / n is", "beta/n is",
-                                         "beta_/n is",
-                                         "beta_ / n is", "beta / n", "beta/n",
-                                         "beta over n is",
-                                         "it has become", "has become", "it has gotten", "has gotten",
-                                         "it became", "became", "it got", "got", "it grew", "grew", "it has", "has",
-                                         "it gets", "it becomes", "it is", "it's",
-                                         "gets", "becomes", "is", "it", "an", "a", "the"))
-
 #: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
 _UNITS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen "
           "seventeen eighteen nineteen").split()
@@ -240,32 +223,25 @@ _TAILS = (r"\s+than\s+(before|(at|with|for)\s+(nu|\u03bd)\s*=\s*3(?![\d.]))\s*$"
           r"\s+(for|with)\s+(larger|bigger|higher)\s+(nu|\u03bd)\s*$", r"\s+at\s+(nu\s*=\s*)?30(\.0+)?\s*$")
 #: 2.5's own condition (its question is asked without outliers), dropped there alone
 _WITHOUT_OUTLIERS = r"\s+without\s+outliers\s*$"
-#: verbs of position before 'below 1' ('falls below 1', 'stays under one'), dropped
-_POSITIONS = tuple(_compact(s) for s in ("falls", "drops", "goes", "stays", "lies", "sits", "ends up", "ends",
-                                         "rises", "climbs", "comes out", "will be", "will get", "is going to be",
-                                         "going to be", "will end up", "would be", "'ll be", "will", "would",
-                                         "should", "decreases", "decrease", "will drop", "will fall", "stays",
-                                         "has fallen", "has dropped", "has decreased", "has gone", "has risen",
-                                         "has increased", "fell", "dropped", "decreased", "went down", "went up",
-                                         "goes down", "goes up", "went", "sank", "shrank",
-                                         "dips", "dipped", "rose", "increased", "climbed", "grew"))
-
-
 def _read_clause(text: str, options: dict, tails=_TAILS) -> str | None:
-    """The option one clause names (lead-ins and ``tails`` dropped), or None."""
+    """The option one clause names, read as a sentence (:func:`.sentences.parse`; ``tails`` dropped), or None:
+    none or two options named, or a verb that moves against its complement ('it rose below 1')."""
     for _ in range(3):  # 'narrower as nu grows towards the GP': one ending after another
         for tail in tails:
             text = re.sub(tail, "", text, flags=re.IGNORECASE)
-    compact = _compact(text)
-    rests = [compact]
-    for _ in range(3):  # 'the band' + 'has' + 'shrunk': lead-ins one after another
-        rests += [rest[len(lead):] for rest in rests for lead in _LEAD_INS if rest.startswith(lead)]
-        rests = list(dict.fromkeys(rests))
-    rests += [rest[len(verb):] for rest in list(rests) for verb in _POSITIONS if rest.startswith(verb)]
-    for option, spellings in options.items():  # every lead-in that fits is tried ('its' and 'it' + 'shrinks')
-        if any(rest in spellings for rest in rests):
-            return option
-    return None
+    ways = {way: next((option for option, spellings in options.items() if _compact(spelt) in spellings), None)
+            for way, spelt in (("up", "goes up"), ("down", "goes down"), ("narrows", "narrows"), ("widens", "widens"))}
+    named, against = set(), False
+    for way, complement in parse(text):
+        option = ways[way] if not complement else next(
+            (option for option, spellings in options.items() if _compact(complement) in spellings), None)
+        if option is None:
+            continue
+        if way is not None and option != ways[way]:
+            against = True
+        else:
+            named.add(option)
+    return named.pop() if len(named) == 1 and not against else None
 
 
 def _number(answer, what: str, single: bool = False) -> float:

@@ -1,0 +1,144 @@
+"""A closed grammar for a one-sentence prediction of a direction: ``[subject] [verb] [complement]``.
+
+Exercises 2.5 ('above' or 'below' 1) and 2.6 ('wider' or 'narrower') are
+answered in words as often as in one word: 'the variance factor fell below
+1', 'the TP band has narrowed', "the band's narrower", 'it has grown
+narrower'.  Dropping known words from the front of an answer, one list
+after another, read such sentences only where the lists happened to hold
+them, and read 'it rose below 1' as 'below'.  Here a sentence is read
+whole, against three closed parts:
+
+- a subject (optional): a determiner, an owner, modifiers and a noun ('the
+  TP's fitted variance factor', 'its band', 'it', 'beta / n');
+- a verb (optional), each form of each verb listed with the way it moves:
+  up ('rose', 'has increased'), down ('fell', 'has dropped'), a band's
+  ways ('narrows', 'widens': no answer to 'above or below'), or none ('is',
+  'will be', 'stays', 'comes out'); 'grow' is 'become' before a
+  comparative ('grew narrower') and up elsewhere;
+- a complement (optional): the rest, which the caller looks up among the
+  spellings of its options ('below 1', 'narrower than before').
+
+A verb that moves one way with a complement of the other ('rose below 1',
+'it shrank wider') is no answer, and a sentence that asks ('is it below
+1') is none either: :func:`parse` returns no reading for them.
+
+Examples
+--------
+>>> ("down", "below 1") in parse("the variance factor fell to below 1")
+True
+>>> (None, "narrower") in parse("it has grown narrower")
+True
+>>> parse("is it below 1")
+[]
+"""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["QUESTION", "parse"]
+
+_DETERMINERS = {"the", "a", "an", "its", "this", "that", "our", "my"}
+_OWNERS = {"tp's", "tp", "tps", "student-t", "student-t's", "t", "process's", "model's", "fit's"}
+_MODIFIERS = {"fitted", "variance", "predictive", "posterior", "confidence", "uncertainty", "error", "scale"}
+_NOUNS = {"band", "bands", "factor", "ratio", "variance_scale_", "beta/n", "it", "width", "variance", "interval",
+          "spread"}
+
+#: each verb: its base, third person, past, participle and -ing forms ('_' joins the words of one form), and the
+#: way it moves ('-' for none; 'grow' is apart)
+_VERB_FORMS = """
+be is was been being -             become becomes became become becoming -   get gets got gotten getting -
+stay stays stayed stayed staying - remain remains remained remained remaining -
+end_up ends_up ended_up ended_up ending_up -                     end ends ended ended ending -
+come_out comes_out came_out come_out coming_out -                turn_out turns_out turned_out turned_out turning_out -
+go goes went gone going -          lie lies lay lain lying -     sit sits sat sat sitting -
+land lands landed landed landing -
+fall falls fell fallen falling down                  drop drops dropped dropped dropping down
+decrease decreases decreased decreased decreasing down
+sink sinks sank sunk sinking down                    shrink shrinks shrank shrunk shrinking down
+dip dips dipped dipped dipping down                  go_down goes_down went_down gone_down going_down down
+reduce reduces reduced reduced reducing down         decline declines declined declined declining down
+narrow narrows narrowed narrowed narrowing narrows   tighten tightens tightened tightened tightening narrows
+rise rises rose risen rising up                      climb climbs climbed climbed climbing up
+increase increases increased increased increasing up go_up goes_up went_up gone_up going_up up
+widen widens widened widened widening widens         broaden broadens broadened broadened broadening widens
+grow grows grew grown growing grow
+"""
+_VERBS = [(tuple(form.replace("_", " ") for form in words[i:i + 5]), None if words[i + 5] == "-" else words[i + 5])
+          for words in [_VERB_FORMS.split()] for i in range(0, len(words), 6)]
+#: what may stand before a verb's form: ('will', base), ('has', participle), ('is', -ing) ...
+_BEFORE = {0: ("", "will ", "would ", "should ", "shall ", "'ll ", "is going to ", "going to ", "will then ",
+               "to "),
+           1: ("",), 2: ("",), 3: ("has ", "have ", "had ", "has now ", "will have ", "is ", "was ", "will be ",
+                                   "has been ", "is being "),
+           4: ("is ", "was ", "will be ", "has been ", "keeps ")}
+#: a sentence that asks: it is no prediction ('is it below 1', 'does the band narrow')
+QUESTION = re.compile(r"^(is|are|was|does|do|did|will|would|could|can|should|has|have)\s+(it|its|the|this|that|tp)\b")
+
+
+def _verb_table() -> dict:
+    table = {}
+    for forms, way in _VERBS:
+        for slot, form in enumerate(forms):
+            for before in _BEFORE[slot]:
+                table.setdefault(tuple((before + form).split()), way)
+    for form in ("is", "was", "'s"):  # 'is' alone, and the contraction: "the band's narrower"
+        table[(form,)] = None
+    return table
+
+
+_TABLE = _verb_table()
+_LONGEST = max(len(words) for words in _TABLE)
+
+
+def _words(text: str) -> list:
+    text = text.strip().lower().replace("\u2019", "'")
+    text = re.sub(r"\bbeta_?\s*(?:/|over)\s*n\b", "beta/n", text)
+    text = re.sub(r"\b(it|band|factor|variance|beta/n)'s\b", r"\1 's", text)  # "it's", "the band's": is
+    text = re.sub(r"\bband\s+(?:at|with|for)\s+(?:nu|\u03bd)\s*=\s*30(?![\d.])", "band", text)  # 2.6's own nu
+    return text.split()
+
+
+def _subjects(words: list) -> list:
+    """Where a subject may end: 0 (none), and after each reading of a determiner, owners, modifiers, a noun."""
+    ends = [0]
+    i = 0
+    if i < len(words) and words[i] in _DETERMINERS:
+        i += 1
+        ends.append(i)  # 'a narrower band': a determiner alone
+    while i < len(words) and (words[i] in _OWNERS or words[i] in _MODIFIERS):
+        i += 1
+        if words[i - 1] in _NOUNS:  # 'variance' is a noun too
+            ends.append(i)
+    if i < len(words) and words[i] in _NOUNS and not (words[i] == "it" and i > 0):
+        ends.append(i + 1)
+    return sorted(set(ends))
+
+
+def _comparative(complement: str) -> bool:
+    first = complement.split()[0] if complement.split() else ""
+    return first in ("more", "less") or (first.endswith("er") and first not in ("over", "under"))
+
+
+def parse(text: str) -> list:
+    """Each reading of ``text`` as ``(way, complement)``: ``way`` the verb's ('up', 'down', 'narrows',
+    'widens' or None, also for no verb), ``complement`` the words after it ('' for none); every way of cutting
+    the sentence is a reading, and the caller keeps those whose complement it knows and whose verb moves its
+    way.  A question has no reading."""
+    words = _words(text)
+    if QUESTION.match(" ".join(words)):
+        return []
+    readings = []
+    for start in _subjects(words):
+        readings.append((None, " ".join(words[start:])))
+        for length in range(min(_LONGEST, len(words) - start), 0, -1):
+            way = _TABLE.get(tuple(words[start:start + length]), "absent")
+            if way == "absent":
+                continue
+            complement = " ".join(words[start + length:])
+            if way == "grow":
+                way = None if complement and _comparative(complement) else "up"
+            if way is not None and complement.startswith("to "):  # 'fell to below 1'
+                readings.append((way, complement[3:]))
+            readings.append((way, complement))
+    return [reading for reading in dict.fromkeys(readings) if reading != (None, "")]
