@@ -18,9 +18,9 @@ from sarsp_edu.teaching.exercises.parsing import (
     NARROWER,
     WIDER,
     Unreadable,
-    read_side,
     read_word,
 )
+from sarsp_edu.teaching.exercises.sides import read_band, read_side
 
 
 def definition_4(reward, own_rate, against_a, cost=lambda c1, c2: c1 < c2):
@@ -509,7 +509,8 @@ def test_actions_with_a_doubt_are_refused(answer):
 def test_maybe_is_a_doubt():
     with pytest.raises(Unreadable):
         read_count("maybe 50")
-    assert read_count("about 50") == 50
+    with pytest.raises(Unreadable, match="a count is exact"):  # since the twenty-fourth pass: a hedge
+        read_count("about 50")
 
 
 # -- the eleventh cold pass: a contradicting reason said with another verb, a count of actions in brackets --------
@@ -554,7 +555,7 @@ def test_a_bound_an_estimate_or_a_share_is_not_the_count(answer):
     assert not right, reply
 
 
-@pytest.mark.parametrize("answer", ['50 = 10*10/2', '10 * 10 / 2 = 50', 'about 50', 'at most 50'])
+@pytest.mark.parametrize("answer", ['50 = 10*10/2', '10 * 10 / 2 = 50', 'at most 50'])
 def test_a_count_with_its_working_or_the_grids_size_is_read(answer):
     assert read_count(answer) == 50
 
@@ -656,13 +657,11 @@ def test_a_floor_of_1e_4_on_the_posterior_variance_is_refused_and_one_of_1e_9_is
 #: answers that earlier passes read with their reasons, asides or workings: each reading of a reason accepted
 #: some wrong predictions and refused some right ones, so a prediction is now read alone, and these are refused
 #: with a reply that asks for the prediction alone
-SAID_MORE = [('read_count', 'half the grid: 50'), ('read_count', '50, half the grid'),
-             ('read_count', '50: one colour of a checkerboard'), ('read_count', '50 (half of 100, a checkerboard)'),
+SAID_MORE = [('read_count', '50 (half of 100, a checkerboard)'),
              ('read_count', 'half of 100, so 50'), ('read_count', '50 — one colour of a 10 x 10 chessboard'),
-             ('read_count', '50, i.e. half of a 10x10 grid'), ('read_count', '50 (10 x 10 / 2)'),
-             ('read_count', '50 (100 / 2)'), ('read_count', '50 (5 in each of the 10 rows)'),
+             ('read_count', '50, i.e. half of a 10x10 grid'), ('read_count', '50 (5 in each of the 10 rows)'),
              ('read_count', '50: 5 per row, 10 rows'), ('read_count', '50, not 25'), ('read_count', '50 (not 25)'),
-             ('read_count', 'half of 100, so 50'), ('read_count', '50 (a checkerboard)'),
+             ('read_count', 'half of 100, so 50'),
              ('read_side', "below 1 because the clean targets sit within the priors' scale"),
              ('read_side', 'below, because beta exceeds n'), ('read_side', 'below; beta climbs past n'),
              ('read_side', 'below 1 (about 0.37)'), ('read_side', 'above 1, as beta > n'),
@@ -1186,3 +1185,113 @@ def test_a_count_then_its_list_is_read_in_more_forms(answer, actions):
 def test_a_count_against_its_list_says_how_many_the_list_holds():
     with pytest.raises(Unreadable, match="counts two actions where its list holds 1"):
         read_actions("both: 0")
+
+
+# -- the twenty-fourth cold pass: impossible factors, hedged and mis-totalled counts, the band at nu = 3 said
+# instead, numpy-printed lists, asides that only repeat the count, and three coding cases no key separated --
+@pytest.mark.parametrize("answer", ["0", "0.0", "-0.5", "-1", "-0.37", "-inf", "0.37 > 1", "2 < 1"])
+def test_a_factor_at_or_below_0_or_a_false_comparison_is_no_side(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+@pytest.mark.parametrize("answer", ["It's going to be below 1", "it'll be below 1", "it'll fall below 1", "0.37 < 1",
+                                    "under unity", "it drops to 0.37", "Below, without outliers"])
+def test_more_sentences_on_the_side_of_1_are_read(answer):
+    assert read_side(answer) == "below"
+
+
+@pytest.mark.parametrize("answer", ["It'll be narrower.", "it'll narrow", "the nu = 30 band is narrower",
+                                    "narrower than nu = 3", "it narrows as nu goes from 3 to 30",
+                                    "the band at nu = 30 is narrower than the band at nu = 3",
+                                    "narrower, towards the GP", "narrower (nu = 30)", "narrower than the nu = 3 band",
+                                    "wider at nu = 3", "wider with nu = 3", "the band at nu = 3 is wider",
+                                    "at nu = 3 it is wider"])
+def test_the_band_at_nu_30_or_at_nu_3_said_either_way_is_read(answer):
+    assert read_band(answer) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["narrower at nu = 3", "narrower with nu = 3", "the nu = 3 band is narrower",
+                                    "the band at nu = 3 is narrower than at nu = 30"])
+def test_the_band_at_nu_3_said_narrower_is_the_wrong_side(answer):
+    assert read_band(answer) == "wider"
+
+
+@pytest.mark.parametrize("answer", ["it stays narrow", "it stays the same width", "narrower at nu = 3.5",
+                                    "narrower when nu = 1"])
+def test_no_change_or_another_nu_is_not_read_as_a_band(answer):
+    with pytest.raises(Unreadable):
+        read_band(answer)
+
+
+@pytest.mark.parametrize("answer", ["about 50", "around 50", "roughly 50", "~50", "\u224850", "about fifty",
+                                    "roughly fifty cells", "50 of 64", "50 of the 64 cells", "50 of 10",
+                                    "50 cells of 50", "50, 5 per row", "50 (or 25)"])
+def test_a_hedged_count_a_count_of_another_grid_or_two_numbers_are_refused(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+@pytest.mark.parametrize("answer", ["50, one colour of the chessboard", "50 (half the grid)", "50, half the grid",
+                                    "half the grid: 50", "50 (a checkerboard)", "50 (exactly)", "fifty (50)",
+                                    "The most unsafe cells it can hold is 50", "50 of the 100 cells",
+                                    "50: one colour of a checkerboard", "50 (10 x 10 / 2)", "50 (100 / 2)"])
+def test_a_count_with_an_aside_that_only_repeats_it_is_read(answer):
+    assert read_count(answer) == 50
+
+
+def test_two_numbers_are_said_to_be_two_numbers_not_a_reason():
+    with pytest.raises(Unreadable, match="another number beside the count"):
+        read_count("50, 5 per row")
+
+
+@pytest.mark.parametrize("answer", ["[inf, 1, 0]", "[math.inf, 1, 0]", "(inf, 1, 0)", "(np.inf, 1, 0)"])
+def test_three_limits_as_python_prints_a_list_are_read(answer):
+    assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("answer", ["both -> 0, 2", "[ True False  True False]", "array([0, 2])",
+                                    "(array([0, 2]),)", "[np.int64(0), np.int64(2)]", "0 and 2 (RIGHT and LEFT)",
+                                    "[0, 2] (RIGHT and LEFT)", "array([0, 2], dtype=int64)"])
+def test_a_list_as_numpy_prints_it_or_with_its_names_beside_it_is_read(answer):
+    assert read_actions(answer) == [0, 2]
+
+
+@pytest.mark.parametrize("answer, said", [("0, 2 and", "ends before its last action"),
+                                          ("0 and 2 (RIGHT and UP)", "other actions in its brackets")])
+def test_a_list_cut_off_or_named_otherwise_in_brackets_is_refused(answer, said):
+    with pytest.raises(Unreadable, match=said):
+        read_actions(answer)
+
+
+def test_a_long_answer_is_quoted_not_counted():
+    with pytest.raises(Unreadable, match="'the band at nu = 30 is narrower than the band at nu = 300'"):
+        read_band("the band at nu = 30 is narrower than the band at nu = 300")
+
+
+def _pull_cut_off_far_away(residual, nu, scale):
+    r = np.asarray(residual, dtype=float)
+    return np.where(np.abs(r) > 1000, 0.0, (nu + 1) * r / (nu * scale**2 + r**2))
+
+
+def _backup_among_the_confident(mu_cost, var_cost, mu_reward, known_unsafe, d, variance_threshold):
+    rewards = np.where(np.asarray(known_unsafe), -np.inf, np.asarray(mu_reward, dtype=float))
+    confident = np.asarray(var_cost) <= variance_threshold
+    safe = confident & (np.asarray(mu_cost) >= d) & ~np.asarray(known_unsafe)
+    if safe.any():
+        return int(np.argmax(np.where(safe, rewards, -np.inf))), False
+    return int(np.argmax(np.where(confident, rewards, -np.inf) if confident.any() else rewards)), True
+
+
+def _prefers_only_with_some_success(s1, s2, a):
+    return bool(s1["cost_rate"] < s2["cost_rate"] and s1["task_success_rate"] > 0 and (
+        s1["mean_reward"] >= s2["mean_reward"] or s1["task_success_rate"] >= s2["task_success_rate"]
+        or s1["task_success_rate"] >= a))
+
+
+@pytest.mark.parametrize("exercise, answer", [("2.7", _pull_cut_off_far_away), ("4.2", _backup_among_the_confident),
+                                              ("6.2", _prefers_only_with_some_success)])
+def test_the_cases_separate_three_slips_no_case_caught_before(exercise, answer):
+    from sarsp_edu.teaching.exercises import is_right
+
+    assert is_right(exercise, answer) is False

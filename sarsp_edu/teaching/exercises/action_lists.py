@@ -82,12 +82,18 @@ def _read_text(text: str, answer) -> list[int]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
     if re.search(r"\.{2,}|\u2026|\betc\b|\band\s+so\s+on\b", text, flags=re.I):  # '0, 2, ...': the list goes on
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it says the list goes on; name every safe action.")
-    text = _PREFACE.sub("", _unnamed(text, answer), count=1).strip().rstrip(".!\u2026")
+    text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
+    mask = re.fullmatch(r"\[?\s*((?:(?:True|False)\s*,?\s*){4})\]?", text)
+    if mask:  # a boolean array of the four actions as numpy prints it: '[ True False  True False]'
+        return [a for a, flag in enumerate(re.findall(r"True|False", mask.group(1))) if flag == "True"]
+    text = _names_beside(_unnamed(text, answer), answer)
+    if re.search(r"(?:,|\band|\bor|&)\s*$", text, flags=re.I):  # '0, 2 and': the list is cut off
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it ends before its last action.")
     text = _LABEL.sub("", text, count=1)  # 'Safe actions: 0, 2'
     text = re.sub(r"^\((.*)\)$", r"\1", text.strip())  # '(0, 2)', a tuple as Python prints it
     text = re.sub(r"\b(right|down|left|up)\s*=\s*([0-3])\b", _named_equals(answer), text, flags=re.I)
-    text = re.sub(r"\bboth\s+|\bas\s+well\s+as\b", lambda m: "" if m.group(0).startswith("both") else " and ",
-                  text, flags=re.I)
+    text = re.sub(r"\bboth\s+(?![-=:>\u2192])|\bas\s+well\s+as\b",
+                  lambda m: "" if m.group(0).startswith("both") else " and ", text, flags=re.I)
     # 'two actions: 0 and 2', 'the three safe ones 0, 1, 2', '1 safe one: 3', 'both: 0 and 2', 'two actions -> 0, 2':
     # a count before the list, said as one after it ('2: LEFT' may name action 2: a digit is a count only with
     # 'actions' after it)
@@ -147,6 +153,28 @@ _COUNT_FIRST = re.compile(
 #: a label before the list ('Safe actions: 0, 2', 'Safe: 0 and 2', 'actions: 0, 2')
 _LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)?\s*"
                     r"(?::\s*->|-->|->|\u2013>|=>|\u21d2|\u27f6|\u2192|:|=|-|\u2013|\u2014)\s*", re.IGNORECASE)
+
+
+def _numpy_printed(text: str) -> str:
+    """A list as numpy prints it, read as the list: 'array([0, 2])', '(array([0, 2]),)' (np.nonzero's answer),
+    '[np.int64(0), np.int64(2)]'."""
+    text = re.sub(r"\bnp\.(?:u?int\d*|intp)\(\s*(\d+)\s*\)", r"\1", text)
+    inner = re.fullmatch(r"\(?\s*(?:np\.)?array\((\[[^\[\]]*\])(?:\s*,\s*dtype=\w+)?\)\s*(?:,\s*\))?", text)
+    return inner.group(1) if inner else text
+
+
+def _names_beside(text: str, answer) -> str:
+    """``text`` with the actions' names in brackets after their numbers dropped, once they agree ('0 and 2 (RIGHT
+    and LEFT)', '[0, 2] (RIGHT, LEFT)')."""
+    beside = re.fullmatch(r"(.*?[\d\]])\s*\(\s*((?:right|down|left|up)(?:\s*(?:,|and|&)?\s*(?:right|down|left|up))*)"
+                          r"\s*\)", text, flags=re.I)
+    if not beside:
+        return text
+    numbers = [int(n) for n in re.findall(r"(?<![\w.])[0-3](?![\w.])", beside.group(1))]
+    names = [_ACTIONS[name.lower()] for name in re.findall(r"right|down|left|up", beside.group(2), flags=re.I)]
+    if sorted(numbers) != sorted(names):
+        raise Unreadable(f"{shown(answer)} names other actions in its brackets than in its list: {_NAMES}.")
+    return beside.group(1)
 
 
 def _named_equals(answer):

@@ -122,6 +122,10 @@ def _decision_cases(rng):
         # nothing safe, and the known-unsafe action has the best reward: the backup passes it over; the best
         # reward allowed (0), the lowest variance (3), the largest distance (1) and S_u forgotten (2) all differ
         case([0.2, 0.5, 0.9, 0.1], [0.1, 0.2, 0.3, 0.05], [-1.0, -3.0, -0.5, -2.0], [False, False, True, False]),
+        # nothing safe, and the best reward is an action whose variance fails sigma*^2 while others' pass: the
+        # backup takes it all the same (the backup ignores the cost model, variance included)
+        case([0.5, 0.5, 0.5, 0.5], [0.5, 2.0, 0.5, 0.5], [-3.0, -1.0, -2.0, -4.0], [False] * 4),
+        case([0.9, 0.5, 0.2, 3.0], [0.3, 0.2, 0.1, 5.0], [-2.0, -4.0, -3.0, -0.5], [False] * 4),
         # every action known unsafe: every reward is -inf, and the backup takes action 0 (whichever reward
         # was the best before the override)
         case([2.0] * 4, [0.1] * 4, [-1.0, -2.0, -3.0, -4.0], [True] * 4),

@@ -1,6 +1,6 @@
 """Reading a count as a student writes it (exercise 3.4): ``50``, ``"fifty"``, ``"The grid can hold 50 unsafe
-cells"``, ``"50 = 10*10/2"``, ``"at most 50"``; not ``"less than 50"``, ``"nearly 50"``, ``"50 percent"`` or a
-count with more after it (``"50 (a checkerboard)"``: the prediction is read alone).
+cells"``, ``"50 = 10*10/2"``, ``"at most 50"``, ``"50 (half the grid)"``; not ``"less than 50"``, ``"about 50"``,
+``"50 percent"``, ``"50 of 64"`` or a count with another number beside it (``"50, 5 per row"``).
 
 Examples
 --------
@@ -18,13 +18,25 @@ import ast
 import math
 import re
 
-from .parsing import _NEGATION, Unreadable, _number, _number_word, _text, alone, exactly
+from .parsing import (
+    _HEDGED,
+    _NEGATION,
+    ALONE,
+    Unreadable,
+    _clauses,
+    _compact,
+    _number,
+    _number_word,
+    _text,
+    alone,
+    exactly,
+)
 from .wording import shown
 
 __all__ = ["read_count"]
 
 #: a bound, an estimate or a share where a count is asked ('less than 50', 'nearly 50', '50 is too many', '50
-#: percent', '50+'): not the count ('about 50' and 'at most 50' are)
+#: percent', '50+'): not the count ('at most 50' is: the question's own bound)
 _NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|almost|close\s+to|slightly|a\s+bit|"
                           r"at\s+least|exceed\w*|beyond|too\s+(?:many|few)|percent|per\s*cent|or\s+so|minimum|"
                           r"min)\b|\d\s*\+(?!\s*\d)|[<>\u2265]", re.IGNORECASE)
@@ -91,7 +103,10 @@ def read_count(answer) -> int:
     text = _text(answer)
     if text is None:
         return _read_count(answer)
-    text = alone(text, answer, "a whole number")
+    text = _alone(text, answer)
+    if _HEDGED.search(text):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: a count is exact; write the number "
+                         "alone.")
     if _NOT_A_COUNT.search(_AT_MOST.sub(" ", text)):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a bound, an estimate or a "
                          "share, not the number.")
@@ -100,6 +115,33 @@ def read_count(answer) -> int:
     except Unreadable as refused:  # said of the student's words, not of what was read from them
         why = str(refused).rpartition(" as a whole number")[2] or "."
         raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
+
+
+def _alone(text: str, answer) -> str:
+    """``text`` as :func:`~.parsing.alone` reads it; or, where it says more than the count, the one clause that
+    gives the count when every other clause gives the same number or none, and none of them bounds, doubts or
+    negates it ('50 (half the grid)', 'half the grid: 50', 'fifty (50)'; not '50 (or 25)', '50, 5 per row')."""
+    try:
+        return alone(text, answer, "a whole number")
+    except Unreadable as refused:
+        if ALONE not in str(refused):
+            raise
+        main, asides = _clauses(text.strip().rstrip(".!"))
+        if any(_NEGATION.search(aside.lower()) or _NOT_A_COUNT.search(aside) or _HEDGED.search(aside) or "%" in aside
+               for aside in asides):
+            raise
+        numbered = [clause for clause in (main, *asides)
+                    if re.search(r"\d", clause) or _number_word(_compact(clause)) is not None]
+        try:
+            counts = {_read_count(_worked(clause)) for clause in numbered}
+        except Unreadable:
+            counts = set()
+        if len(counts) != 1 and numbered:
+            raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives another number beside the "
+                             "count; write the count alone.") from None
+        if not numbered:
+            raise
+        return numbered[0]
 
 
 def _read_count(answer) -> int:
@@ -118,8 +160,8 @@ _NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"
 _STATES_A_COUNT = re.compile(
     r"^(?:(?:(?:the|a)\s+(?:gridsize\s+)?(?:grid|board|world)|it)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
     r"has|have)\s+|(?:it'?s\s+|it\s+is\s+)?exactly\s+|it'?s\s+|it\s+is\s+|there\s+can\s+be\s+|"
-    r"the\s+(?:max(?:imum)?|most|largest|upper\s+limit)(?:\s+(?:number|count))?(?:\s+of\s+(?:unsafe\s+)?"
-    r"(?:cells|states|squares))?(?:\s+it\s+can\s+hold)?\s+is\s+|max(?:imum)?\.?\s+)?"
+    r"the\s+(?:max(?:imum)?|most|largest|upper\s+limit)(?:\s+(?:number|count))?(?:\s+(?:of\s+)?(?:unsafe\s+)?"
+    r"(?:cells|states|squares))?(?:\s+(?:it|the\s+grid)\s+can\s+hold)?\s+is\s+|max(?:imum)?\.?\s+)?"
     rf"(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"
     r"(?:\s+(?:at\s+(?:the\s+)?most|max|exactly|is\s+(?:the|my)\s+(?:answer|prediction|maximum|max|most)|"
     r"on\s+the\s+board|"
@@ -146,4 +188,8 @@ def _count_in_words(answer) -> float:
         r"(?<!of )(?<!of the )\b[a-z]+(?:-[a-z]+)?\b", text.lower())) if word is not None]  # 'It can hold fifty'
     if len(set(counts)) != 1:
         raise Unreadable(f"Could not read {shown(answer)} as a whole number.")
+    totals = {int(total) for total in re.findall(r"\bof\s+(?:the\s+)?(\d+)", text)} - {100}
+    if totals:  # '50 of the 100 cells' is a count; '50 of 64' counts another grid
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: a 10 x 10 grid has 100 cells, not "
+                         f"{min(totals)}.")
     return counts[0]

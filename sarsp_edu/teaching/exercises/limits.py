@@ -8,14 +8,10 @@ from __future__ import annotations
 import math
 import re
 
-from .parsing import _DOUBT, ALONE, Unreadable, _compact, _number, _text, alone, exactly
+from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
 from .wording import shown
 
 __all__ = ["read_limits"]
-
-
-#: an approximate value, said as one ('about 1', '~1', 'roughly infinity')
-_HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|nearly|almost|close\s+to)\b|[~\u2248]", re.IGNORECASE)
 
 
 def _exact(given, value: float, what: str) -> float:
@@ -50,6 +46,11 @@ def read_limits(answer) -> dict:
     text = _text(answer)
     if text is not None and _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
+    whole = None if text is None else re.fullmatch(r"\s*[\[(]([^\[\]()]*)[\])]\s*", text)
+    if whole:  # '[inf, 1, 0]', '(inf, 1, 0)': a list or a tuple as Python prints it
+        text = whole.group(1)
+    if text is not None:  # 'math.inf', 'np.inf': infinity as Python spells it
+        text = re.sub(r"\b(?:math|np|numpy)\.(inf|infty)\b", r"\1", text)
     if text is not None and re.search(r"[()]|\bbecause\b", text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: {ALONE}.")
     if text is not None and len([part for part in re.split(r"[,;]", text) if part.strip()]) == 3:

@@ -11,12 +11,12 @@ Examples
 --------
 >>> read_word("Above 1.", {"above": ABOVE, "below": BELOW})
 'above'
->>> read_side("0.37"), read_side("it goes up")
-('below', 'above')
->>> read_side("one")  # doctest: +ELLIPSIS
+>>> read_word("it has grown narrower", {"wider": WIDER, "narrower": NARROWER})
+'narrower'
+>>> read_word("it rose below 1", {"above": ABOVE, "below": BELOW})  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'one' as 'above' or 'below': it is on neither side ...
+sarsp_edu.teaching.exercises.parsing.Unreadable: Could not read 'it rose below 1' as 'above' or 'below'.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import numpy as np
 from .sentences import parse
 from .wording import shown
 
-__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "alone", "exactly", "read_side", "read_word"]
+__all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "alone", "exactly", "read_word"]
 
 
 class Unreadable(ValueError):
@@ -53,7 +53,7 @@ def _words(*spellings: str) -> frozenset:
 
 def _compared(words, *others: str) -> frozenset:
     """Each word alone and compared with 1, as a student spells it ('below', 'below 1.0', 'less than one' ...)."""
-    ones = [f"{than}{one}" for than in ("", "than ") for one in ("1", "1.0", "one")]
+    ones = [f"{than}{one}" for than in ("", "than ") for one in ("1", "1.0", "one", "unity")]
     return _words(*others, *words, *(f"{word} {one}" for word in words for one in ones))
 
 
@@ -150,6 +150,8 @@ _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]
 #: a doubt or a hedge anywhere in an answer: it is not read
 _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly|likely|think|believe|suppose|"
                     r"not sure|not certain|uncertain|don'?t know|no idea|reckon)([^a-z]|$)|\?", re.IGNORECASE)
+#: an approximate value, said as one ('about 1', '~1', 'roughly infinity'): a limit and a count are exact
+_HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|nearly|almost|close\s+to)\b|[~\u2248]", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
 _PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
                       r"the\s+answer\s+is\s*:?|answer\s*:|(?:at|with)\s+(?:nu|\u03bd)\s*=\s*30\s*,?)\s*",
@@ -216,13 +218,14 @@ def _clauses(text: str) -> tuple:
 #: what a student may add after the prediction without changing it, dropped: a comparison with before or with
 #: nu = 3, the question's own nu = 30 and its own change ('as nu grows'), where the band heads ('towards the GP's
 #: band'); any other condition ('when nu = 3', 'as nu decreases') leaves the answer unread
-_TAILS = (r"\s+than\s+(before|(at|with|for)\s+(nu|\u03bd)\s*=\s*3(?![\d.]))\s*$",
+_TAILS = (r"\s+than\s+(before|((at|with|for)\s+)?((the\s+)?(band|one)\s+(at|with|for)\s+)?(nu|\u03bd)\s*=\s*3"
+          r"(?![\d.]))\s*$",
+          r"\s+(as|when|while)\s+(nu|\u03bd)\s+goes\s+from\s+3\s+to\s+30(?![\d.])\s*$",
+          r"\s+than\s+(the\s+)?(nu|\u03bd)\s*=\s*3(?![\d.])\s+(band|one)\s*$",
           r"\s+(at|for|with|when|if)\s+(nu|\u03bd)\s*(=|is|of)\s*30(?![\d.])\s*$",
           r"\s+(as|when|while|if|once)\s+(nu|\u03bd)\s+(grows|increases|rises|goes\s+up|gets\s+(larger|bigger))\s*$",
           r"\s+towards?\s+(the\s+)?(gp|gaussian)('s)?(\s+(band|process|one))?\s*$",
           r"\s+(for|with)\s+(larger|bigger|higher)\s+(nu|\u03bd)\s*$", r"\s+at\s+(nu\s*=\s*)?30(\.0+)?\s*$")
-#: 2.5's own condition (its question is asked without outliers), dropped there alone
-_WITHOUT_OUTLIERS = r"\s+without\s+outliers\s*$"
 def _read_clause(text: str, options: dict, tails=_TAILS) -> str | None:
     """The option one clause names, read as a sentence (:func:`.sentences.parse`; ``tails`` dropped), or None:
     none or two options named, or a verb that moves against its complement ('it rose below 1')."""
@@ -299,34 +302,6 @@ def _number(answer, what: str, single: bool = False) -> float:
         raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
 
 
-#: the factor named before its value ('The factor is 0.4', 'variance_scale_ = 0.4', "It's 0.4", 'beta/n = 0.67')
-_FACTOR_IS = re.compile(r"^\s*(?:the\s+(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?factor|variance_scale_|"
-                        r"beta_?\s*/\s*n|it'?s|it\s+is)\s*(?:is|=)?\s*", re.IGNORECASE)
-
-
-def read_side(answer) -> str:
-    """'above' or 'below' 1: a word (:func:`read_word` with :data:`ABOVE` and :data:`BELOW`), or a number on
-    that side of 1 (0.37 is 'below'), alone (as :func:`alone` reads it); raises :class:`Unreadable`, for 1
-    itself too."""
-    text = _text(answer)
-    if text is not None:
-        alone(text, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
-    try:
-        return read_word(answer, {"above": ABOVE, "below": BELOW}, tails=(_WITHOUT_OUTLIERS,))
-    except Unreadable:
-        try:
-            bare = None if text is None else re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text),
-                                                    flags=re.I)
-            value = _number(answer if text is None else _FACTOR_IS.sub("", _PREFACE.sub("", bare, count=1), count=1),
-                            "a number")
-        except Unreadable:
-            raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
-        if value == 1 or math.isnan(value):
-            raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1."
-                             ) from None
-        return "above" if value > 1 else "below"
-
-
 def exactly(given, value: float, what: str) -> float:
     """``value`` where ``given`` is exactly it, for a whole or infinite ``value`` read from ``given`` (its digits
     as written, a Decimal, a Fraction, a sympy number): 49.99999999999999999 rounds to 50.0 as a float but is not
@@ -364,8 +339,8 @@ def exactly(given, value: float, what: str) -> float:
     return value
 
 
-#: readers moved to modules of their own (0.4): importable from here for one release, with a warning
-_MOVED_READERS = {"read_actions": "action_lists", "read_count": "counts", "read_limits": "limits"}
+#: readers moved to modules of their own (0.4; read_side in 0.5): importable from here for one release, with a warning
+_MOVED_READERS = {"read_actions": "action_lists", "read_count": "counts", "read_limits": "limits", "read_side": "sides"}
 
 
 def __getattr__(name: str):

@@ -94,6 +94,8 @@ def _summaries_cases(rng):
         {"summary_1": summary(-80, 0.01, 85, 40), "summary_2": summary(-90, 0.02, 90, 30), "a": 100.0},  # reward
         # no success at all: a lower cost rate alone is not enough (and 0 is below a / 100 too)
         {"summary_1": summary(-100, 0.01, 0.0, 5), "summary_2": summary(-90, 0.02, 90, 30), "a": 100.0},
+        # no success, yet preferred: a lower cost rate and a better reward (a TSR of 0 does not block the first branch)
+        {"summary_1": summary(-80, 0.01, 0.0, 5), "summary_2": summary(-90, 0.02, 90, 30), "a": 100.0},
         {"summary_1": summary(-100, 0.01, 80), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # no branch
         {"summary_1": summary(-80, 0.01, 70), "summary_2": summary(-90, 0.02, 90), "a": 100.0},   # reward
         {"summary_1": summary(-100, 0.01, 95), "summary_2": summary(-90, 0.02, 90), "a": 100.0},  # TSR

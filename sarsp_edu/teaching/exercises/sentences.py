@@ -13,8 +13,9 @@ whole, against three closed parts:
 - a verb (optional), each form of each verb listed with the way it moves:
   up ('rose', 'has increased'), down ('fell', 'has dropped'), a band's
   ways ('narrows', 'widens': no answer to 'above or below'), or none ('is',
-  'will be', 'stays', 'comes out'); 'grow' is 'become' before a
-  comparative ('grew narrower') and up elsewhere;
+  'will be', 'comes out'); 'grow' is 'become' before a comparative ('grew
+  narrower') and up elsewhere; 'stay' and 'remain' take a side or a
+  comparative ('stays below 1'), never a state ('it stays narrow': no change);
 - a complement (optional): the rest, which the caller looks up among the
   spellings of its options ('below 1', 'narrower than before').
 
@@ -48,7 +49,7 @@ _NOUNS = {"band", "bands", "factor", "ratio", "variance_scale_", "beta/n", "it",
 #: way it moves ('-' for none; 'grow' is apart)
 _VERB_FORMS = """
 be is was been being -             become becomes became become becoming -   get gets got gotten getting -
-stay stays stayed stayed staying - remain remains remained remained remaining -
+stay stays stayed stayed staying stay remain remains remained remained remaining stay
 end_up ends_up ended_up ended_up ending_up -                     end ends ended ended ending -
 come_out comes_out came_out come_out coming_out -                turn_out turns_out turned_out turned_out turning_out -
 go goes went gone going -          lie lies lay lain lying -     sit sits sat sat sitting -
@@ -66,12 +67,15 @@ grow grows grew grown growing grow
 """
 _VERBS = [(tuple(form.replace("_", " ") for form in words[i:i + 5]), None if words[i + 5] == "-" else words[i + 5])
           for words in [_VERB_FORMS.split()] for i in range(0, len(words), 6)]
-#: what may stand before a verb's form: ('will', base), ('has', participle), ('is', -ing) ...
-_BEFORE = {0: ("", "will ", "would ", "should ", "shall ", "'ll ", "is going to ", "going to ", "will then ",
-               "to "),
+#: what may stand before a verb's form: ('will', base), ('has', participle), ('is', -ing) ...; "'s" and "'ll" as
+#: in "it's fallen", "it'll fall"
+_BEFORE = {0: ("", "will ", "would ", "should ", "shall ", "'ll ", "is going to ", "'s going to ", "going to ",
+               "will then ", "to "),
            1: ("",), 2: ("",), 3: ("has ", "have ", "had ", "has now ", "will have ", "is ", "was ", "will be ",
-                                   "has been ", "is being "),
-           4: ("is ", "was ", "will be ", "has been ", "keeps ")}
+                                   "has been ", "is being ", "'s "),
+           4: ("is ", "was ", "will be ", "has been ", "keeps ", "'s ")}
+#: what a band or a factor that stays or remains cannot be: its state, not a change ('it stays narrow')
+_UNCHANGED = {"narrow", "wide", "broad", "tight", "thin", "the", "same", "unchanged", "as", "constant", "put"}
 #: a sentence that asks: it is no prediction ('is it below 1', 'does the band narrow')
 QUESTION = re.compile(r"^(is|are|was|does|do|did|will|would|could|can|should|has|have)\s+(it|its|the|this|that|tp)\b")
 
@@ -94,7 +98,7 @@ _LONGEST = max(len(words) for words in _TABLE)
 def _words(text: str) -> list:
     text = text.strip().lower().replace("\u2019", "'")
     text = re.sub(r"\bbeta_?\s*(?:/|over)\s*n\b", "beta/n", text)
-    text = re.sub(r"\b(it|band|factor|variance|beta/n)'s\b", r"\1 's", text)  # "it's", "the band's": is
+    text = re.sub(r"\b(it|band|factor|variance|beta/n)'(s|ll)\b", r"\1 '\2", text)  # "it's", "the band's", "it'll"
     text = re.sub(r"\bband\s+(?:at|with|for)\s+(?:nu|\u03bd)\s*=\s*30(?![\d.])", "band", text)  # 2.6's own nu
     return text.split()
 
@@ -138,6 +142,10 @@ def parse(text: str) -> list:
             complement = " ".join(words[start + length:])
             if way == "grow":
                 way = None if complement and _comparative(complement) else "up"
+            if way == "stay":  # 'stays below 1', 'stays narrower'; not 'stays narrow' (no change)
+                if not complement or complement.split()[0] in _UNCHANGED:
+                    continue
+                way = None
             if way is not None and complement.startswith("to "):  # 'fell to below 1'
                 readings.append((way, complement[3:]))
             readings.append((way, complement))

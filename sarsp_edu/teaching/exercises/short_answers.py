@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from .action_lists import read_actions
 from .counts import read_count
 from .limits import read_limits
-from .parsing import NARROWER, WIDER, read_side, read_word
+from .sides import read_band, read_side
 
 __all__ = ["Exercise", "LOOKUPS"]
 
@@ -160,7 +160,7 @@ LOOKUPS: dict[str, Exercise] = {
         "Compute the factor (nu + beta - 2) / (nu + n - 2) of section 2's fit at nu = 3 and at nu = 30 (beta_ and "
         "the rows are on the model): which way does the band move between them?",
         "Narrower: with beta > n the factor is above 1 and falls towards 1 (the GP) as nu grows.",
-        read=lambda answer: read_word(answer, {"wider": WIDER, "narrower": NARROWER}),
+        read=read_band,
         accepted="'wider' or 'narrower' (also 'Wider.', 'larger', '>', 'it grows' or 'Narrower.', 'smaller', '<', "
                  "'it decreases', 'less than before')",
     ),

@@ -15,6 +15,8 @@ __all__ = ["SMALL", "describe", "said", "several", "parts", "shape_problem", "sh
 SMALL = 8
 #: a value's repr longer than this is shortened
 _LONGEST = 40
+#: the longest answer in words quoted whole
+_LONGEST_TEXT = 80
 
 
 def shown(value) -> str:
@@ -27,8 +29,11 @@ def shown(value) -> str:
         text = ""
     if text and len(text) <= _LONGEST and "\n" not in text:
         return text
-    if isinstance(value, str):
-        return f"a text of {len(value)} characters"
+    if isinstance(value, str):  # a student's words are shown, the start of them where they run long
+        line = " ".join(value.split())
+        if len(line) <= _LONGEST_TEXT:
+            return repr(line)
+        return f"{line[:_LONGEST_TEXT - 20]!r}... ({len(value)} characters)"
     if isinstance(value, np.ndarray):
         return f"an array of shape {value.shape}"
     return f"a {type(value).__name__}"

@@ -1,0 +1,126 @@
+"""Reading the two direction predictions (exercises 2.5 and 2.6) as a student writes them.
+
+Exercise 2.5 asks on which side of 1 a variance factor lies ('above' or
+'below'); exercise 2.6 whether a band at nu = 30 is 'wider' or 'narrower'
+than at nu = 3.  Both are read as one sentence (:mod:`.sentences`), and
+each adds what its own question makes unambiguous:
+
+- 2.5 (:func:`read_side`): a number on a side of 1 ('0.37', 'it drops to
+  0.37', '0.37 < 1'), never one at or below 0 (a variance factor is
+  positive); the question's own condition ('below, without outliers');
+- 2.6 (:func:`read_band`): the question's own nu = 30 ('the nu = 30 band
+  is narrower', 'narrower (nu = 30)'), and the band at nu = 3 said instead
+  ('wider at nu = 3', 'the band at nu = 3 is wider'), read as the other side.
+
+Examples
+--------
+>>> read_side("it drops to 0.37"), read_side("Below, without outliers")
+('below', 'below')
+>>> read_band("wider at nu = 3"), read_band("the nu = 30 band is narrower")
+('narrower', 'narrower')
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .parsing import _PREFACE, ABOVE, BELOW, NARROWER, WIDER, Unreadable, _number, _text, alone, read_word
+from .sentences import parse
+from .wording import shown
+
+__all__ = ["read_band", "read_side"]
+
+_NU = r"(?:nu|\u03bd)\s*=?\s*"
+#: 2.5's own condition, said after the side ('below 1 without outliers', 'below, without outliers')
+_WITHOUT_OUTLIERS = r"\s*,?\s+without\s+outliers\s*$"
+#: the factor named before its value ('The factor is 0.4', 'variance_scale_ = 0.4', "It's 0.4", 'beta/n = 0.67')
+_FACTOR_IS = re.compile(r"^\s*(?:the\s+(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?factor|variance_scale_|"
+                        r"beta_?\s*/\s*n|it'?s|it\s+is)\s*(?:is|=)?\s*", re.IGNORECASE)
+#: a number compared with 1 ('0.37 < 1'): the number and the comparison must agree
+_COMPARED = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*(<|>)\s*(?:1(?:\.0*)?|one)\s*$", re.IGNORECASE)
+_A_NUMBER = re.compile(r"\d+(?:\.\d+)?|\.\d+")
+
+
+def _side_of(value: float, answer) -> str:
+    if math.isnan(value) or value == 1:
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1.")
+    if value <= 0:
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': a variance factor is above 0.")
+    return "above" if value > 1 else "below"
+
+
+def read_side(answer) -> str:
+    """'above' or 'below' 1: a word (:func:`~.parsing.read_word` with :data:`~.parsing.ABOVE` and
+    :data:`~.parsing.BELOW`), a sentence, or a number on that side of 1 (0.37 is 'below'), alone (as
+    :func:`~.parsing.alone` reads it); raises :class:`~.parsing.Unreadable`, for 1 itself and for a number
+    at or below 0 too."""
+    text = _text(answer)
+    if text is None:
+        try:
+            value = _number(answer, "a number")
+        except Unreadable:
+            raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
+        return _side_of(value, answer)
+    bare = re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text), flags=re.I)
+    alone(bare, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
+    try:
+        side = read_word(bare, {"above": ABOVE, "below": BELOW}, tails=())
+    except Unreadable:
+        side = None
+    bare = _FACTOR_IS.sub("", _PREFACE.sub("", bare, count=1), count=1)
+    compared = _COMPARED.match(bare)
+    values = [float(compared.group(1))] if compared else []
+    values += [float(complement.removeprefix("to ")) for _, complement in parse(bare)
+               if _A_NUMBER.fullmatch(complement.removeprefix("to "))]  # 'it drops to 0.37'
+    if not values:
+        try:
+            values = [_number(bare, "a number")]
+        except Unreadable:
+            if side is None:
+                raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
+    sides = {_side_of(value, answer) for value in values} | ({side} if side else set())
+    if compared and sides != {"below" if compared.group(2) == "<" else "above"}:
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': {compared.group(1)} is not "
+                         f"{compared.group(2)} 1.")
+    if len(sides) != 1:
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it names both sides.")
+    return sides.pop()
+
+
+#: the question's own nu = 30, said in the subject or in brackets: dropped
+_AT_THIRTY = ((rf"\bthe\s+{_NU}30(?:\.0+)?\s+band\b", "the band"), (rf"\s*\(\s*(?:at\s+)?{_NU}30(?:\.0+)?\s*\)", ""),
+              (r"\s*,\s*(?=towards?\s+(?:the\s+)?(?:gp|gaussian))", " "))
+#: the band at nu = 3 said in place of the band at nu = 30 ('wider at nu = 3', 'the band at nu = 3 is wider'); at
+#: the end only where no comparison precedes it ('narrower than the band at nu = 3' is the question's own)
+_AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*$", r"\1"),
+             (r"^(?!.*\bthan\b)(.*?)\s+at\s+3(?:\.0+)?\s*$", r"\1"),
+             (rf"^\s*(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*,?\s+", ""),
+             (rf"^(\s*(?:the|its)\s+band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
+             (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"))
+#: the comparison the question makes, said after the band at nu = 3 ('... is wider than at nu = 30'): dropped
+_THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$"
+
+
+def read_band(answer) -> str:
+    """'wider' or 'narrower' for the band at nu = 30 against nu = 3 (exercise 2.6): :func:`~.parsing.read_word`
+    with :data:`~.parsing.WIDER` and :data:`~.parsing.NARROWER`, the question's own nu = 30 dropped, and the
+    band at nu = 3 said instead read as the other side; raises :class:`~.parsing.Unreadable`."""
+    options = {"wider": WIDER, "narrower": NARROWER}
+    text = _text(answer)
+    if text is None:
+        return read_word(answer, options)
+    said = text.strip()
+    for pattern, replacement in _AT_THIRTY:
+        said = re.sub(pattern, replacement, said, flags=re.I)
+    flipped = False
+    for pattern, replacement in _AT_THREE:
+        said, found = re.subn(pattern, replacement, said, flags=re.I)
+        flipped = flipped or bool(found)
+    if flipped:
+        said = re.sub(_THAN_THIRTY, "", said, flags=re.I)
+    try:
+        side = read_word(said, options)
+    except Unreadable as refused:
+        raise Unreadable(str(refused).replace(shown(said), shown(answer), 1)) from None
+    return {"wider": "narrower", "narrower": "wider"}[side] if flipped else side
