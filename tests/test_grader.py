@@ -685,13 +685,12 @@ SAID_MORE = [('read_count', '50 (half of 100, a checkerboard)'),
              ('read_actions', '0 and 2 are safe, 1 and 3 are not'),
              ('read_actions', '0 and 2: 1 is too close and 3 is in S_u'), ('read_actions', '0 and 2 (both)'),
              ('read_word', 'Narrower, as nu grows the TP approaches the GP'),
-             ('read_word', 'The band gets narrower, not wider'),
              ('read_word', 'Narrower: as nu increases the factor decreases towards 1'),
              ('read_word', 'narrower, because the factor drops as nu goes up'),
              ('read_word', 'Narrower - the heavier tails at nu = 3 widen the band more'),
              ('read_word', 'narrower; with more degrees of freedom the TP is closer to the GP, which is not widened'),
              ('read_word', 'narrower (the band at nu = 3 is wider)'),
-             ('read_word', 'Narrower since larger nu means lighter tails'), ('read_word', 'narrower, not wider'),
+             ('read_word', 'Narrower since larger nu means lighter tails'),
              ('read_word', "narrower, but still wider than the GP's"),
              ('read_word', 'narrower, because beta exceeds n'),
              ('read_word', 'narrower, the factor goes from 5.10 to 6'),
@@ -1295,3 +1294,80 @@ def test_the_cases_separate_three_slips_no_case_caught_before(exercise, answer):
     from sarsp_edu.teaching.exercises import is_right
 
     assert is_right(exercise, answer) is False
+
+
+# -- the twenty-fifth cold pass: lists whose brackets do not close, the question's own conditions restated, a
+# side denied beside the other, keys in words --
+@pytest.mark.parametrize("answer", ["[0, 1, 3", "{0, 1, 3", "[0, 1, 3]]", "[[0, 1, 3]", "[ True  True False  True",
+                                    "[0, 1"])
+def test_brackets_that_do_not_make_one_list_are_refused(answer):
+    with pytest.raises(Unreadable, match="brackets do not make one list"):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer, said", [("[0, 1, 3] with sigma*^2 = 10", [0, 1, 3]),
+                                          ("[0, 1, 3] at d = 1", [0, 1, 3]),
+                                          ("[0, 1, 3] with \u03c3*\u00b2 = 10", [0, 1, 3])])
+def test_the_questions_own_setting_after_a_list_is_read(answer, said):
+    assert read_actions(answer) == said
+
+
+@pytest.mark.parametrize("answer", ["[0, 1, 3] with sigma*^2 = 0.8", "0 and 2 when sigma = 10"])
+def test_another_setting_after_a_list_is_refused_and_said_to_be_another(answer):
+    with pytest.raises(Unreadable, match="not another setting"):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer", ["without outliers it is below 1", "on clean data it is below 1",
+                                    "below 1 on clean data", "the factor is less than 1 without the outliers",
+                                    "Without outliers, below.", "1 is above it", "1 is larger than the factor",
+                                    "below 1, not above", "it is below, not above"])
+def test_the_side_with_the_questions_own_condition_or_from_1_is_read(answer):
+    assert read_side(answer) == "below"
+
+
+@pytest.mark.parametrize("answer", ["it goes up, below 1", "above, below"])
+def test_two_sides_at_once_are_said_to_be_two(answer):
+    with pytest.raises(Unreadable, match="names both"):
+        read_side(answer)
+
+
+def test_an_infinite_factor_is_no_side():
+    with pytest.raises(Unreadable, match="positive, finite"):
+        read_side("inf")
+
+
+@pytest.mark.parametrize("answer", ["narrower, not wider", "narrower, but not wider"])
+def test_a_band_with_the_other_side_denied_is_read(answer):
+    assert read_band(answer) == "narrower"
+
+
+@pytest.mark.parametrize("answer", ["on a 10x10 grid, 50", "on a 10 x 10 grid it is 50", "50 with no two 4-adjacent",
+                                    "50 with no two touching", "50 cells with no two 4-adjacent", "50 of them"])
+def test_a_count_with_the_questions_own_conditions_is_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("answer", [{"lambda smaller than 1": "inf", "lambda equal to 1": 1,
+                                     "lambda greater than 1": 0}, "inf, 1 and 0",
+                                    {"lambda < 1": "math.inf", "lambda = 1": 1, "lambda > 1": 0}])
+def test_limits_keyed_in_words_or_listed_with_and_are_read(answer):
+    assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}
+
+
+def test_a_huge_limit_is_read_as_the_float_it_is_and_judged():
+    assert read_limits({"lambda < 1": 1e300, "lambda = 1": 1, "lambda > 1": 0})["<1"] == 1e300
+
+
+def test_an_empty_buffer_separates_a_cap_that_fails_on_no_rows():
+    from sarsp_edu.teaching.exercises import is_right
+
+    def cap(X, y, cap):
+        keep, seen = [], {}
+        for i, row in enumerate(map(tuple, X)):
+            seen[row] = seen.get(row, 0) + 1
+            if seen[row] <= cap:
+                keep.append(i)
+        return X[np.array(keep)], y[np.array(keep)]  # indexing with an empty float array raises
+
+    assert is_right("3.1", cap) is False

@@ -82,6 +82,16 @@ def _read_text(text: str, answer) -> list[int]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
     if re.search(r"\.{2,}|\u2026|\betc\b|\band\s+so\s+on\b", text, flags=re.I):  # '0, 2, ...': the list goes on
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it says the list goes on; name every safe action.")
+    if any(text.count(opening) != text.count(closing) for opening, closing in ("[]", "()", "{}")) or re.search(
+            r"^\s*[\[({]\s*[\[({]", text):  # '[0, 1, 3', '[0, 1, 3]]', '[[0, 1, 3]]': not one list
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: its brackets do not make one list.")
+    # the question's own sigma*^2 = 10 and d = 1, said after the list: dropped (another value is refused below)
+    text = re.sub(r"\s*,?\s+(?:with|at|for|when)\s+(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|"
+                  r"the\s+threshold)\s*=\s*10(?:\.0*)?\s*$|\s*,?\s+(?:with|at|for)\s+d\s*=\s*1(?:\.0*)?\s*$", "", text,
+                  flags=re.I)
+    if re.search(r"\s(?:with|at|for|when)\s+(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
+                         "sigma*^2 = 10 and d = 1, not another setting.")
     text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
     mask = re.fullmatch(r"\[?\s*((?:(?:True|False)\s*,?\s*){4})\]?", text)
     if mask:  # a boolean array of the four actions as numpy prints it: '[ True False  True False]'

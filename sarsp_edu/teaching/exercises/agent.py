@@ -27,6 +27,8 @@ def _cap_cases(rng):
     for n, cap, features in ((1, 1, 2), (12, 1, 2), (40, 2, 1), (60, 12, 2), (30, 3, 3)):
         X = rng.integers(0, 3 if features < 3 else 2, (n, features)).astype(float)  # few distinct inputs: many copies
         cases.append({"X": X, "y": rng.integers(0, 4, n).astype(float), "cap": cap})
+    # no rows at all: nothing to keep, in the inputs' shape
+    cases.append({"X": np.zeros((0, 2)), "y": np.zeros(0), "cap": 3})
     # inputs that are not whole numbers: 0.2 and 0.4 are two inputs, whatever they round to
     cases.append({"X": np.array([[0.2, 1.0], [0.4, 1.0], [0.2, 1.0], [0.4, 1.0]]), "y": np.array([1.0, 2.0, 3.0, 4.0]),
                   "cap": 1})

@@ -43,6 +43,12 @@ _NOT_A_COUNT = re.compile(r"\b(?:less|more|fewer|over|under|below|above|nearly|a
 #: the question's own bound, said as the answer's ('no more than 50', 'up to 50', 'a maximum of 50'): dropped
 _AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maximum\s+of\b|\bat\s+most\b|<=|\u2264",
                       re.IGNORECASE)
+#: the question's own conditions, said with the count: its grid ('on a 10 x 10 grid, 50'), its rule ('50 with no
+#: two 4-adjacent'), 'of them': dropped
+_QUESTIONS_OWN = re.compile(
+    r"^\s*on\s+(?:a|the)\s+10\s*(?:x|\u00d7|by)\s*10\s+grid\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|"
+    r"\s+with\s+no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)"
+    r"(?:\s+cells)?\s*$|\s+of\s+them\s*$", re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
 #: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
@@ -103,7 +109,7 @@ def read_count(answer) -> int:
     text = _text(answer)
     if text is None:
         return _read_count(answer)
-    text = _alone(text, answer)
+    text = _alone(_QUESTIONS_OWN.sub("", text), answer)
     if _HEDGED.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: a count is exact; write the number "
                          "alone.")

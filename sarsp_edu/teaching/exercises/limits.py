@@ -35,7 +35,16 @@ def _limit_key(key) -> str | None:
             compact = compact[len(name):]
             break
     compact = re.sub(r"(?<=[<=>])1\.0*$", "1", compact)  # 'lambda < 1.0'
+    compact = _SIDE_WORDS.get(re.sub(r"(?:1(?:\.0*)?|one)$", "", compact), compact)  # 'lambda smaller than 1'
     return compact if compact in ("<1", "=1", ">1") else None
+
+
+#: a key's comparison said in words ('lambda smaller than 1', 'lambda equal to 1', 'lambda above one')
+_SIDE_WORDS = {**dict.fromkeys(("<", "lessthan", "smallerthan", "below", "under", "islessthan", "issmallerthan",
+                                "isbelow"), "<1"),
+               **dict.fromkeys(("=", "equalto", "equals", "is", "isequalto", "exactly"), "=1"),
+               **dict.fromkeys((">", "greaterthan", "largerthan", "biggerthan", "morethan", "above", "over",
+                                "isgreaterthan", "isabove"), ">1")}
 
 
 def read_limits(answer) -> dict:
@@ -53,8 +62,9 @@ def read_limits(answer) -> dict:
         text = re.sub(r"\b(?:math|np|numpy)\.(inf|infty)\b", r"\1", text)
     if text is not None and re.search(r"[()]|\bbecause\b", text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: {ALONE}.")
-    if text is not None and len([part for part in re.split(r"[,;]", text) if part.strip()]) == 3:
-        answer = [part.strip() for part in re.split(r"[,;]", text) if part.strip()]
+    parts = [] if text is None else [part.strip() for part in re.split(r"[,;]|\band\b", text) if part.strip()]
+    if len(parts) == 3:  # 'inf, 1, 0', 'inf, 1 and 0'
+        answer = parts
     if isinstance(answer, (list, tuple)) and len(answer) == 3:
         answer = dict(zip(("lambda < 1", "lambda = 1", "lambda > 1"), answer))
     if not isinstance(answer, dict):
@@ -69,6 +79,7 @@ def read_limits(answer) -> dict:
         what = f"the limit for lambda {side[0]} 1"
         if _text(value) is not None:
             value = alone(_text(value), value, what)  # '0 (1 for small x)', '0, probably': not read
+            value = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", value)  # 'math.inf' as text
         limits[side] = _exact(value, _number(value, what), what)
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]
     if missing:

@@ -136,13 +136,35 @@ def read_word(answer, options: dict, tails=None) -> str:
         question's own nu = 30 and its own change of nu, 'than before', 'towards the GP').
     """
     names = " or ".join(repr(option) for option in options)
+    tails = _TAILS if tails is None else tails
     text = _text(answer)
     if text is not None:
-        text = alone(text, answer, names)
-        found = _read_clause(text, options, _TAILS if tails is None else tails)
+        try:
+            text = alone(text, answer, names)
+        except Unreadable as refused:
+            text = _restated(text, answer, refused, options, tails)
+        found = _read_clause(text, options, tails)
         if found is not None:
             return found
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
+
+
+def _restated(text: str, answer, refused: Unreadable, options: dict, tails) -> str:
+    """The first clause of an answer whose asides only deny the other options ('narrower, not wider'); an answer
+    whose clauses name two options is refused as naming both ('above, below'); any other is ``refused``."""
+    if ALONE not in str(refused):
+        raise refused
+    first, asides = _clauses(text.strip().rstrip(".!"))
+    main = _read_clause(first, options, tails)
+    for aside in asides:
+        denied = re.fullmatch(r"(?:and\s+|but\s+)?not\s+(.+)", aside.strip(), flags=re.I)
+        said = _read_clause(denied.group(1) if denied else aside, options, tails)
+        if said is not None and main is not None and (said == main) == bool(denied):
+            raise Unreadable(f"Could not read {shown(answer)} as {' or '.join(map(repr, options))}: it names "
+                             "both.") from None
+        if not denied or said is None:
+            raise refused
+    return first
 
 
 #: a word that negates what follows it, or a doubt: an aside holding one is not read past
@@ -316,8 +338,8 @@ def exactly(given, value: float, what: str) -> float:
     what : str
         What it is read as, for the refusal ('a whole number', 'an action number').
     """
-    if math.isnan(value) or not (math.isinf(value) or value == int(value)):
-        return value
+    if math.isnan(value) or not (math.isinf(value) or value == int(value)) or 2**53 < abs(value) < math.inf:
+        return value  # beyond 2**53 every float is whole: 1e300 is read as the float it is
     text = _text(given)
     if text is not None:  # a number written in digits must be the value exactly; a word is ('one', 'infinite')
         quotient = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*(\d+)\s*", text)

@@ -32,8 +32,12 @@ from .wording import shown
 __all__ = ["read_band", "read_side"]
 
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
-#: 2.5's own condition, said after the side ('below 1 without outliers', 'below, without outliers')
-_WITHOUT_OUTLIERS = r"\s*,?\s+without\s+outliers\s*$"
+#: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
+_CLEAN = r"(?:without\s+(?:the\s+|any\s+)?outliers|with\s+no\s+outliers|on\s+(?:the\s+)?clean\s+(?:data|targets))"
+_WITHOUT_OUTLIERS = rf"\s*,?\s+{_CLEAN}\s*$|^\s*{_CLEAN}\s*,?\s*"
+#: 1 said against the factor ('1 is above it'): the factor is on the other side
+_ONE_IS = re.compile(r"^\s*(?:1|one)\s+is\s+(?:(above|over|(?:larger|greater|bigger|more|higher)\s+than)|"
+                     r"(below|under|(?:less|smaller|lower)\s+than))\s+(?:it|the\s+(?:variance\s+)?factor)\s*$", re.I)
 #: the factor named before its value ('The factor is 0.4', 'variance_scale_ = 0.4', "It's 0.4", 'beta/n = 0.67')
 _FACTOR_IS = re.compile(r"^\s*(?:the\s+(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?factor|variance_scale_|"
                         r"beta_?\s*/\s*n|it'?s|it\s+is)\s*(?:is|=)?\s*", re.IGNORECASE)
@@ -45,8 +49,9 @@ _A_NUMBER = re.compile(r"\d+(?:\.\d+)?|\.\d+")
 def _side_of(value: float, answer) -> str:
     if math.isnan(value) or value == 1:
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is on neither side of 1.")
-    if value <= 0:
-        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': a variance factor is above 0.")
+    if value <= 0 or math.isinf(value):
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': a variance factor is a positive, "
+                         "finite number.")
     return "above" if value > 1 else "below"
 
 
@@ -63,7 +68,17 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text), flags=re.I)
-    alone(bare, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
+    one_is = _ONE_IS.match(bare)
+    if one_is:
+        return "below" if one_is.group(1) else "above"
+    try:
+        alone(bare, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
+    except Unreadable as refused:  # unless its asides only deny the other side ('below 1, not above')
+        try:
+            return read_word(bare, {"above": ABOVE, "below": BELOW}, tails=())
+        except Unreadable as again:
+            raise Unreadable(str(again if "names both" in str(again) else refused).replace(
+                shown(bare), shown(answer), 1)) from None
     try:
         side = read_word(bare, {"above": ABOVE, "below": BELOW}, tails=())
     except Unreadable:
