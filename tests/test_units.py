@@ -41,6 +41,14 @@ def test_the_guide_states_the_sum_of_the_units_minutes():
     assert f"{' + '.join(map(str, stated))} = {sum(stated)}" in guide
 
 
+def test_the_guides_table_gives_each_units_own_minutes():
+    guide = (TUTORIALS / "LECTURER.md").read_text(encoding="utf-8")
+    for path in STUDENT:
+        row = re.search(rf"^\| {path.name[:2]} [^|]*\|[^|]*\| (\d+) min \|$", guide, flags=re.M)
+        assert row, f"LECTURER.md's table has no row for {path.name}"
+        assert int(row.group(1)) == minutes(json.loads(path.read_text(encoding="utf-8"))), path.name
+
+
 def test_the_word_count_counts_what_a_reader_reads():
     cell = {"cell_type": "markdown", "source": ["The TP's factor, (nu + beta - 2) / (nu + n - 2), is 1.08."]}
     assert words({"cells": [cell, {"cell_type": "code", "source": ["x = 1 + 2"]}]}) == 11

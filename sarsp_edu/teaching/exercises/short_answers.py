@@ -95,7 +95,7 @@ def _factor_without_outliers(answer, **_) -> bool:
 
 def _factor_without_outliers_explained() -> str:
     nu = _SECTION_3_NU
-    return (f"Below. Now fit it and print beta_ / n and variance_scale_ as the exercise asks: clean targets lie "
+    return (f"Below. The cell below fits it and prints beta_ / n and variance_scale_: clean targets lie "
             f"within the scale the priors hold, so the fit settles near the likelihood's own beta = n (nu - 2) / nu "
             f"(beta / n = {(nu - 2) / nu:.2f} at nu = {nu:g}), below n; only data spread far beyond that scale, "
             f"such as the outliers, push the factor above 1.")
