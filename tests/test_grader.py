@@ -660,7 +660,7 @@ def test_a_floor_of_1e_4_on_the_posterior_variance_is_refused_and_one_of_1e_9_is
 SAID_MORE = [('read_count', '50 (half of 100, a checkerboard)'),
              ('read_count', 'half of 100, so 50'), ('read_count', '50 — one colour of a 10 x 10 chessboard'),
              ('read_count', '50, i.e. half of a 10x10 grid'), ('read_count', '50 (5 in each of the 10 rows)'),
-             ('read_count', '50: 5 per row, 10 rows'), ('read_count', '50, not 25'), ('read_count', '50 (not 25)'),
+             ('read_count', '50: 5 per row, 10 rows'),
              ('read_count', 'half of 100, so 50'),
              ('read_side', "below 1 because the clean targets sit within the priors' scale"),
              ('read_side', 'below, because beta exceeds n'), ('read_side', 'below; beta climbs past n'),
@@ -1371,3 +1371,51 @@ def test_an_empty_buffer_separates_a_cap_that_fails_on_no_rows():
         return X[np.array(keep)], y[np.array(keep)]  # indexing with an empty float array raises
 
     assert is_right("3.1", cap) is False
+
+
+# -- the twenty-sixth cold pass: thresholds in no order, a clipped pull, the band at nu = 3 against itself, a hedged
+# number, a reason beside a count, and more of the question's own words --
+def _shares_of_sorted_thresholds(mu_cost, var_cost, d, thresholds):
+    from sarsp_edu.teaching.exercises.records import _backup_shares
+
+    return _backup_shares(mu_cost, var_cost, d, np.sort(np.asarray(thresholds)))
+
+
+def _pull_clipped(residual, nu, scale):
+    r = np.asarray(residual, dtype=float)
+    return np.clip((nu + 1) * r / (nu * scale**2 + r**2), -10.0, 10.0)
+
+
+@pytest.mark.parametrize("exercise, answer", [("6.3", _shares_of_sorted_thresholds), ("2.7", _pull_clipped)])
+def test_the_cases_separate_sorted_thresholds_and_a_clipped_pull(exercise, answer):
+    from sarsp_edu.teaching.exercises import is_right
+
+    assert is_right(exercise, answer) is False
+
+
+@pytest.mark.parametrize("reader, answer", [(read_band, "the band at nu = 3 is wider than at nu = 3"),
+                                            (read_side, "about 0.37"), (read_side, "1 < 0.37"),
+                                            (read_count, "50 because of the chessboard pattern"),
+                                            (read_count, "50, not 50")])
+def test_a_band_against_itself_a_hedged_number_and_a_reason_are_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_band, "wider at nu = 3 than at nu = 30", "narrower"), (read_band, "narrower, as nu grows", "narrower"),
+    (read_side, "below (without outliers)", "below"), (read_side, "Below 1 \u2014 without outliers", "below"),
+    (read_side, "1 > 0.37", "below"), (read_count, "50 (= 100/2)", 50), (read_count, "50, not 25", 50),
+    (read_count, "50 (no two 4-adjacent)", 50), (read_count, "50 cells, no two adjacent", 50),
+    (read_actions, "0, 2 with sigma*^2 = 10 and d = 1", [0, 2]), (read_actions, "RIGHT and LEFT (0 and 2)", [0, 2]),
+    (read_actions, "0,2,", [0, 2]), (read_actions, "set([0, 2])", [0, 2]),
+    (read_actions, "0, 2 (with sigma*^2 = 10)", [0, 2])])
+def test_more_of_the_questions_own_words_and_emphasis_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("answer", [np.array([np.inf, 1.0, 0.0]), "[float('inf'), 1, 0]",
+                                    "lambda < 1: inf, lambda = 1: 1, lambda > 1: 0", "inf, 1, 0, respectively",
+                                    "The limits are inf, 1 and 0"])
+def test_three_limits_in_more_of_pythons_and_a_students_forms_are_read(answer):
+    assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}

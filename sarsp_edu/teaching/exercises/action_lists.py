@@ -86,9 +86,11 @@ def _read_text(text: str, answer) -> list[int]:
             r"^\s*[\[({]\s*[\[({]", text):  # '[0, 1, 3', '[0, 1, 3]]', '[[0, 1, 3]]': not one list
         raise Unreadable(f"Could not read {shown(answer)} as {what}: its brackets do not make one list.")
     # the question's own sigma*^2 = 10 and d = 1, said after the list: dropped (another value is refused below)
-    text = re.sub(r"\s*,?\s+(?:with|at|for|when)\s+(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|"
-                  r"the\s+threshold)\s*=\s*10(?:\.0*)?\s*$|\s*,?\s+(?:with|at|for)\s+d\s*=\s*1(?:\.0*)?\s*$", "", text,
+    threshold = r"(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|the\s+threshold)\s*=\s*10(?:\.0*)?"
+    own = rf"(?:{threshold}|d\s*=\s*1(?:\.0*)?)"
+    text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$", "", text,
                   flags=re.I)
+    text = re.sub(r"(?<=\d)\s*,\s*$", "", text)  # '0, 2,': a trailing comma, as Python allows
     if re.search(r"\s(?:with|at|for|when)\s+(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
@@ -169,13 +171,18 @@ def _numpy_printed(text: str) -> str:
     """A list as numpy prints it, read as the list: 'array([0, 2])', '(array([0, 2]),)' (np.nonzero's answer),
     '[np.int64(0), np.int64(2)]'."""
     text = re.sub(r"\bnp\.(?:u?int\d*|intp)\(\s*(\d+)\s*\)", r"\1", text)
-    inner = re.fullmatch(r"\(?\s*(?:np\.)?array\((\[[^\[\]]*\])(?:\s*,\s*dtype=\w+)?\)\s*(?:,\s*\))?", text)
+    inner = re.fullmatch(r"\(?\s*(?:np\.)?(?:array|set|list|tuple)\((\[[^\[\]]*\])(?:\s*,\s*dtype=\w+)?\)"
+                         r"\s*(?:,\s*\))?", text)
     return inner.group(1) if inner else text
 
 
 def _names_beside(text: str, answer) -> str:
     """``text`` with the actions' names in brackets after their numbers dropped, once they agree ('0 and 2 (RIGHT
     and LEFT)', '[0, 2] (RIGHT, LEFT)')."""
+    named_first = re.fullmatch(r"\s*((?:right|down|left|up)(?:\s*(?:,|and|&)?\s*(?:right|down|left|up))*)\s*\(\s*"
+                               r"([0-3](?:\s*(?:,|and|&)?\s*[0-3])*)\s*\)\s*", text, flags=re.I)
+    if named_first:  # 'RIGHT and LEFT (0 and 2)': the numbers in brackets after the names
+        text = f"{named_first.group(2)} ({named_first.group(1)})"
     beside = re.fullmatch(r"(.*?[\d\]])\s*\(\s*((?:right|down|left|up)(?:\s*(?:,|and|&)?\s*(?:right|down|left|up))*)"
                           r"\s*\)", text, flags=re.I)
     if not beside:

@@ -48,7 +48,8 @@ _AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maxi
 _QUESTIONS_OWN = re.compile(
     r"^\s*on\s+(?:a|the)\s+10\s*(?:x|\u00d7|by)\s*10\s+grid\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|"
     r"\s+with\s+no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)"
-    r"(?:\s+cells)?\s*$|\s+of\s+them\s*$", re.IGNORECASE)
+    r"(?:\s+cells)?\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+)?no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?"
+    r"(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)(?:\s+cells)?\s*\)?\s*$", re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
 #: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
@@ -132,7 +133,11 @@ def _alone(text: str, answer) -> str:
     except Unreadable as refused:
         if ALONE not in str(refused):
             raise
+        if re.search(r"\b(?:because|since|as|so)\b", text, flags=re.I):  # a reason: read alone, as elsewhere
+            raise
         main, asides = _clauses(text.strip().rstrip(".!"))
+        asides = [re.sub(r"^\s*=\s*", "", aside) for aside in asides  # '50 (= 100/2)': its working
+                  if not _denies_another(aside, main)]  # '50, not 25': emphasis
         if any(_NEGATION.search(aside.lower()) or _NOT_A_COUNT.search(aside) or _HEDGED.search(aside) or "%" in aside
                for aside in asides):
             raise
@@ -148,6 +153,13 @@ def _alone(text: str, answer) -> str:
         if not numbered:
             raise
         return numbered[0]
+
+
+def _denies_another(aside: str, main: str) -> bool:
+    """Whether ``aside`` only denies another number than ``main`` gives ('50, not 25')."""
+    denied = re.fullmatch(r"\s*(?:but\s+)?not\s+(\d+)\s*", aside, flags=re.I)
+    given = re.fullmatch(r"\s*(\d+)\s*", main)
+    return bool(denied and given and denied.group(1) != given.group(1))
 
 
 def _read_count(answer) -> int:

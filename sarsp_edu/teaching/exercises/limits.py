@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 import re
 
+import numpy as np
+
 from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
 from .wording import shown
 
@@ -55,6 +57,16 @@ def read_limits(answer) -> dict:
     text = _text(answer)
     if text is not None and _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
+    if text is not None:  # Python's spellings of infinity, a closing 'respectively', a preface ('The limits are')
+        text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+        text = re.sub(r"^\s*(?:the\s+)?limits\s+are\s*:?\s*|\s*,?\s+respectively\s*\.?\s*$", "", text, flags=re.I)
+        pairs = re.findall(r"(?:^|,|;)\s*((?:lambda|\u03bb|lam)\s*(?:<|=|>|<=|>=)\s*1)\s*(?::|->|=>|\u2192)\s*"
+                           r"([^,;]+)", text, flags=re.I)
+        if len(pairs) == 3:  # 'lambda < 1: inf, lambda = 1: 1, lambda > 1: 0', as a dict written out
+            answer = dict(pairs)
+            text = None
+    elif isinstance(answer, np.ndarray) and answer.ndim == 1 and len(answer) == 3:
+        answer = list(answer)
     whole = None if text is None else re.fullmatch(r"\s*[\[(]([^\[\]()]*)[\])]\s*", text)
     if whole:  # '[inf, 1, 0]', '(inf, 1, 0)': a list or a tuple as Python prints it
         text = whole.group(1)

@@ -146,6 +146,7 @@ def _pull_cases(rng):
         {"residual": rng.normal(0, 5, 7), "nu": float(rng.uniform(2.5, 20)), "scale": float(rng.uniform(0.2, 2))},
         {"residual": rng.uniform(-100, 100, 5), "nu": 1.0, "scale": 1.0},
         {"residual": np.array([1e3, -1e4, 1e6, 3e8]), "nu": 3.0, "scale": 1.0},  # far outliers pull, however little
+        {"residual": np.array([0.02, 0.05, -0.1, 0.3]), "nu": 3.0, "scale": 0.05},  # a small scale: pulls over 20
         {"residual": rng.normal(0, 4, (3, 2)), "nu": 4.0, "scale": 0.8},  # residuals of any shape
     ]
 

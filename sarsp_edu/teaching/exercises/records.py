@@ -161,6 +161,10 @@ def _decision_cases(rng):
          "var_cost": np.array([[0.1, 0.1, 0.1, 0.1], [np.nextafter(0.8, 1.0), 0.9, 0.9, 0.95]]), "d": 1.0,
          "thresholds": np.array([0.8, 2.0])},  # one unit in the last place past each edge
     ]
+    # thresholds in no order: one share per threshold as given (not sorted, and the caller's array left as it is)
+    cases.append({"mu_cost": np.array([[2.0, 2.0, 0.5, 0.5], [2.0, 0.5, 0.5, 0.5]]),
+                  "var_cost": np.array([[1.5, 6.0, 0.1, 0.1], [0.2, 0.1, 0.1, 0.1]]), "d": 1.0,
+                  "thresholds": np.array([10.0, 0.1, 2.0, 0.3])})
     for n in (7, 250):
         mu = rng.integers(-1, 5, (n, 4)).astype(float) + np.where(rng.random((n, 4)) < 0.5, 0.0, rng.random((n, 4)))
         var = np.exp(rng.normal(0.0, 1.5, (n, 4)))

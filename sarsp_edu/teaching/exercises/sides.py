@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import re
 
-from .parsing import _PREFACE, ABOVE, BELOW, NARROWER, WIDER, Unreadable, _number, _text, alone, read_word
+from .parsing import _HEDGED, _PREFACE, ABOVE, BELOW, NARROWER, WIDER, Unreadable, _number, _text, alone, read_word
 from .sentences import parse
 from .wording import shown
 
@@ -34,7 +34,8 @@ __all__ = ["read_band", "read_side"]
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
 #: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
 _CLEAN = r"(?:without\s+(?:the\s+|any\s+)?outliers|with\s+no\s+outliers|on\s+(?:the\s+)?clean\s+(?:data|targets))"
-_WITHOUT_OUTLIERS = rf"\s*,?\s+{_CLEAN}\s*$|^\s*{_CLEAN}\s*,?\s*"
+_WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
+                     rf"^\s*{_CLEAN}\s*,?\s*")
 #: 1 said against the factor ('1 is above it'): the factor is on the other side
 _ONE_IS = re.compile(r"^\s*(?:1|one)\s+is\s+(?:(above|over|(?:larger|greater|bigger|more|higher)\s+than)|"
                      r"(below|under|(?:less|smaller|lower)\s+than))\s+(?:it|the\s+(?:variance\s+)?factor)\s*$", re.I)
@@ -43,6 +44,8 @@ _FACTOR_IS = re.compile(r"^\s*(?:the\s+(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+
                         r"beta_?\s*/\s*n|it'?s|it\s+is)\s*(?:is|=)?\s*", re.IGNORECASE)
 #: a number compared with 1 ('0.37 < 1'): the number and the comparison must agree
 _COMPARED = re.compile(r"^\s*(\d+(?:\.\d+)?)\s*(<|>)\s*(?:1(?:\.0*)?|one)\s*$", re.IGNORECASE)
+#: 1 compared with a number ('1 > 0.37'): said as the number compared with 1
+_ONE_COMPARED = re.compile(r"^\s*(?:1(?:\.0*)?|one)\s*(<|>)\s*(\d+(?:\.\d+)?)\s*$", re.IGNORECASE)
 _A_NUMBER = re.compile(r"\d+(?:\.\d+)?|\.\d+")
 
 
@@ -68,6 +71,9 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text), flags=re.I)
+    one_compared = _ONE_COMPARED.match(bare)
+    if one_compared:
+        bare = f"{one_compared.group(2)} {'<' if one_compared.group(1) == '>' else '>'} 1"
     one_is = _ONE_IS.match(bare)
     if one_is:
         return "below" if one_is.group(1) else "above"
@@ -79,6 +85,9 @@ def read_side(answer) -> str:
         except Unreadable as again:
             raise Unreadable(str(again if "names both" in str(again) else refused).replace(
                 shown(bare), shown(answer), 1)) from None
+    if _HEDGED.search(bare):  # 'about 0.37', 'roughly below 1': a prediction is said as it is
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': write the side, or the number, "
+                         "without a hedge.")
     try:
         side = read_word(bare, {"above": ABOVE, "below": BELOW}, tails=())
     except Unreadable:
@@ -112,7 +121,8 @@ _AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?
              (r"^(?!.*\bthan\b)(.*?)\s+at\s+3(?:\.0+)?\s*$", r"\1"),
              (rf"^\s*(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*,?\s+", ""),
              (rf"^(\s*(?:the|its)\s+band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
-             (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"))
+             (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"),
+             (rf"^(.*?)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?{_NU}30)", r"\1"))
 #: the comparison the question makes, said after the band at nu = 3 ('... is wider than at nu = 30'): dropped
 _THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$"
 
@@ -125,7 +135,8 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
-    said = text.strip()
+    said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up)\s*$)", " ",
+                  text.strip(), flags=re.I)  # 'narrower, as nu grows': the question's own change
     for pattern, replacement in _AT_THIRTY:
         said = re.sub(pattern, replacement, said, flags=re.I)
     flipped = False
@@ -134,6 +145,9 @@ def read_band(answer) -> str:
         flipped = flipped or bool(found)
     if flipped:
         said = re.sub(_THAN_THIRTY, "", said, flags=re.I)
+        if re.search(rf"\bthan\s+(?:the\s+band\s+)?(?:(?:at|with|for)\s+)?{_NU}3(?:\.0+)?(?![\d.])", said, flags=re.I):
+            raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': it compares the band at nu = 3 "
+                             "with itself.")
     try:
         side = read_word(said, options)
     except Unreadable as refused:
