@@ -1419,3 +1419,10 @@ def test_more_of_the_questions_own_words_and_emphasis_are_read(reader, answer, e
                                     "The limits are inf, 1 and 0"])
 def test_three_limits_in_more_of_pythons_and_a_students_forms_are_read(answer):
     assert read_limits(answer) == {"<1": np.inf, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("reader, answer, expected", [(read_side, "less then 1", "below"),
+                                                      (read_side, "between 0 and 1", "below"),
+                                                      (read_band, "it gets narrower and narrower", "narrower")])
+def test_a_common_typo_and_a_repeated_comparative_are_read(reader, answer, expected):
+    assert reader(answer) == expected

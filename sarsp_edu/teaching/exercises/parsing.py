@@ -53,7 +53,7 @@ def _words(*spellings: str) -> frozenset:
 
 def _compared(words, *others: str) -> frozenset:
     """Each word alone and compared with 1, as a student spells it ('below', 'below 1.0', 'less than one' ...)."""
-    ones = [f"{than}{one}" for than in ("", "than ") for one in ("1", "1.0", "one", "unity")]
+    ones = [f"{than}{one}" for than in ("", "than ", "then ") for one in ("1", "1.0", "one", "unity")]  # 'then': a typo
     return _words(*others, *words, *(f"{word} {one}" for word in words for one in ones))
 
 
@@ -75,15 +75,17 @@ ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "mo
                   "factor > 1",
                   "1 < factor", "beta > n", *_UP)
 BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower"), "<", "< 1", "< 1.0", "< one",
-                  "factor < 1", "1 > factor",
+                  "factor < 1", "1 > factor", "between 0 and 1", "between zero and one",
                   "beta < n",
                   *_DOWN)
 WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "widened", "broadens",
                "broadened", "more", ">", "more wide", "more broad", "less narrow", "not as narrow", "less tight",
-               "getting wider", "getting broader", "beta < n", *_UP)  # beta < n: the factor rises towards 1
+               "getting wider", "getting broader", "wider and wider",
+               "beta < n", *_UP)  # beta < n: the factor rises towards 1
 NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows",
                   "narrowed", "tightens", "tightened", "less", "<", "more narrow", "less wide", "not as wide",
-                  "less broad", "not as broad", "getting narrower", "getting tighter", "beta > n", *_DOWN)
+                  "less broad", "not as broad", "getting narrower", "getting tighter", "narrower and narrower",
+                  "beta > n", *_DOWN)
 #: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
 _UNITS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen "
           "seventeen eighteen nineteen").split()
