@@ -68,7 +68,7 @@ def read_actions(answer) -> list[int]:
 _EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+actions))|\s+actions?)?|"
                     r"every(?:\s+action|\s+one|thing)?|0\s*-\s*3|0\s+(?:to|through)\s+3)\s*$", re.IGNORECASE)
 _NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four(?:\s+actions)?))?|there\s+are\s+none|nothing|empty|"
-                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
+                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\]|\(\s*\))\s*$", re.IGNORECASE)
 
 
 #: what a list of actions alone does not hold: a clause, an aside, a reason, what is not safe, an addition
@@ -102,6 +102,8 @@ def _read_text(text: str, answer) -> list[int]:
     if re.search(r"(?:,|\band|\bor|&)\s*$", text, flags=re.I):  # '0, 2 and': the list is cut off
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it ends before its last action.")
     text = _LABEL.sub("", text, count=1)  # 'Safe actions: 0, 2'
+    if re.fullmatch(r"\s*\(\s*\)\s*", text):  # '()': the empty tuple, as Python prints it
+        return []
     text = re.sub(r"^\((.*)\)$", r"\1", text.strip())  # '(0, 2)', a tuple as Python prints it
     text = re.sub(r"\b(right|down|left|up)\s*=\s*([0-3])\b", _named_equals(answer), text, flags=re.I)
     text = re.sub(r"\bboth\s+(?![-=:>\u2192])|\bas\s+well\s+as\b",
@@ -132,6 +134,7 @@ def _read_text(text: str, answer) -> list[int]:
             return []  # 'zero actions', 'zero safe actions are safe': none
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it counts the safe actions; name them (for "
                          f"example '0, 2').")
+    said = _without_denied(said)  # '0 and 3, not 1': emphasis, when the denied actions are not in the list
     semicolons = re.fullmatch(rf"[\s\[\]()]*{_ITEM}(?:\s*;\s*{_ITEM})+[\s\[\]()]*", said, flags=re.I)  # '0; 2'
     if not semicolons and _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
@@ -192,6 +195,21 @@ def _names_beside(text: str, answer) -> str:
     if sorted(numbers) != sorted(names):
         raise Unreadable(f"{shown(answer)} names other actions in its brackets than in its list: {_NAMES}.")
     return beside.group(1)
+
+
+def _without_denied(said: str) -> str:
+    """``said`` without a closing 'not ...' that names only actions its list does not ('0 and 3, not 1', 'RIGHT and
+    UP, not DOWN'); else as it is."""
+    found = re.fullmatch(r"(.*?)\s*,?\s+(?:but\s+)?not\s+([\w\s,&\[\]]+)", said, flags=re.I)
+    if not found or re.search(r"\bnot\b", found.group(1), flags=re.I):
+        return said
+    split = r"(?:[\s,;&+/\[\]{}'\"]|\band\b|\bor\b)+"
+    try:
+        listed = _numbered([item for item in re.split(split, found.group(1), flags=re.I) if item])
+        denied = _numbered([item for item in re.split(split, found.group(2), flags=re.I) if item])
+    except Unreadable:
+        return said
+    return found.group(1) if listed and denied and not set(listed) & set(denied) else said
 
 
 def _named_equals(answer):

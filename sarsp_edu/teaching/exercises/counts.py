@@ -178,6 +178,7 @@ _NUMBER = r"(?:\d+(?:\.\d+)?|[a-z]+(?:-[a-z]+)?)"
 _STATES_A_COUNT = re.compile(
     r"^(?:(?:(?:the|a)\s+(?:gridsize\s+)?(?:grid|board|world)|it)\s+(?:can\s+)?(?:hold|holds|fit|fits|take|takes|"
     r"has|have)\s+|(?:it'?s\s+|it\s+is\s+)?exactly\s+|it'?s\s+|it\s+is\s+|there\s+can\s+be\s+|"
+    r"it(?:'d|\s+would|'ll|\s+will)\s+be\s+|it\s+was\s+|they\s+(?:can\s+)?(?:hold|fit|take)\s+|"
     r"the\s+(?:max(?:imum)?|most|largest|upper\s+limit)(?:\s+(?:number|count))?(?:\s+(?:of\s+)?(?:unsafe\s+)?"
     r"(?:cells|states|squares))?(?:\s+(?:it|the\s+grid)\s+can\s+hold)?\s+is\s+|max(?:imum)?\.?\s+)?"
     rf"(?:at\s+most\s+)?{_NUMBER}(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?"

@@ -31,7 +31,7 @@ def _limit_key(key) -> str | None:
     text = _text(key)
     if text is None:
         return None
-    compact = _compact(text)
+    compact = re.sub(r"^0<(?=lambda|lam|l)", "", _compact(text))  # '0 < lambda < 1': the question's own range
     for name in ("lambda", "lam", "l"):
         if compact.startswith(name):
             compact = compact[len(name):]

@@ -43,7 +43,7 @@ def _compact(text: str) -> str:
     text = text.strip().lower()
     for symbol, spelt in (("λ", "lambda"), ("≤", "<="), ("≥", ">="), ("∞", "inf"), ("==", "=")):
         text = text.replace(symbol, spelt)
-    text = re.sub(r"[\s\"'`]+", "", text)
+    text = re.sub(r"[\s\"'`\u2018\u2019\u201c\u201d]+", "", text)  # curly quotes too, as a notebook's text has them
     return re.sub(r"[.!]+$", "", text)
 
 
@@ -175,7 +175,8 @@ _NEGATION = re.compile(r"(^|[^a-z])(not|no|never|hardly|or|maybe|perhaps)([^a-z]
 _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly|likely|think|believe|suppose|"
                     r"not sure|not certain|uncertain|don'?t know|no idea|reckon)([^a-z]|$)|\?", re.IGNORECASE)
 #: an approximate value, said as one ('about 1', '~1', 'roughly infinity'): a limit and a count are exact
-_HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|nearly|almost|close\s+to)\b|[~\u2248]", re.IGNORECASE)
+_HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|approx|nearly|almost|close\s+to|rounded|estimated?)\b|"
+                     r"[~\u2248]", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
 _PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
                       r"the\s+answer\s+is\s*:?|answer\s*:|(?:at|with)\s+(?:nu|\u03bd)\s*=\s*30\s*,?)\s*",
@@ -246,6 +247,7 @@ _TAILS = (r"\s+than\s+(before|((at|with|for)\s+)?((the\s+)?(band|one)\s+(at|with
           r"(?![\d.]))\s*$",
           r"\s+(as|when|while)\s+(nu|\u03bd)\s+goes\s+from\s+3\s+to\s+30(?![\d.])\s*$",
           r"\s+than\s+(the\s+)?(nu|\u03bd)\s*=\s*3(?![\d.])\s+(band|one)\s*$",
+          r"\s+at\s+((nu|\u03bd)\s*=\s*)?30\s+than\s+at\s+((nu|\u03bd)\s*=\s*)?3(?![\d.])\s*$",
           r"\s+(at|for|with|when|if)\s+(nu|\u03bd)\s*(=|is|of)\s*30(?![\d.])\s*$",
           r"\s+(as|when|while|if|once)\s+(nu|\u03bd)\s+(grows|increases|rises|goes\s+up|gets\s+(larger|bigger))\s*$",
           r"\s+towards?\s+(the\s+)?(gp|gaussian)('s)?(\s+(band|process|one))?\s*$",

@@ -95,8 +95,13 @@ def read_side(answer) -> str:
     bare = _FACTOR_IS.sub("", _PREFACE.sub("", bare, count=1), count=1)
     compared = _COMPARED.match(bare)
     values = [float(compared.group(1))] if compared else []
-    values += [float(complement.removeprefix("to ")) for _, complement in parse(bare)
-               if _A_NUMBER.fullmatch(complement.removeprefix("to "))]  # 'it drops to 0.37'
+    moved = [(way, float(complement.removeprefix("to "))) for way, complement in parse(bare)
+             if _A_NUMBER.fullmatch(complement.removeprefix("to "))]  # 'it drops to 0.37'
+    for way, value in moved:  # 'it rises to 0.37': the verb says above, the number below
+        if way in ("up", "down") and _side_of(value, answer) != {"up": "above", "down": "below"}[way]:
+            raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': its verb and its number "
+                             "point to different sides.")
+    values += [value for _, value in moved]
     if not values:
         try:
             values = [_number(bare, "a number")]
