@@ -182,7 +182,8 @@ LOOKUPS: dict[str, Exercise] = {
         _gp_safe_at_ten,
         "An action is safe when it is not known unsafe, its cost variance is at most sigma*^2 and its predicted "
         "distance at least d = 1: which of these does raising sigma*^2 leave to decide, for each action?",
-        "Its variances now pass, and the predicted distances decide, as they do for the TP at sigma*^2 = 0.8.",
+        "A variance up to 10 now passes (for the notebook's GP decision, every one), so the predicted distances "
+        "decide, as they do for the TP at sigma*^2 = 0.8.",
         read=read_actions,
         accepted="a list of action numbers such as [0, 2] (RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3; [] for none), "
                  "a set, an array, a boolean array of the four actions, or text such as '0, 2'",
