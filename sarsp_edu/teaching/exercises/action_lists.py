@@ -68,7 +68,7 @@ def read_actions(answer) -> list[int]:
 _EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+actions))|\s+actions?)?|"
                     r"every(?:\s+action|\s+one|thing)?|0\s*-\s*3|0\s+(?:to|through)\s+3)\s*$", re.IGNORECASE)
 _NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four(?:\s+actions)?))?|there\s+are\s+none|nothing|empty|"
-                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\]|\(\s*\))\s*$", re.IGNORECASE)
+                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
 
 
 #: what a list of actions alone does not hold: a clause, an aside, a reason, what is not safe, an addition
@@ -139,7 +139,7 @@ def _read_text(text: str, answer) -> list[int]:
     if not semicolons and _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
                          f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
-    items = [item for item in re.split(r"(?:[\s,;&+/\[\]{}'\"]|\band\b)+",
+    items = [item for item in re.split(_SEPARATORS,
                                        everything_but.group(1) if everything_but else said, flags=re.I) if item]
     if not items:  # '', 'Safe actions:', 'and': no action named, which is not 'none'
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it names no action (write 'none' for none).")
@@ -158,6 +158,9 @@ _COUNTED = re.compile(r"\b(zero|one|two|three|four|\d+)\s+(?:(?:safe\s+)?(?:acti
 #: one action, by number or name
 _ITEM = r"(?:[0-3]|zero|one|two|three|right|down|left|up)"
 _COUNTS = {"one": 1, "two": 2, "three": 3, "four": 4, "1": 1, "2": 2, "3": 3, "4": 4}
+#: what stands between a list's actions ('0, 2', '0 and 2', "['RIGHT', 'LEFT']", 'RIGHT or LEFT' once 'or' is
+#: not a doubt)
+_SEPARATORS = r"(?:[\s,;&+/\[\]{}'\"]|\band\b|\bor\b)+"
 #: a count of the actions, then their list: 'two actions: 0, 2', 'the three safe ones 0, 1, 2', '1 safe one: 3',
 #: 'both: 0 and 2', "two actions -> ['RIGHT', 'LEFT']"
 _COUNT_FIRST = re.compile(
@@ -203,10 +206,9 @@ def _without_denied(said: str) -> str:
     found = re.fullmatch(r"(.*?)\s*,?\s+(?:but\s+)?not\s+([\w\s,&\[\]]+)", said, flags=re.I)
     if not found or re.search(r"\bnot\b", found.group(1), flags=re.I):
         return said
-    split = r"(?:[\s,;&+/\[\]{}'\"]|\band\b|\bor\b)+"
     try:
-        listed = _numbered([item for item in re.split(split, found.group(1), flags=re.I) if item])
-        denied = _numbered([item for item in re.split(split, found.group(2), flags=re.I) if item])
+        listed = _numbered([item for item in re.split(_SEPARATORS, found.group(1), flags=re.I) if item])
+        denied = _numbered([item for item in re.split(_SEPARATORS, found.group(2), flags=re.I) if item])
     except Unreadable:
         return said
     return found.group(1) if listed and denied and not set(listed) & set(denied) else said

@@ -45,11 +45,11 @@ _AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maxi
                       re.IGNORECASE)
 #: the question's own conditions, said with the count: its grid ('on a 10 x 10 grid, 50'), its rule ('50 with no
 #: two 4-adjacent'), 'of them': dropped
+_RULE = (r"no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)"
+         r"(?:\s+cells)?")
 _QUESTIONS_OWN = re.compile(
     r"^\s*on\s+(?:a|the)\s+10\s*(?:x|\u00d7|by)\s*10\s+grid\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|"
-    r"\s+with\s+no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)"
-    r"(?:\s+cells)?\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+)?no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?"
-    r"(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)(?:\s+cells)?\s*\)?\s*$", re.IGNORECASE)
+    rf"\s+with\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+)?{_RULE}\s*\)?\s*$", re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
 #: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
