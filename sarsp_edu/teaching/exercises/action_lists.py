@@ -51,6 +51,9 @@ def read_actions(answer) -> list[int]:
     text = _text(answer)
     if text is not None:
         return _read_text(text, answer)
+    if isinstance(answer, dict) and sorted(answer) == [0, 1, 2, 3] and all(
+            isinstance(flag, (bool, np.bool_)) for flag in answer.values()):  # {0: True, 1: False, ...}: a mask
+        return [action for action in range(4) if answer[action]]
     if isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
         answer = [answer]
     try:
@@ -91,6 +94,8 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$", "", text,
                   flags=re.I)
     text = re.sub(r"(?<=\d)\s*,\s*$", "", text)  # '0, 2,': a trailing comma, as Python allows
+    if re.search(r",\s*,", text):  # '0,,3': a place with no action in it
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it has an empty place between two commas.")
     if re.search(r"\s(?:with|at|for|when)\s+(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
@@ -202,16 +207,19 @@ def _names_beside(text: str, answer) -> str:
 
 def _without_denied(said: str) -> str:
     """``said`` without a closing 'not ...' that names only actions its list does not ('0 and 3, not 1', 'RIGHT and
-    UP, not DOWN'); else as it is."""
+    UP, not DOWN'), or another whole list ('[0, 3] not [0, 1, 3]'); else as it is."""
     found = re.fullmatch(r"(.*?)\s*,?\s+(?:but\s+)?not\s+([\w\s,&\[\]]+)", said, flags=re.I)
     if not found or re.search(r"\bnot\b", found.group(1), flags=re.I):
         return said
     try:
-        listed = _numbered([item for item in re.split(_SEPARATORS, found.group(1), flags=re.I) if item])
-        denied = _numbered([item for item in re.split(_SEPARATORS, found.group(2), flags=re.I) if item])
+        listed, denied = ([item for item in re.split(_SEPARATORS, found.group(group), flags=re.I) if item]
+                          for group in (1, 2))
+        listed, denied = _numbered(listed), _numbered(denied)
     except Unreadable:
         return said
-    return found.group(1) if listed and denied and not set(listed) & set(denied) else said
+    lists = all(re.fullmatch(r"\s*\[[^\[\]]*\]\s*", found.group(group)) for group in (1, 2))
+    return found.group(1) if listed and denied and (listed != denied if lists else not set(listed) & set(denied)) \
+        else said
 
 
 def _named_equals(answer):

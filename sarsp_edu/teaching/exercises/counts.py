@@ -53,17 +53,18 @@ _QUESTIONS_OWN = re.compile(
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
 #: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
-_WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+()-]+)|([\d\s*x\u00d7/+()-]+)=\s*(\d+))\s*$",
+_WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+().-]+)|([\d\s*x\u00d7/+().-]+)=\s*(\d+))\s*$",
                       re.IGNORECASE)
 
 
 _OPERATIONS = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
-               ast.Div: lambda a, b: a / b}
+               ast.Div: lambda a, b: a / b, ast.FloorDiv: lambda a, b: a // b}
 
 
 def _arithmetic(node) -> float:
-    """The value of a sum, difference, product or quotient of whole numbers (ValueError for anything else)."""
-    if isinstance(node, ast.Constant) and type(node.value) is int:
+    """The value of a sum, difference, product or quotient of numbers ('100//2', '0.5 * 100'; ValueError for
+    anything else)."""
+    if isinstance(node, ast.Constant) and type(node.value) in (int, float):
         return float(node.value)
     if isinstance(node, ast.BinOp) and type(node.op) in _OPERATIONS:
         return _OPERATIONS[type(node.op)](_arithmetic(node.left), _arithmetic(node.right))
@@ -84,7 +85,7 @@ def _worked(text: str) -> str:
 def _checked_working(text: str) -> str:
     """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
     the working does not give the number."""
-    if re.fullmatch(r"[\d\s()]*[\d)]\s*[*x\u00d7/+-][\d\s*x\u00d7/+()-]*", text, flags=re.IGNORECASE):  # '(100)/2'
+    if re.fullmatch(r"[\d\s().]*[\d)]\s*[*x\u00d7/+-][\d\s*x\u00d7/+().-]*", text, flags=re.IGNORECASE):  # '(100)/2'
         try:
             value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval").body)
         except (SyntaxError, ZeroDivisionError, ValueError):
@@ -110,7 +111,8 @@ def read_count(answer) -> int:
     text = _text(answer)
     if text is None:
         return _read_count(answer)
-    text = _alone(_QUESTIONS_OWN.sub("", text), answer)
+    text = _said_plainly(_QUESTIONS_OWN.sub("", text))
+    text = _alone(text, answer)
     if _HEDGED.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: a count is exact; write the number "
                          "alone.")
@@ -122,6 +124,27 @@ def read_count(answer) -> int:
     except Unreadable as refused:  # said of the student's words, not of what was read from them
         why = str(refused).rpartition(" as a whole number")[2] or "."
         raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
+
+
+def _said_plainly(text: str) -> str:
+    """``text`` with what only restates the count said as the count: Python's literals ('0x32' -> '50'), 'half of
+    100' as '100/2', a sum said whole ('100 - 50', not read as a dash), another number denied ('50 not 19', 'not
+    19 but 50' -> '50')."""
+    literal = re.fullmatch(r"\s*0[xob][0-9a-f_]+\s*", text, flags=re.IGNORECASE)
+    if literal:
+        try:
+            return str(int(literal.group(0).strip(), 0))
+        except ValueError:
+            return text
+    text = re.sub(r"\bhalf\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)
+    if re.fullmatch(r"\s*\d+(?:\.\d+)?\s+-\s+\d+(?:\.\d+)?\s*", text):  # '100 - 50': a difference
+        return _checked_working(text.replace(" - ", "-"))
+    denied = (re.fullmatch(r"\s*(\d+)\s*,?\s+(?:but\s+)?not\s+(\d+)\s*", text, flags=re.IGNORECASE),
+              re.fullmatch(r"\s*not\s+(\d+)\s*,?\s*but\s+(\d+)\s*", text, flags=re.IGNORECASE))
+    for match, said in zip(denied, (1, 2)):
+        if match and match.group(1) != match.group(2):
+            return match.group(said)
+    return text
 
 
 def _alone(text: str, answer) -> str:

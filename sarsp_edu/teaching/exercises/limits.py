@@ -32,6 +32,8 @@ def _limit_key(key) -> str | None:
     if text is None:
         return None
     compact = re.sub(r"^0<(?=lambda|lam|l)", "", _compact(text))  # '0 < lambda < 1': the question's own range
+    compact = re.sub(r"in[(\[]1,(?:inf|infinity|oo)[)\]]$", ">1", compact)  # 'lambda in (1, inf)'
+    compact = re.sub(r"in[(\[]0,1[)\]]$", "<1", compact)  # 'lambda in (0, 1)'
     for name in ("lambda", "lam", "l"):
         if compact.startswith(name):
             compact = compact[len(name):]
@@ -47,6 +49,12 @@ _SIDE_WORDS = {**dict.fromkeys(("<", "lessthan", "smallerthan", "below", "under"
                **dict.fromkeys(("=", "equalto", "equals", "is", "isequalto", "exactly"), "=1"),
                **dict.fromkeys((">", "greaterthan", "largerthan", "biggerthan", "morethan", "above", "over",
                                 "isgreaterthan", "isabove"), ">1")}
+
+
+#: a limit said as a sentence ('it goes to infinity', 'it stays at 1', 'exactly 1', 'tends to 0'): the value read
+_SAID = re.compile(r"^\s*(?:(?:it|the\s+ratio|the\s+limit)\s+)?(?:(?:goes|tends|converges|approaches|heads|"
+                   r"blows\s+up|shoots\s+up|grows|diverges|falls|drops|decays|stays|remains|is|equals|becomes)"
+                   r"(?:\s+(?:to|at|towards?))?\s+)?(?:exactly\s+)?(?=\S)", re.IGNORECASE)
 
 
 def read_limits(answer) -> dict:
@@ -90,7 +98,7 @@ def read_limits(answer) -> dict:
             raise Unreadable(f"The key {shown(key)} names lambda {side[0]} 1 a second time.")
         what = f"the limit for lambda {side[0]} 1"
         if _text(value) is not None:
-            value = alone(_text(value), value, what)  # '0 (1 for small x)', '0, probably': not read
+            value = _SAID.sub("", alone(_text(value), value, what))  # '0 (1 for small x)', '0, probably': not read
             value = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", value)  # 'math.inf' as text
         limits[side] = _exact(value, _number(value, what), what)
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]

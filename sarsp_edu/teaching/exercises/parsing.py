@@ -28,7 +28,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .sentences import parse
+from .sentences import parse, spelled
 from .wording import shown
 
 __all__ = ["ABOVE", "BELOW", "NARROWER", "Unreadable", "WIDER", "alone", "exactly", "read_word"]
@@ -141,6 +141,7 @@ def read_word(answer, options: dict, tails=None) -> str:
     tails = _TAILS if tails is None else tails
     text = _text(answer)
     if text is not None:
+        text = spelled(text)  # 'beloww', 'narower': one slip from one direction word
         try:
             text = alone(text, answer, names)
         except Unreadable as refused:
@@ -148,7 +149,14 @@ def read_word(answer, options: dict, tails=None) -> str:
         found = _read_clause(text, options, tails)
         if found is not None:
             return found
+        if _DENIES.search(text):  # 'not above', "it won't exceed 1": the other side, or 1 itself
+            raise Unreadable(f"Could not read {shown(answer)} as {names}: it says what the answer is not; write "
+                             "what it is.")
     raise Unreadable(f"Could not read {shown(answer)} as {names}.")
+
+
+#: a prediction said by what it is not ('not above', 'no longer wider', "can't be above 1", 'anything but above')
+_DENIES = re.compile(r"\b(?:not|never|no\s+longer|anything\s+but)\b|n't\b", re.IGNORECASE)
 
 
 def _restated(text: str, answer, refused: Unreadable, options: dict, tails) -> str:
@@ -321,6 +329,8 @@ def _number(answer, what: str, single: bool = False) -> float:
             return word
     try:
         array = np.asarray(answer)
+        if isinstance(answer, np.ndarray) and array.size == 1:  # np.array([0.37]): one value, as numpy holds it
+            array = answer = array.reshape(())
         if array.ndim != 0 or array.dtype.kind == "b":
             raise ValueError
         return float(answer)

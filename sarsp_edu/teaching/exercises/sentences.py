@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["QUESTION", "parse"]
+__all__ = ["QUESTION", "parse", "spelled"]
 
 _DETERMINERS = {"the", "a", "an", "its", "this", "that", "our", "my"}
 _OWNERS = {"tp's", "tp", "tps", "student-t", "student-t's", "t", "process's", "model's", "fit's"}
@@ -60,6 +60,7 @@ sink sinks sank sunk sinking down                    shrink shrinks shrank shrun
 dip dips dipped dipped dipping down                  go_down goes_down went_down gone_down going_down down
 reduce reduces reduced reduced reducing down         decline declines declined declined declining down
 narrow narrows narrowed narrowed narrowing narrows   tighten tightens tightened tightened tightening narrows
+contract contracts contracted contracted contracting narrows
 rise rises rose risen rising up                      climb climbs climbed climbed climbing up
 increase increases increased increased increasing up go_up goes_up went_up gone_up going_up up
 widen widens widened widened widening widens         broaden broadens broadened broadened broadening widens
@@ -150,3 +151,38 @@ def parse(text: str) -> list:
                 readings.append((way, complement[3:]))
             readings.append((way, complement))
     return [reading for reading in dict.fromkeys(readings) if reading != (None, "")]
+
+
+#: the words a direction is said in, for :func:`spelled`: the comparatives and the forms of each verb that moves
+_DIRECTIONS = frozenset({"above", "below", "under", "beneath", "greater", "larger", "bigger", "higher", "lower",
+                         "smaller", "wider", "narrower", "broader", "tighter", "thinner", "slimmer", "narrow",
+                         *(word for forms, way in _VERBS if way not in (None, "stay") for form in forms
+                           for word in form.split())})
+#: the grammar's other words: never taken for a slip ('bands' is not 'lands')
+_KNOWN = _DIRECTIONS | _DETERMINERS | _OWNERS | _MODIFIERS | _NOUNS | _UNCHANGED | {
+    word for forms, _ in _VERBS for form in forms for word in form.split()}
+
+
+def _one_slip(word: str, known: str) -> bool:
+    """Whether ``word`` is ``known`` with one letter added, dropped, changed, or two neighbours swapped."""
+    if abs(len(word) - len(known)) > 1 or word == known:
+        return False
+    start = next((i for i, (a, b) in enumerate(zip(word, known)) if a != b), min(len(word), len(known)))
+    if len(word) == len(known):
+        swapped = word[start + 1:start + 2] + word[start:start + 1] == known[start:start + 2]
+        return word[start + 1:] == known[start + 1:] or (swapped and word[start + 2:] == known[start + 2:])
+    longer, shorter = (word, known) if len(word) > len(known) else (known, word)
+    return longer[start + 1:] == shorter[start:]
+
+
+def spelled(text: str) -> str:
+    """``text`` with each word of five letters or more that is one slip from exactly one direction word (and is
+    none itself) spelt as that word: 'beloww', 'Belwo' -> 'below'; 'narower' -> 'narrower'.  A slip that could be
+    two words ('narrowe': 'narrower' or 'narrowed') is left as it is, and so unread."""
+    def mend(match):
+        word = match.group(0)
+        if len(word) < 5 or word.lower() in _KNOWN:
+            return word
+        near = [known for known in _DIRECTIONS if len(known) >= 5 and _one_slip(word.lower(), known)]
+        return near[0] if len(near) == 1 else word
+    return re.sub(r"[A-Za-z]+", mend, text)

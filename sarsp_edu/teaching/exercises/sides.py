@@ -25,7 +25,20 @@ from __future__ import annotations
 import math
 import re
 
-from .parsing import _HEDGED, _PREFACE, ABOVE, BELOW, NARROWER, WIDER, Unreadable, _number, _text, alone, read_word
+from .parsing import (
+    _HEDGED,
+    _PREFACE,
+    ABOVE,
+    BELOW,
+    NARROWER,
+    WIDER,
+    Unreadable,
+    _clauses,
+    _number,
+    _text,
+    alone,
+    read_word,
+)
 from .sentences import parse
 from .wording import shown
 
@@ -80,6 +93,9 @@ def read_side(answer) -> str:
     try:
         alone(bare, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
     except Unreadable as refused:  # unless its asides only deny the other side ('below 1, not above')
+        agreed = _said_twice(bare)
+        if agreed is not None:  # '0.37, below 1': the number and its side, each alone, agree
+            return agreed
         try:
             return read_word(bare, {"above": ABOVE, "below": BELOW}, tails=())
         except Unreadable as again:
@@ -89,9 +105,9 @@ def read_side(answer) -> str:
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': write the side, or the number, "
                          "without a hedge.")
     try:
-        side = read_word(bare, {"above": ABOVE, "below": BELOW}, tails=())
-    except Unreadable:
-        side = None
+        side, unread = read_word(bare, {"above": ABOVE, "below": BELOW}, tails=()), None
+    except Unreadable as refused:  # its reply may say why ('not above': what the factor is not)
+        side, unread = None, str(refused).replace(shown(bare), shown(answer), 1)
     bare = _FACTOR_IS.sub("", _PREFACE.sub("", bare, count=1), count=1)
     compared = _COMPARED.match(bare)
     values = [float(compared.group(1))] if compared else []
@@ -107,7 +123,7 @@ def read_side(answer) -> str:
             values = [_number(bare, "a number")]
         except Unreadable:
             if side is None:
-                raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
+                raise Unreadable(unread) from None
     sides = {_side_of(value, answer) for value in values} | ({side} if side else set())
     if compared and sides != {"below" if compared.group(2) == "<" else "above"}:
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': {compared.group(1)} is not "
@@ -115,6 +131,19 @@ def read_side(answer) -> str:
     if len(sides) != 1:
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it names both sides.")
     return sides.pop()
+
+
+def _said_twice(text: str) -> str | None:
+    """The side every clause of ``text`` names alone, where there are two or more and all name the same one with
+    no reason among them ('0.37, below 1', 'below 1 (0.37)'); else None."""
+    first, asides = _clauses(text)
+    if not asides or re.search(r"\b(?:because|since|as|so)\b", text, flags=re.I):
+        return None
+    try:
+        sides = {read_side(clause) for clause in (first, *asides)}
+    except Unreadable:
+        return None
+    return sides.pop() if len(sides) == 1 else None  # '0.37, above 1': refused as saying more than its side
 
 
 #: the question's own nu = 30, said in the subject or in brackets: dropped

@@ -1,0 +1,96 @@
+"""The short-answer readers on what the twenty-seventh cold pass left unread or misread: a slip of one letter, a
+limit said as a sentence, arithmetic by its value, Python's integer literals, a side said twice, a denial named as
+one.  (tests/test_grader.py holds the earlier passes.)"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sarsp_edu.teaching.exercises.action_lists import read_actions
+from sarsp_edu.teaching.exercises.counts import read_count
+from sarsp_edu.teaching.exercises.limits import read_limits
+from sarsp_edu.teaching.exercises.parsing import Unreadable
+from sarsp_edu.teaching.exercises.sentences import spelled
+from sarsp_edu.teaching.exercises.sides import read_band, read_side
+
+LIMITS = {"<1": math.inf, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_side, "beloww", "below"), (read_side, "Belwo", "below"), (read_side, "aboev 1", "above"),
+    (read_side, "it fell beloww 1", "below"), (read_band, "narower", "narrower"), (read_band, "narrowerr", "narrower"),
+    (read_band, "wdier", "wider")])
+def test_a_direction_word_one_slip_off_is_read_as_that_word(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("text, expected", [("narrowe", "narrowe"),  # 'narrower' or 'narrowed': left unread
+                                            ("below", "below"), ("bands", "bands"), ("outliers", "outliers")])
+def test_a_word_that_could_be_two_or_is_already_a_word_is_left_as_it_is(text, expected):
+    assert spelled(text) == expected
+
+
+@pytest.mark.parametrize("reader, answer", [(read_side, "not above"), (read_side, "it won't exceed 1"),
+                                            (read_side, "it is no longer above 1"), (read_side, "anything but above"),
+                                            (read_band, "not wider")])
+def test_a_prediction_said_by_what_it_is_not_is_refused_saying_so(reader, answer):
+    with pytest.raises(Unreadable, match="it says what the answer is not; write what it is"):
+        reader(answer)
+
+
+@pytest.mark.parametrize("answer", ["0.37, below 1", "below 1 (0.37)", np.array([0.37]), "it contracts"])
+def test_a_side_said_twice_alike_one_valued_array_and_contracting_are_read(answer):
+    reader = read_band if answer == "it contracts" else read_side
+    assert reader(answer) == ("narrower" if reader is read_band else "below")
+
+
+@pytest.mark.parametrize("answer", ["0.37, above 1", "below, because 0.37", np.array([0.37, 0.5])])
+def test_two_sides_a_reason_or_two_values_are_still_refused(answer):
+    with pytest.raises(Unreadable):
+        read_side(answer)
+
+
+@pytest.mark.parametrize("answer", [
+    {"lambda < 1": "it blows up to infinity", "lambda = 1": "1", "lambda > 1": "0"},
+    {"lambda < 1": "it goes to infinity", "lambda = 1": "it stays at 1", "lambda > 1": "it goes to zero"},
+    {"lambda < 1": "infinity", "lambda = 1": "exactly 1", "lambda > 1": "tends to 0"},
+    {"lambda in (0, 1)": math.inf, "lambda = 1": 1, "lambda in (1, inf)": 0}])
+def test_limits_said_as_sentences_or_keyed_by_interval_are_read(answer):
+    assert read_limits(answer) == LIMITS
+
+
+@pytest.mark.parametrize("value", ["it goes to about 1", "it grows", "it is not 1"])
+def test_a_limit_sentence_that_hedges_or_gives_no_value_is_refused(value):
+    with pytest.raises(Unreadable):
+        read_limits({"lambda < 1": math.inf, "lambda = 1": value, "lambda > 1": 0})
+
+
+@pytest.mark.parametrize("answer", ["100//2", "0.5 * 100", "half of 100", "half of 100: 50", "half of 100 = 50",
+                                    "100 - 50", "0x32", "0b110010", "50 not 19", "not 19 but 50", np.array([50])])
+def test_a_count_by_its_value_literal_or_with_another_number_denied_is_read(answer):
+    assert read_count(answer) == 50
+
+
+def test_a_hexadecimal_count_is_read_as_python_reads_it_not_as_a_product():
+    assert read_count("0x32") == 50 and read_count("0x31") == 49  # '0x32' was read as 0 * 32
+
+
+@pytest.mark.parametrize("answer", ["half of 100: 49", "50 not 50", "0.5 * 99", "5 0"])
+def test_workings_that_disagree_or_give_no_whole_number_are_refused(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+@pytest.mark.parametrize("answer, expected", [("[0, 3] not [0, 1, 3]", [0, 3]),
+                                              ({0: True, 1: False, 2: False, 3: True}, [0, 3])])
+def test_a_list_with_another_list_denied_and_a_mask_keyed_by_action_are_read(answer, expected):
+    assert read_actions(answer) == expected
+
+
+@pytest.mark.parametrize("answer", ["0,,3", "[0, 3] not [0, 3]", {0: 1, 1: 0, 2: 0, 3: 1}])
+def test_an_empty_place_a_list_denying_itself_and_a_mask_of_numbers_are_refused(answer):
+    with pytest.raises(Unreadable):
+        read_actions(answer)
