@@ -94,3 +94,11 @@ def test_a_list_with_another_list_denied_and_a_mask_keyed_by_action_are_read(ans
 def test_an_empty_place_a_list_denying_itself_and_a_mask_of_numbers_are_refused(answer):
     with pytest.raises(Unreadable):
         read_actions(answer)
+
+
+@pytest.mark.parametrize("answer, expected", [("wider as nu shrinks", "narrower"),
+                                              ("it gets wider as nu decreases", "narrower"),
+                                              ("narrower as nu shrinks", "wider"),
+                                              ("narrower as nu grows", "narrower")])
+def test_the_band_said_on_the_way_back_to_nu_3_is_read_as_the_other_side(answer, expected):
+    assert read_band(answer) == expected

@@ -149,14 +149,17 @@ def _said_twice(text: str) -> str | None:
 #: the question's own nu = 30, said in the subject or in brackets: dropped
 _AT_THIRTY = ((rf"\bthe\s+{_NU}30(?:\.0+)?\s+band\b", "the band"), (rf"\s*\(\s*(?:at\s+)?{_NU}30(?:\.0+)?\s*\)", ""),
               (r"\s*,\s*(?=towards?\s+(?:the\s+)?(?:gp|gaussian))", " "))
-#: the band at nu = 3 said in place of the band at nu = 30 ('wider at nu = 3', 'the band at nu = 3 is wider'); at
-#: the end only where no comparison precedes it ('narrower than the band at nu = 3' is the question's own)
+#: the band at nu = 3 said in place of the band at nu = 30 ('wider at nu = 3', 'the band at nu = 3 is wider', 'wider
+#: as nu shrinks'); at the end only where no comparison precedes it ('narrower than the band at nu = 3' is the
+#: question's own)
 _AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*$", r"\1"),
              (r"^(?!.*\bthan\b)(.*?)\s+at\s+3(?:\.0+)?\s*$", r"\1"),
              (rf"^\s*(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*,?\s+", ""),
              (rf"^(\s*(?:the|its)\s+band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
              (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"),
-             (rf"^(.*?)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?{_NU}30)", r"\1"))
+             (rf"^(.*?)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?{_NU}30)", r"\1"),
+             (r"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:shrinks|decreases|falls|drops|"
+              r"goes\s+down|gets\s+(?:smaller|lower))\s*$", r"\1"))  # 'wider as nu shrinks': the way back to 3
 #: the comparison the question makes, said after the band at nu = 3 ('... is wider than at nu = 30'): dropped
 _THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$"
 
