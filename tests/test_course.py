@@ -5,6 +5,7 @@ from __future__ import annotations
 import ast
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -145,6 +146,23 @@ def test_the_handout_holds_the_student_course_and_no_answer(tmp_path):
         assert not any("BEGIN SOLUTION" in text or "HIDDEN TESTS" in text for text in notebooks.values())
     with pytest.raises(ValueError, match="out must be a new or empty folder"):
         write_handout(ROOT, out=tmp_path / "course")
+
+
+def test_the_handout_holds_every_results_folder_and_file_a_student_notebook_names():
+    """What a notebook reads ('sweep-latent' in a loop of names, as Tutorial 6 has it) and links to ('../REPRODUCTION.md')
+    travels with the hand-out: a missing one raised FileNotFoundError in the hand-out only."""
+    from sarsp_edu.teaching.course import HANDOUT_FILES, HANDOUT_RESULTS
+
+    folders = {path.name for path in (ROOT / "results").iterdir() if path.is_dir()}
+    shipped = {Path(inside).as_posix() for _, inside in HANDOUT_FILES} | set(HANDOUT_RESULTS)
+    for path in sorted((ROOT / "tutorials").glob("0*.ipynb")):
+        notebook = nbformat.read(path, as_version=4)
+        code = "\n".join(cell.source for cell in notebook.cells if cell.cell_type == "code")
+        text = "\n".join(cell.source for cell in notebook.cells if cell.cell_type == "markdown")
+        named = {folder for folder in folders if f'"{folder}"' in code or f"'{folder}'" in code}
+        assert {f"results/{folder}" for folder in named} <= set(HANDOUT_RESULTS), path.name
+        linked = {link.split("#")[0] for link in re.findall(r"\]\(\.\./([^)\s]+)\)", text)}
+        assert linked <= shipped, (path.name, linked - shipped)
 
 
 def test_the_course_command(tmp_path, capsys):

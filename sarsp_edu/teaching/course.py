@@ -58,10 +58,12 @@ SCHEMA_VERSION = 3
 #: (repository path, path in the hand-out): the students' README is one of its own, which links only to what
 #: the hand-out holds (the repository's tutorials/README.md links to the lecturer's guide and the sources)
 HANDOUT_FILES = (("tutorials/GLOSSARY.md", "tutorials/GLOSSARY.md"), ("tutorials/HANDOUT.md", "tutorials/README.md"),
-                 ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"))
-#: the stored results the tutorials read (``../results/...`` from ``tutorials/``)
-HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-reduced", "results/sweep-reference", "results/ablation",
-                   "results/ablation-t-likelihood")
+                 ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"),
+                 ("REPRODUCTION.md", "REPRODUCTION.md"))  # Tutorials 5 and 6 link to it (``../REPRODUCTION.md``)
+#: the stored results the tutorials read (``../results/...`` from ``tutorials/``); a test checks that every
+#: results folder a student notebook names is here
+HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-latent", "results/sweep-reduced", "results/sweep-reference",
+                   "results/ablation", "results/ablation-t-likelihood")
 
 
 def _regions(lines: list[str], begin: str, end: str):
