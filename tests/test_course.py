@@ -149,8 +149,8 @@ def test_the_handout_holds_the_student_course_and_no_answer(tmp_path):
 
 
 def test_the_handout_holds_every_results_folder_and_file_a_student_notebook_names():
-    """What a notebook reads ('sweep-latent' in a loop of names, as Tutorial 6 has it) and links to ('../REPRODUCTION.md')
-    travels with the hand-out: a missing one raised FileNotFoundError in the hand-out only."""
+    """What a notebook reads ('sweep-latent' in a loop of names, as Tutorial 6 has it) and links to
+    ('../REPRODUCTION.md') travels with the hand-out: a missing one raised FileNotFoundError in the hand-out only."""
     from sarsp_edu.teaching.course import HANDOUT_FILES, HANDOUT_RESULTS
 
     folders = {path.name for path in (ROOT / "results").iterdir() if path.is_dir()}
