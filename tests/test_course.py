@@ -304,3 +304,14 @@ def test_the_course_command_names_the_extra_it_needs_on_a_plain_install(monkeypa
     assert exit_.value.code == 2
     err = capsys.readouterr().err
     assert "needs nbclient" in err and "pip install 'sarsp_edu[course]'" in err
+
+
+def test_a_handout_page_says_as_text_each_link_to_a_file_the_handout_lacks():
+    from sarsp_edu.teaching.course import _unlinked
+
+    page = "![curves](results/x/curves.png), [T4](tutorials/04.ipynb#s), [web](https://a.b), [top](#top)"
+    assert _unlinked(page, Path("REPRODUCTION.md"), {"tutorials/04.ipynb"}) == (
+        "curves (`results/x/curves.png` in the sarsp_edu repository), [T4](tutorials/04.ipynb#s), [web](https://a.b), "
+        "[top](#top)")
+    assert _unlinked("[R](../REPRODUCTION.md)", Path("tutorials/GLOSSARY.md"), {"REPRODUCTION.md"}) == (
+        "[R](../REPRODUCTION.md)")

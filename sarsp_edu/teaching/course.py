@@ -360,13 +360,19 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
         for path in sorted((root / folder).rglob("*")):
             if path.is_file() and not path.name.startswith("."):
                 files.append((path, path.relative_to(root)))
+    inside = {name.as_posix() for _, name in files}
+    texts = {name: _unlinked(path.read_text(encoding="utf-8"), name, inside) for path, name in files
+             if name.suffix == ".md"}
     if zip_path is not None:
         zip_path = Path(zip_path)
         handle, temporary = tempfile.mkstemp(prefix=f".{zip_path.name}.", dir=zip_path.parent or ".")
         try:
             with open(handle, "wb") as stream, zipfile.ZipFile(stream, "w", zipfile.ZIP_DEFLATED) as archive:
                 for path, name in files:
-                    archive.write(path, Path("sarsp-edu-course") / name)
+                    if name in texts:
+                        archive.writestr(str(Path("sarsp-edu-course") / name), texts[name])
+                    else:
+                        archive.write(path, Path("sarsp-edu-course") / name)
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(temporary, 0o666 & ~umask)  # as any new file, not mkstemp's 0600
@@ -380,5 +386,20 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
         raise ValueError(f"out must be a new or empty folder, got out={str(out)!r}, which holds files")
     for path, name in files:
         (out / name).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(path, out / name)
+        if name in texts:
+            (out / name).write_text(texts[name], encoding="utf-8")
+        else:
+            shutil.copy2(path, out / name)
     return out
+
+
+def _unlinked(text: str, name: Path, inside: set) -> str:
+    """A Markdown page of the hand-out with each relative link to a file the hand-out lacks said as text ('the
+    figure (`results/x.png` in the sarsp_edu repository)'), so that no link of the copy leads nowhere."""
+    def said(match):
+        label, target = match.group(2), match.group(3)
+        resolved = os.path.normpath((name.parent / target).as_posix())
+        if "://" in target or target.startswith("mailto:") or resolved in inside:
+            return match.group(0)
+        return f"{label} (`{target}` in the sarsp_edu repository)" if label else f"`{target}` (sarsp_edu repository)"
+    return re.sub(r"(!?)\[([^\]]*)\]\(([^)#\s]+)(?:#[^)]*)?\)", said, text)
