@@ -27,7 +27,7 @@ def test_a_direction_word_one_slip_off_is_read_as_that_word(reader, answer, expe
     assert reader(answer) == expected
 
 
-@pytest.mark.parametrize("text, expected", [("narrowe", "narrowe"),  # 'narrower' or 'narrowed': left unread
+@pytest.mark.parametrize("text, expected", [("srinks", "srinks"),  # 'sinks' or 'shrinks': left unread
                                             ("below", "below"), ("bands", "bands"), ("outliers", "outliers")])
 def test_a_word_that_could_be_two_or_is_already_a_word_is_left_as_it_is(text, expected):
     assert spelled(text) == expected
@@ -102,3 +102,60 @@ def test_an_empty_place_a_list_denying_itself_and_a_mask_of_numbers_are_refused(
                                               ("narrower as nu grows", "narrower")])
 def test_the_band_said_on_the_way_back_to_nu_3_is_read_as_the_other_side(answer, expected):
     assert read_band(answer) == expected
+
+
+# -- the twenty-eighth cold pass: True taken for action 1, the printed dict, the question's own words around an
+# answer, slips of four letters and of one word's forms, powers, a number on its side as written --
+@pytest.mark.parametrize("answer", [[True, 3], (True, 3), [np.True_, 3], [False, 3], {False, 3}])
+def test_true_or_false_among_action_numbers_is_refused_not_taken_for_1_or_0(answer):
+    with pytest.raises(Unreadable, match="mixes True or False with action numbers"):
+        read_actions(answer)
+
+
+@pytest.mark.parametrize("answer", [
+    "{'lambda < 1': inf, 'lambda = 1': 1, 'lambda > 1': 0}",
+    "{'lambda < 1': math.inf, 'lambda = 1': 1, 'lambda > 1': 0}",
+    "inf, 1, 0 (lambda < 1, = 1, > 1)", "inf, 1, 0 for the Gaussian", "inf, 1, 0 as x -> inf", "Gaussian: inf, 1, 0"])
+def test_three_limits_printed_as_a_dict_or_with_the_questions_own_words_are_read(answer):
+    assert read_limits(answer) == LIMITS
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_side, "belo", "below"), (read_side, "0.9999999999999999999", "below"),
+    (read_side, "1.0000000000000001", "above"), (read_side, "below (the fitted variance factor without outliers)",
+                                                 "below"),
+    (read_side, "1 / 2.7", "below"), (read_side, "decreasing", "below"), (read_band, "narrowe", "narrower"),
+    (read_band, "narrowr", "narrower"), (read_band, "narrower (section 2's TP at nu = 30 against nu = 3)", "narrower"),
+    (read_band, "it decreases as nu grows from 3 to 30", "narrower"), (read_band, "nu = 30: narrower", "narrower"),
+    (read_band, "narrower than the TP at nu = 3", "narrower"), (read_band, "narrower at nu=30 vs nu=3", "narrower"),
+    (read_band, "narrower at nu = 30, than nu = 3", "narrower"), (read_band, "shrinking", "narrower")])
+def test_a_side_with_the_questions_own_words_a_slip_or_a_value_as_written_is_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("answer", ["10**2//2", "7**2+1", "5_0", "0x32 cells",
+                                    "50 cells, no two 4-adjacent, on a 10 x 10 grid", "50 on a 10x10", "50 if no two share an edge", "50 with 4-adjacency",
+                                    "50 (4-adjacency)", "50 on 10 by 10"])
+def test_a_count_by_its_power_literal_or_with_the_questions_own_conditions_is_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("answer", ["10**100", "2**64", "(10**2)**40", "50 on a 8x8 grid"])
+def test_a_power_beyond_a_whole_float_or_another_grid_is_refused_not_raised(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+@pytest.mark.parametrize("answer", ["0, 3 (sigma*^2 = 10, d = 1)", "0 and 3 for the GP", "RIGHT, UP; not LEFT, DOWN",
+                                    "0, 3 are safe, 1, 2 are not", "right and up, i.e. 0 and 3",
+                                    "0, 3 at sigma*^2=1e1", "0 and 3 are safe, 1 and 2 are not"])
+def test_a_list_with_the_questions_own_setting_or_the_others_denied_is_read(answer):
+    assert read_actions(answer) == [0, 3]
+
+
+@pytest.mark.parametrize("answer, said", [("right and up, i.e. 0 and 2", "names other actions after 'i.e.'"),
+                                          ("0, 3 (d = 2)", "not another setting"),
+                                          ("0, 3 at sigma*^2 = 100", "not another setting")])
+def test_a_list_restated_otherwise_or_at_another_setting_is_refused_saying_so(answer, said):
+    with pytest.raises(Unreadable, match=said):
+        read_actions(answer)

@@ -54,6 +54,10 @@ def read_actions(answer) -> list[int]:
     if isinstance(answer, dict) and sorted(answer) == [0, 1, 2, 3] and all(
             isinstance(flag, (bool, np.bool_)) for flag in answer.values()):  # {0: True, 1: False, ...}: a mask
         return [action for action in range(4) if answer[action]]
+    if isinstance(answer, (list, tuple, set, frozenset)) and len({isinstance(item, (bool, np.bool_))
+                                                                for item in answer}) > 1:
+        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers: it mixes True or False with "
+                         "action numbers (True is no action).")  # [True, 3] is not [1, 3]
     if isinstance(answer, (int, np.integer)) and not isinstance(answer, (bool, np.bool_)):
         answer = [answer]
     try:
@@ -89,14 +93,24 @@ def _read_text(text: str, answer) -> list[int]:
             r"^\s*[\[({]\s*[\[({]", text):  # '[0, 1, 3', '[0, 1, 3]]', '[[0, 1, 3]]': not one list
         raise Unreadable(f"Could not read {shown(answer)} as {what}: its brackets do not make one list.")
     # the question's own sigma*^2 = 10 and d = 1, said after the list: dropped (another value is refused below)
-    threshold = r"(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|the\s+threshold)\s*=\s*10(?:\.0*)?"
-    own = rf"(?:{threshold}|d\s*=\s*1(?:\.0*)?)"
-    text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$", "", text,
-                  flags=re.I)
+    threshold = (r"(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|the\s+threshold)\s*=\s*"
+                 r"(?:10(?:\.0*)?|1(?:\.0*)?e\+?0*1)(?![\d.])")  # '10', '10.0', '1e1'
+    own = rf"(?:{threshold}|d\s*=\s*1(?:\.0*)?(?![\d.]))"
+    text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$|"
+                  rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$",
+                  "", text, flags=re.I)  # '0, 3 (sigma*^2 = 10, d = 1)', '0 and 3 for the GP'
+    text = re.sub(r"^(.*?)\s+(?:are|is)\s+safe\s*[,;]\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?\s*$",
+                  r"\1, not \2", text, flags=re.I)  # '0, 3 are safe, 1, 2 are not'
+    restated = re.fullmatch(r"(.*?)\s*,?\s*(?:i\.\s*e\.?|that\s+is|namely)\s*,?\s*(.*)", text, flags=re.I)
+    if restated:  # 'right and up, i.e. 0 and 3': the same actions said twice
+        first, second = (_read_text(part, answer) for part in restated.groups())
+        if first != second:
+            raise Unreadable(f"{shown(answer)} names other actions after 'i.e.' than before it.")
+        return first
     text = re.sub(r"(?<=\d)\s*,\s*$", "", text)  # '0, 2,': a trailing comma, as Python allows
     if re.search(r",\s*,", text):  # '0,,3': a place with no action in it
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it has an empty place between two commas.")
-    if re.search(r"\s(?:with|at|for|when)\s+(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
+    if re.search(r"(?:\s(?:with|at|for|when)\s+|\(\s*)(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
     text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
@@ -143,7 +157,8 @@ def _read_text(text: str, answer) -> list[int]:
     semicolons = re.fullmatch(rf"[\s\[\]()]*{_ITEM}(?:\s*;\s*{_ITEM})+[\s\[\]()]*", said, flags=re.I)  # '0; 2'
     if not semicolons and _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
-                         f"'0, 2'), as the question asks; a reason belongs in the written answer below.")
+                         "'0, 2'), as the question asks; anything more (a reason, another condition, an aside) belongs "
+                         "in the written answer below.")
     items = [item for item in re.split(_SEPARATORS,
                                        everything_but.group(1) if everything_but else said, flags=re.I) if item]
     if not items:  # '', 'Safe actions:', 'and': no action named, which is not 'none'
@@ -208,7 +223,7 @@ def _names_beside(text: str, answer) -> str:
 def _without_denied(said: str) -> str:
     """``said`` without a closing 'not ...' that names only actions its list does not ('0 and 3, not 1', 'RIGHT and
     UP, not DOWN'), or another whole list ('[0, 3] not [0, 1, 3]'); else as it is."""
-    found = re.fullmatch(r"(.*?)\s*,?\s+(?:but\s+)?not\s+([\w\s,&\[\]]+)", said, flags=re.I)
+    found = re.fullmatch(r"(.*?)\s*[,;]?\s+(?:but\s+)?not\s+([\w\s,&\[\]]+)", said, flags=re.I)
     if not found or re.search(r"\bnot\b", found.group(1), flags=re.I):
         return said
     try:

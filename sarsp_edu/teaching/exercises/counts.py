@@ -33,7 +33,7 @@ from .parsing import (
 )
 from .wording import shown
 
-__all__ = ["read_count"]
+__all__ = ["arithmetic", "read_count"]
 
 #: a bound, an estimate or a share where a count is asked ('less than 50', 'nearly 50', '50 is too many', '50
 #: percent', '50+'): not the count ('at most 50' is: the question's own bound)
@@ -45,11 +45,13 @@ _AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maxi
                       re.IGNORECASE)
 #: the question's own conditions, said with the count: its grid ('on a 10 x 10 grid, 50'), its rule ('50 with no
 #: two 4-adjacent'), 'of them': dropped
-_RULE = (r"no\s+two(?:\s+of\s+them)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|sharing\s+an\s+edge)"
-         r"(?:\s+cells)?")
+_RULE = (r"(?:no\s+two(?:\s+of\s+them)?(?:\s+cells)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|"
+         r"shar(?:ing|e)\s+an\s+edge)(?:\s+cells)?|(?:4|four)-?\s*adjacency)")
+_GRID = r"(?:a\s+|the\s+)?10\s*(?:x|\u00d7|by|-by-)\s*10(?:\s+grid)?"
 _QUESTIONS_OWN = re.compile(
-    r"^\s*on\s+(?:a|the)\s+10\s*(?:x|\u00d7|by)\s*10\s+grid\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|"
-    rf"\s+with\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+)?{_RULE}\s*\)?\s*$", re.IGNORECASE)
+    rf"^\s*on\s+{_GRID}\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
+    rf"\s+(?:with|if|when)\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+|if\s+)?{_RULE}\s*\)?\s*$",
+    re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
 #: an answer with its working: '50 = 10*10/2', '10 * 10 / 2 = 50'
@@ -58,7 +60,25 @@ _WORKING = re.compile(r"^\s*(?:(\d+)\s*=\s*([\d\s*x\u00d7/+().-]+)|([\d\s*x\u00d
 
 
 _OPERATIONS = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
-               ast.Div: lambda a, b: a / b, ast.FloorDiv: lambda a, b: a // b}
+               ast.Div: lambda a, b: a / b, ast.FloorDiv: lambda a, b: a // b,
+               ast.Pow: lambda a, b: a ** b}  # '10**2//2' (the sizes are bounded in _arithmetic)
+
+
+def arithmetic(text: str) -> float | None:
+    """The value of ``text`` where it is one sum, difference, product, quotient or power of numbers ('1 / 2.7',
+    '10**2//2', '10 x 10 / 2'), else None.
+
+    >>> arithmetic("10**2 // 2"), arithmetic("1 / 4"), arithmetic("50"), arithmetic("50 cells")
+    (50.0, 0.25, None, None)
+    """
+    if not re.fullmatch(r"[\d\s().*x\u00d7/+-]*\d[\d\s().*x\u00d7/+-]*", text) or not re.search(
+            r"\d\s*[)]?\s*[*x\u00d7/+-]", text):
+        return None
+    try:
+        value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text).strip(), mode="eval").body)
+    except (SyntaxError, ZeroDivisionError, ValueError, OverflowError):
+        return None
+    return value if math.isfinite(value) else None
 
 
 def _arithmetic(node) -> float:
@@ -67,7 +87,13 @@ def _arithmetic(node) -> float:
     if isinstance(node, ast.Constant) and type(node.value) in (int, float):
         return float(node.value)
     if isinstance(node, ast.BinOp) and type(node.op) in _OPERATIONS:
-        return _OPERATIONS[type(node.op)](_arithmetic(node.left), _arithmetic(node.right))
+        left, right = _arithmetic(node.left), _arithmetic(node.right)
+        if isinstance(node.op, ast.Pow) and (abs(right) > 64 or abs(left) > 1e4):  # no 10**10**10
+            raise ValueError("a power too large to be a working")
+        value = _OPERATIONS[type(node.op)](left, right)
+        if not math.isfinite(value) or abs(value) > 2**53:
+            raise ValueError("beyond a whole float")
+        return value
     raise ValueError("not arithmetic of whole numbers")
 
 
@@ -78,7 +104,7 @@ def _worked(text: str) -> str:
     word = re.match(r"^\s*([a-z]+(?:-[a-z]+)?)\s*=", text, flags=re.I)
     value = None if word is None else _number_word(word.group(1).lower().replace("-", ""))
     if value is not None:
-        text = f"{value:g}" + text[word.end() - 1:]
+        text = str(int(value)) + text[word.end() - 1:]
     return _checked_working(text)
 
 
@@ -90,7 +116,7 @@ def _checked_working(text: str) -> str:
             value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval").body)
         except (SyntaxError, ZeroDivisionError, ValueError):
             return text
-        return f"{value:g}" if value == int(value) else text
+        return str(int(value)) if value == int(value) else text
     match = _WORKING.match(text)
     if not match:
         return text
@@ -111,7 +137,9 @@ def read_count(answer) -> int:
     text = _text(answer)
     if text is None:
         return _read_count(answer)
-    text = _said_plainly(_QUESTIONS_OWN.sub("", text))
+    for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
+        text = _QUESTIONS_OWN.sub("", text)
+    text = _said_plainly(text)
     text = _alone(text, answer)
     if _HEDGED.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: a count is exact; write the number "
@@ -130,10 +158,11 @@ def _said_plainly(text: str) -> str:
     """``text`` with what only restates the count said as the count: Python's literals ('0x32' -> '50'), 'half of
     100' as '100/2', a sum said whole ('100 - 50', not read as a dash), another number denied ('50 not 19', 'not
     19 but 50' -> '50')."""
-    literal = re.fullmatch(r"\s*0[xob][0-9a-f_]+\s*", text, flags=re.IGNORECASE)
-    if literal:
+    literal = re.fullmatch(r"\s*(0[xob][0-9a-f_]+|\d+(?:_\d+)+)(\s+(?:unsafe\s+)?(?:cells|states|squares))?\s*", text,
+                           flags=re.IGNORECASE)
+    if literal:  # '0x32', '5_0', '0x32 cells'
         try:
-            return str(int(literal.group(0).strip(), 0))
+            return str(int(literal.group(1), 0 if literal.group(1)[:2].lower() in ("0x", "0o", "0b") else 10))
         except ValueError:
             return text
     text = re.sub(r"\bhalf\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)

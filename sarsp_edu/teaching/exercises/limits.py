@@ -57,6 +57,14 @@ _SAID = re.compile(r"^\s*(?:(?:it|the\s+ratio|the\s+limit)\s+)?(?:(?:goes|tends|
                    r"(?:\s+(?:to|at|towards?))?\s+)?(?:exactly\s+)?(?=\S)", re.IGNORECASE)
 
 
+#: the question's own words around three limits: the Gaussian's ratio, x growing, the order of the three sides
+_QUESTIONS_OWN = re.compile(
+    r"^\s*(?:the\s+)?gaussian(?:'s)?(?:\s+ratio)?\s*:\s*|\s+for\s+the\s+gaussian(?:'s\s+ratio)?\s*$|"
+    r"\s+as\s+x\s*(?:->|\u2192|goes\s+to|tends\s+to|grows)\s*(?:inf|infinity|\u221e)?\s*$|"
+    r"\s*\(\s*(?:lambda|\u03bb|lam)\s*<\s*1\s*,\s*(?:(?:lambda|\u03bb|lam)\s*)?=\s*1\s*,\s*(?:(?:lambda|\u03bb|lam)\s*)?>\s*1"
+    r"\s*\)\s*$", re.IGNORECASE)
+
+
 def read_limits(answer) -> dict:
     """A dict of the three limits, keyed '<1', '=1', '>1' (floats, inf allowed); raises :class:`Unreadable`.
 
@@ -67,6 +75,10 @@ def read_limits(answer) -> dict:
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
     if text is not None:  # Python's spellings of infinity, a closing 'respectively', a preface ('The limits are')
         text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+        text = _QUESTIONS_OWN.sub("", text)  # 'Gaussian: inf, 1, 0', 'inf, 1, 0 (lambda < 1, = 1, > 1)'
+        printed = re.fullmatch(r"\s*\{(.*)\}\s*", text)
+        if printed:  # "{'lambda < 1': inf, ...}": the dict as Python prints it
+            text = re.sub(r"['\"]", "", printed.group(1))
         text = re.sub(r"^\s*(?:the\s+)?limits\s+are\s*:?\s*|\s*,?\s+respectively\s*\.?\s*$", "", text, flags=re.I)
         pairs = re.findall(r"(?:^|,|;)\s*((?:lambda|\u03bb|lam)\s*(?:<|=|>|<=|>=)\s*1)\s*(?::|->|=>|\u2192)\s*"
                            r"([^,;]+)", text, flags=re.I)

@@ -187,11 +187,11 @@ _HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|approx|nearly|alm
                      r"[~\u2248]", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
 _PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
-                      r"the\s+answer\s+is\s*:?|answer\s*:|(?:at|with)\s+(?:nu|\u03bd)\s*=\s*30\s*,?)\s*",
+                      r"the\s+answer\s+is\s*:?|answer\s*:|(?:(?:at|with)\s+)?(?:nu|\u03bd)\s*=\s*30\s*[,:]?)\s*",
                       re.IGNORECASE)
 #: the reply to an answer that says more than its prediction
-ALONE = ("write the prediction alone, as the question asks; a reason belongs in the written answer below, "
-         "which no check grades")
+ALONE = ("write the prediction alone, as the question asks; anything more (a reason, another condition, an aside) "
+         "belongs in the written answer below, which no check grades")
 
 
 def _is_arithmetic(text: str) -> bool:
@@ -251,9 +251,11 @@ def _clauses(text: str) -> tuple:
 #: what a student may add after the prediction without changing it, dropped: a comparison with before or with
 #: nu = 3, the question's own nu = 30 and its own change ('as nu grows'), where the band heads ('towards the GP's
 #: band'); any other condition ('when nu = 3', 'as nu decreases') leaves the answer unread
-_TAILS = (r"\s+than\s+(before|((at|with|for)\s+)?((the\s+)?(band|one)\s+(at|with|for)\s+)?(nu|\u03bd)\s*=\s*3"
-          r"(?![\d.]))\s*$",
-          r"\s+(as|when|while)\s+(nu|\u03bd)\s+goes\s+from\s+3\s+to\s+30(?![\d.])\s*$",
+_TAILS = (r"\s+than\s+(before|((at|with|for)\s+)?((the\s+)?(band|one|tp('s\s+band)?)\s+(at|with|for)\s+)?(nu|\u03bd)"
+          r"\s*=\s*3(?![\d.]))\s*$",
+          r"\s+(as|when|while)\s+(nu|\u03bd)\s+(goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30(?![\d.])\s*$",
+          r"\s+at\s+((nu|\u03bd)\s*=\s*)?30\s+(vs\.?|versus|against|compared\s+(with|to))\s+(at\s+)?((nu|\u03bd)\s*=\s*)?"
+          r"3(?![\d.])\s*$",
           r"\s+than\s+(the\s+)?(nu|\u03bd)\s*=\s*3(?![\d.])\s+(band|one)\s*$",
           r"\s+at\s+((nu|\u03bd)\s*=\s*)?30\s+than\s+at\s+((nu|\u03bd)\s*=\s*)?3(?![\d.])\s*$",
           r"\s+(at|for|with|when|if)\s+(nu|\u03bd)\s*(=|is|of)\s*30(?![\d.])\s*$",

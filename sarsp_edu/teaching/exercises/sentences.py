@@ -74,7 +74,7 @@ _BEFORE = {0: ("", "will ", "would ", "should ", "shall ", "'ll ", "is going to 
                "will then ", "to "),
            1: ("",), 2: ("",), 3: ("has ", "have ", "had ", "has now ", "will have ", "is ", "was ", "will be ",
                                    "has been ", "is being ", "'s "),
-           4: ("is ", "was ", "will be ", "has been ", "keeps ", "'s ")}
+           4: ("", "is ", "was ", "will be ", "has been ", "keeps ", "'s ")}  # 'decreasing' alone too
 #: what a band or a factor that stays or remains cannot be: its state, not a change ('it stays narrow')
 _UNCHANGED = {"narrow", "wide", "broad", "tight", "thin", "the", "same", "unchanged", "as", "constant", "put"}
 #: a sentence that asks: it is no prediction ('is it below 1', 'does the band narrow')
@@ -176,13 +176,16 @@ def _one_slip(word: str, known: str) -> bool:
 
 
 def spelled(text: str) -> str:
-    """``text`` with each word of five letters or more that is one slip from exactly one direction word (and is
-    none itself) spelt as that word: 'beloww', 'Belwo' -> 'below'; 'narower' -> 'narrower'.  A slip that could be
-    two words ('narrowe': 'narrower' or 'narrowed') is left as it is, and so unread."""
+    """``text`` with each word of four letters or more that is one slip from a direction word of five or more (and
+    is no word of the grammar itself) spelt as that word: 'beloww', 'Belwo', 'belo' -> 'below'; 'narower' ->
+    'narrower'.  A slip that could be two words is mended only where both are forms of one word ('narrowe':
+    'narrower' or 'narrowed', both narrowing); else ('lowe': 'lower' or 'lowed') it is left as it is, and so
+    unread."""
     def mend(match):
         word = match.group(0)
-        if len(word) < 5 or word.lower() in _KNOWN:
+        if len(word) < 4 or word.lower() in _KNOWN:
             return word
-        near = [known for known in _DIRECTIONS if len(known) >= 5 and _one_slip(word.lower(), known)]
-        return near[0] if len(near) == 1 else word
+        near = sorted(known for known in _DIRECTIONS if len(known) >= 5 and _one_slip(word.lower(), known))
+        one_word = near and all(known[:6] == near[0][:6] and len(known) >= 6 for known in near)
+        return near[0] if len(near) == 1 or one_word else word
     return re.sub(r"[A-Za-z]+", mend, text)

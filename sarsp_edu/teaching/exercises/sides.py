@@ -24,7 +24,9 @@ from __future__ import annotations
 
 import math
 import re
+from decimal import Decimal
 
+from .counts import arithmetic
 from .parsing import (
     _HEDGED,
     _PREFACE,
@@ -47,8 +49,9 @@ __all__ = ["read_band", "read_side"]
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
 #: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
 _CLEAN = r"(?:without\s+(?:the\s+|any\s+)?outliers|with\s+no\s+outliers|on\s+(?:the\s+)?clean\s+(?:data|targets))"
+_FACTOR = r"(?:the\s+)?(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
-                     rf"^\s*{_CLEAN}\s*,?\s*")
+                     rf"^\s*{_CLEAN}\s*,?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$")  # '(the fitted factor)'
 #: 1 said against the factor ('1 is above it'): the factor is on the other side
 _ONE_IS = re.compile(r"^\s*(?:1|one)\s+is\s+(?:(above|over|(?:larger|greater|bigger|more|higher)\s+than)|"
                      r"(below|under|(?:less|smaller|lower)\s+than))\s+(?:it|the\s+(?:variance\s+)?factor)\s*$", re.I)
@@ -84,6 +87,10 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text), flags=re.I)
+    written = re.fullmatch(r"\s*(\d+\.\d+)\s*", bare)
+    if written:  # a number is on the side its digits put it: '0.9999999999999999999' is below 1, as written
+        exact = Decimal(written.group(1))
+        return _side_of(float(exact), answer) if exact in (0, 1) else "above" if exact > 1 else "below"
     one_compared = _ONE_COMPARED.match(bare)
     if one_compared:
         bare = f"{one_compared.group(2)} {'<' if one_compared.group(1) == '>' else '>'} 1"
@@ -120,7 +127,7 @@ def read_side(answer) -> str:
     values += [value for _, value in moved]
     if not values:
         try:
-            values = [_number(bare, "a number")]
+            values = [arithmetic(bare) or _number(bare, "a number")]  # '1 / 2.7': by its value
         except Unreadable:
             if side is None:
                 raise Unreadable(unread) from None
@@ -164,6 +171,12 @@ _AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?
 _THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$"
 
 
+#: 2.6's own comparison in brackets, nu = 30 first ("(section 2's TP at nu = 30 against nu = 3)", '(nu = 30 vs 3)')
+_OWN_COMPARISON = (r"\s*\(\s*(?:section\s+2'?s?\s+)?(?:the\s+)?(?:tp'?s?\s+)?(?:band\s+)?(?:at\s+)?"
+                   rf"{_NU}30(?:\.0+)?(?:\s*,?\s*(?:against|vs\.?|versus|than|compared\s+(?:with|to))\s+(?:at\s+)?"
+                   rf"(?:{_NU})?3(?:\.0+)?)?\s*\)\s*$")
+
+
 def read_band(answer) -> str:
     """'wider' or 'narrower' for the band at nu = 30 against nu = 3 (exercise 2.6): :func:`~.parsing.read_word`
     with :data:`~.parsing.WIDER` and :data:`~.parsing.NARROWER`, the question's own nu = 30 dropped, and the
@@ -172,8 +185,9 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
-    said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up)\s*$)", " ",
-                  text.strip(), flags=re.I)  # 'narrower, as nu grows': the question's own change
+    said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up)\s*$|than\b)",
+                  " ", text.strip(), flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
+    said = re.sub(_OWN_COMPARISON, "", said, flags=re.I)  # "narrower (section 2's TP at nu = 30 against nu = 3)"
     for pattern, replacement in _AT_THIRTY:
         said = re.sub(pattern, replacement, said, flags=re.I)
     flipped = False
