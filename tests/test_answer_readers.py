@@ -134,8 +134,9 @@ def test_a_side_with_the_questions_own_words_a_slip_or_a_value_as_written_is_rea
 
 
 @pytest.mark.parametrize("answer", ["10**2//2", "7**2+1", "5_0", "0x32 cells",
-                                    "50 cells, no two 4-adjacent, on a 10 x 10 grid", "50 on a 10x10", "50 if no two share an edge", "50 with 4-adjacency",
-                                    "50 (4-adjacency)", "50 on 10 by 10"])
+                                    "50 cells, no two 4-adjacent, on a 10 x 10 grid", "50 on a 10x10",
+                                    "50 if no two share an edge", "50 with 4-adjacency", "50 (4-adjacency)",
+                                    "50 on 10 by 10"])
 def test_a_count_by_its_power_literal_or_with_the_questions_own_conditions_is_read(answer):
     assert read_count(answer) == 50
 
