@@ -160,3 +160,27 @@ def test_a_list_with_the_questions_own_setting_or_the_others_denied_is_read(answ
 def test_a_list_restated_otherwise_or_at_another_setting_is_refused_saying_so(answer, said):
     with pytest.raises(Unreadable, match=said):
         read_actions(answer)
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_side, "\uff22\uff25\uff2c\uff2f\uff37", "below"), (read_side, "\uff1c", "below"),
+    (read_band, "Narrower - ", "narrower"), (read_band, "narrower;", "narrower"),
+    (read_band, "not wider, narrower", "narrower"), (read_band, "wider than at nu = 30", "narrower"),
+    (read_side, "one half", "below"), (read_side, "two thirds", "below"),
+    (read_side, "zero point three seven", "below"),
+    (read_side, "the factor is less than one and more than zero", "below"), (read_side, "under 1, over 0", "below"),
+    (read_side, "less than 1, at 0.37", "below"), (read_count, "= 50", 50), (read_count, "half the cells", 50),
+    (read_count, "50 or fewer", 50), (read_count, "1/2 of 100", 50), (read_limits, "inf 1 0", LIMITS),
+    (read_limits, {"lambda < 1": "infinty", "lambda = 1": 1, "lambda > 1": 0}, LIMITS),
+    (read_actions, "RIHGT and UP", [0, 3]), (read_actions, "\u2192 and \u2191", [0, 3]),
+    (read_actions, "none but 0 and 3", [0, 3]), (read_actions, "1, 2 are unsafe", [0, 3]),
+    (read_actions, "\u2205", []), (read_actions, "safe actions \u2192 0, 2", [0, 2])])
+def test_full_width_forms_words_for_values_and_restated_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer", [(read_actions, "03"), (read_count, "50 or more"),
+                                            (read_limits, "inf 1"), (read_side, "three halves")])
+def test_actions_run_together_a_lower_bound_and_two_limits_are_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)

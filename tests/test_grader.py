@@ -1054,7 +1054,7 @@ def test_a_limit_whose_text_cannot_be_made_is_refused_not_raised():
 # -- the twenty-first cold pass: counts said with 'ones' or in other digits, 'it's' before a limit, past forms --
 @pytest.mark.parametrize("answer", ["three safe ones", "3 safe ones", "the three safe ones", "3 ones are safe",
                                     "two safe ones", "\uff13 actions", "\u0663 actions", "\U0001d7d1 actions",
-                                    "\uff12 actions", "\u0662 safe actions", "\uff10 safe moves"])
+                                    "\uff12 actions", "\u0662 safe actions", "\uff14 safe moves"])
 def test_a_count_in_any_words_or_digits_is_not_a_list(answer):
     with pytest.raises(Unreadable, match="it counts the safe actions"):
         read_actions(answer)

@@ -75,7 +75,9 @@ def read_actions(answer) -> list[int]:
 _EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+actions))|\s+actions?)?|"
                     r"every(?:\s+action|\s+one|thing)?|0\s*-\s*3|0\s+(?:to|through)\s+3)\s*$", re.IGNORECASE)
 _NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four(?:\s+actions)?))?|there\s+are\s+none|nothing|empty|"
-                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\])\s*$", re.IGNORECASE)
+                   r"no\s+(?:safe\s+)?actions?|no|\[\s*\]|\u2205|(?:the\s+)?empty\s+set|set\(\))\s*$", re.IGNORECASE)
+#: the actions drawn as arrows ('→ and ↑')
+_ARROWS = str.maketrans({"\u2192": " right ", "\u2193": " down ", "\u2190": " left ", "\u2191": " up "})
 
 
 #: what a list of actions alone does not hold: a clause, an aside, a reason, what is not safe, an addition
@@ -85,6 +87,13 @@ _MORE = re.compile(r"[;:\u2013\u2014()]|\s-\s|\b(?:but|because|since|as|not|unsa
 
 def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
+    if not re.search(r"\d|right|down|left|up", text, flags=re.I):  # '→ and ↑' (not 'safe actions → 0, 2')
+        text = text.translate(_ARROWS)
+    text = _mended(text)
+    text = re.sub(r"^\s*none\s+but\s+", "only ", text, flags=re.I)  # 'none but 0 and 3'
+    unsafe = re.fullmatch(r"\s*(.+?)\s+(?:are|is)\s+(?:unsafe|not\s+safe)\s*\.?\s*", text, flags=re.I)
+    if unsafe and not re.search(r"\bsafe\b", unsafe.group(1), flags=re.I):  # '1, 2 are unsafe': the others are safe
+        text = f"all but {unsafe.group(1)}"
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
     if re.search(r"\.{2,}|\u2026|\betc\b|\band\s+so\s+on\b", text, flags=re.I):  # '0, 2, ...': the list goes on
@@ -114,6 +123,8 @@ def _read_text(text: str, answer) -> list[int]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
     text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
+    if re.search(r"(?<![\w.])[0-3]{2,}(?![\w.])", text):  # '03': two actions run together, or a number
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: write the actions apart ('0, 3').")
     mask = re.fullmatch(r"\[?\s*((?:(?:True|False)\s*,?\s*){4})\]?", text)
     if mask:  # a boolean array of the four actions as numpy prints it: '[ True False  True False]'
         return [a for a, flag in enumerate(re.findall(r"True|False", mask.group(1))) if flag == "True"]
@@ -191,6 +202,18 @@ _COUNT_FIRST = re.compile(
 #: a label before the list ('Safe actions: 0, 2', 'Safe: 0 and 2', 'actions: 0, 2')
 _LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)?\s*"
                     r"(?::\s*->|-->|->|\u2013>|=>|\u21d2|\u27f6|\u2192|:|=|-|\u2013|\u2014)\s*", re.IGNORECASE)
+
+
+def _mended(text: str) -> str:
+    """``text`` with an action's name one slip off spelt right ('RIHGT' -> 'right'), where it is no other name."""
+    from .sentences import _one_slip
+
+    def mend(match):
+        word = match.group(0).lower()
+        near = [name for name in ("right", "down", "left") if _one_slip(word, name)]
+        return near[0] if len(near) == 1 and word not in _ACTIONS and word not in ("done", "lift", "light") else \
+            match.group(0)
+    return re.sub(r"[A-Za-z]{4,6}", mend, text)
 
 
 def _numpy_printed(text: str) -> str:

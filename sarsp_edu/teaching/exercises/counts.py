@@ -165,7 +165,11 @@ def _said_plainly(text: str) -> str:
             return str(int(literal.group(1), 0 if literal.group(1)[:2].lower() in ("0x", "0o", "0b") else 10))
         except ValueError:
             return text
-    text = re.sub(r"\bhalf\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)
+    text = re.sub(r"^\s*=\s*", "", text)  # '= 50'
+    text = re.sub(r"\b(?:half|1\s*/\s*2)\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)
+    text = re.sub(r"^\s*half\s+(?:of\s+)?the\s+(?:cells|squares|grid|board)\s*$", "100/2", text, flags=re.IGNORECASE)
+    text = re.sub(r"^\s*(\d+)\s+or\s+(?:fewer|less)\s*$", r"at most \1", text, flags=re.IGNORECASE)  # the bound
+    text = re.sub(r"^\s*(\d+)\s+or\s+(?:more|greater)\s*$", r"at least \1", text, flags=re.IGNORECASE)  # not it
     if re.fullmatch(r"\s*\d+(?:\.\d+)?\s+-\s+\d+(?:\.\d+)?\s*", text):  # '100 - 50': a difference
         return _checked_working(text.replace(" - ", "-"))
     denied = (re.fullmatch(r"\s*(\d+)\s*,?\s+(?:but\s+)?not\s+(\d+)\s*", text, flags=re.IGNORECASE),

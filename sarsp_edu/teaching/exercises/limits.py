@@ -11,6 +11,7 @@ import re
 import numpy as np
 
 from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
+from .sentences import _one_slip
 from .wording import shown
 
 __all__ = ["read_limits"]
@@ -95,6 +96,8 @@ def read_limits(answer) -> dict:
     if text is not None and re.search(r"[()]|\bbecause\b", text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: {ALONE}.")
     parts = [] if text is None else [part.strip() for part in re.split(r"[,;]|\band\b", text) if part.strip()]
+    if len(parts) == 1 and len(parts[0].split()) == 3:  # 'inf 1 0': three limits apart, none a number of two
+        parts = parts[0].split()
     if len(parts) == 3:  # 'inf, 1, 0', 'inf, 1 and 0'
         answer = parts
     if isinstance(answer, (list, tuple)) and len(answer) == 3:
@@ -111,6 +114,7 @@ def read_limits(answer) -> dict:
         what = f"the limit for lambda {side[0]} 1"
         if _text(value) is not None:
             value = _SAID.sub("", alone(_text(value), value, what))  # '0 (1 for small x)', '0, probably': not read
+            value = "infinity" if _one_slip(value.strip().lower(), "infinity") else value  # 'infinty'
             value = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", value)  # 'math.inf' as text
         limits[side] = _exact(value, _number(value, what), what)
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]

@@ -111,12 +111,16 @@ def _text(answer) -> str | None:
     """``answer`` as text when it is one (a str, numpy's str, bytes), else None."""
     if isinstance(answer, bytes):
         try:
-            return answer.decode()
+            answer = answer.decode()
         except UnicodeDecodeError:
             return None
     if isinstance(answer, np.ndarray) and answer.ndim == 0 and answer.dtype.kind in "US":
         answer = answer.item()
-    return str(answer) if isinstance(answer, str) else None
+    # full-width forms ('ＢＥＬＯＷ', '＜', '５０', as an East Asian keyboard types them) as their ASCII letters
+    return str(answer).translate(_FULL_WIDTH) if isinstance(answer, str) else None
+
+
+_FULL_WIDTH = {code: code - 0xFEE0 for code in range(0xFF01, 0xFF5F)}
 
 
 def read_word(answer, options: dict, tails=None) -> str:
@@ -142,6 +146,8 @@ def read_word(answer, options: dict, tails=None) -> str:
     text = _text(answer)
     if text is not None:
         text = spelled(text)  # 'beloww', 'narower': one slip from one direction word
+        text = re.sub(r"^\s*not\s+([^,;]+?)\s*[,;]\s*(?:but\s+)?([^,;]+)$", r"\2, not \1", text,
+                      flags=re.I)  # 'not wider, narrower': the other option denied first
         try:
             text = alone(text, answer, names)
         except Unreadable as refused:
@@ -223,7 +229,8 @@ def alone(text: str, answer, what: str) -> str:
     """
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
-    text = re.sub(r"[.!\u2026]+\s*$", "", _PREFACE.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
+    text = re.sub(r"[.!\u2026;:]+\s*$|\s+[-\u2013\u2014]\s*$", "",  # 'Narrower.', 'narrower;', 'Narrower - '
+                  _PREFACE.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
     whole = re.fullmatch(r"\(([^()]*)\)", text)  # '(0.4)', '(50)': the value in brackets
     if whole:
         text = whole.group(1).strip()

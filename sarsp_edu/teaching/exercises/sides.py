@@ -87,6 +87,7 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text), flags=re.I)
+    bare = _said_in_words(bare)
     written = re.fullmatch(r"\s*(\d+\.\d+)\s*", bare)
     if written:  # a number is on the side its digits put it: '0.9999999999999999999' is below 1, as written
         exact = Decimal(written.group(1))
@@ -140,6 +141,30 @@ def read_side(answer) -> str:
     return sides.pop()
 
 
+_DIGITS = dict(zip("zero nought oh one two three four five six seven eight nine".split(), "000123456789"))
+_PARTS = {"half": 2, "third": 3, "quarter": 4, "fifth": 5, "tenth": 10}
+
+
+def _said_in_words(text: str) -> str:
+    """A value of 2.5's factor said in words as the number ('one half', 'two thirds' -> '1/2', '2/3'; 'zero point
+    three seven' -> '0.37'), its range ('less than one and more than zero', 'under 1, over 0') as 'between 0 and
+    1', 'at 0.37' as '0.37'; else ``text``."""
+    words = text.strip().lower()
+    part = re.fullmatch(r"(?:the\s+factor\s+is\s+)?(a|one|two|three|four)\s+(half|third|quarter|fifth|tenth)s?", words)
+    if part:
+        return f"{'1' if part.group(1) in ('a', 'one') else _DIGITS[part.group(1)]}/{_PARTS[part.group(2)]}"
+    point = re.fullmatch(r"(zero|nought|oh|one|two)\s+point((?:\s+(?:zero|nought|oh|one|two|three|four|five|six|seven|"
+                         r"eight|nine))+)", words)
+    if point:
+        return _DIGITS[point.group(1)] + "." + "".join(_DIGITS[word] for word in point.group(2).split())
+    below_one = r"(?:less\s+than|below|under|smaller\s+than)\s+(?:1|one)"
+    above_zero = r"(?:more\s+than|above|over|greater\s+than)\s+(?:0|zero)"
+    if re.fullmatch(rf"(?:(?:the\s+factor|it)\s+is\s+)?(?:{below_one}\s*(?:,|and|but)?\s*{above_zero}|"
+                    rf"{above_zero}\s*(?:,|and|but)?\s*{below_one})", words):
+        return "between 0 and 1"
+    return re.sub(r"^\s*at\s+(?=\d)", "", text)  # 'less than 1, at 0.37': its value
+
+
 def _said_twice(text: str) -> str | None:
     """The side every clause of ``text`` names alone, where there are two or more and all name the same one with
     no reason among them ('0.37, below 1', 'below 1 (0.37)'); else None."""
@@ -165,6 +190,8 @@ _AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?
              (rf"^(\s*(?:the|its)\s+band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
              (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"),
              (rf"^(.*?)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?{_NU}30)", r"\1"),
+             (rf"^(.*?)\s+than\s+(?:(?:the\s+band\s+)?(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$",
+              r"\1"),  # 'wider than at nu = 30'
              (r"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:shrinks|decreases|falls|drops|"
               r"goes\s+down|gets\s+(?:smaller|lower))\s*$", r"\1"))  # 'wider as nu shrinks': the way back to 3
 #: the comparison the question makes, said after the band at nu = 3 ('... is wider than at nu = 30'): dropped
