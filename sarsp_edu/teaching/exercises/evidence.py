@@ -134,8 +134,7 @@ EVIDENCE_EXERCISES = {
         ),
         hint="In each run the better model is the sign of TP - GP; a configuration agrees when both runs name "
              "the same one.",
-        explanation="Set beside the agreement between two of our own seeds, it says how much of a "
-                    "per-configuration comparison is noise.",
+        explanation="It matches the counts in the table above.",
     ),
     "5.3": CodingExercise(
         question="the two-sided p-value of the sign test of paired TP and GP values, ties dropped",
