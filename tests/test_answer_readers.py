@@ -184,3 +184,43 @@ def test_full_width_forms_words_for_values_and_restated_answers_are_read(reader,
 def test_actions_run_together_a_lower_bound_and_two_limits_are_refused(reader, answer):
     with pytest.raises(Unreadable):
         reader(answer)
+
+
+# -- the twenty-ninth cold pass: numpy's printed limits, the question's own setting in other words, e-notation,
+# one number said twice, 'upp', and a reason holding a '10' that was taken for actions run together --
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_limits, "array([inf,  1.,  0.])", LIMITS), (read_limits, "np.array([np.inf, 1, 0])", LIMITS),
+    (read_limits, "inf, 1, 0 for lambda < 1, lambda = 1 and lambda > 1", LIMITS),
+    (read_limits, "for lambda < 1, = 1, > 1: inf, 1, 0", LIMITS), (read_limits, "inf, one, zero point zero", LIMITS),
+    (read_limits, "\u03bb<1 \u221e; \u03bb=1 1; \u03bb>1 0", LIMITS),
+    (read_limits, "inf, 1, 0 for the Gaussian ratio", LIMITS),
+    (read_side, "below 1 with section 3's fit", "below"), (read_side, "below 1 (no outliers)", "below"),
+    (read_side, "below 1 at nu = 3", "below"), (read_side, "\u00bd", "below"),
+    (read_band, "narrower with section 2's fixed hyperparameters", "narrower"),
+    (read_band, "narrower with nu = 30 instead of 3", "narrower"),
+    (read_band, "narrower for section 2's TP", "narrower"),
+    (read_band, "narrower at nu = 30 (than at nu = 3)", "narrower"), (read_band, "narrower, nu = 30 vs 3", "narrower"),
+    (read_count, "1e2/2", 50), (read_count, "2.5e1*2", 50), (read_count, "50 (10 x 10)", 50),
+    (read_count, "fifty on a ten by ten grid", 50), (read_count, "fifty, i.e. 50", 50), (read_count, "50 = fifty", 50),
+    (read_actions, "right and upp", [0, 3]), (read_actions, "0 and 3 with sigma*^2 = 10 instead of 0.8", [0, 3])])
+def test_the_twenty_ninth_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+def test_a_reason_holding_a_number_is_refused_as_a_reason_not_as_actions_run_together():
+    with pytest.raises(Unreadable, match="write the safe actions alone"):
+        read_actions("0, 3 because their variances are at most 10")
+
+
+@pytest.mark.parametrize("reader, answer", [(read_side, "below 1 at nu = 30"), (read_count, "50 = fifty one"),
+                                            (read_band, "narrower, nu = 3 vs 30")])
+def test_another_setting_or_a_second_value_is_still_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)
+
+
+@pytest.mark.parametrize("reader, answer, expected", [(read_side, "below 1 (beta / n = 0.33 at nu = 3)", "below"),
+                                                      (read_side, "below 1 (beta < n)", "below"),
+                                                      (read_count, "50 (a chessboard's half)", 50)])
+def test_an_aside_that_itself_reads_as_the_same_answer_is_read(reader, answer, expected):
+    assert reader(answer) == expected

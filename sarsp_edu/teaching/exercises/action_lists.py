@@ -103,7 +103,7 @@ def _read_text(text: str, answer) -> list[int]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: its brackets do not make one list.")
     # the question's own sigma*^2 = 10 and d = 1, said after the list: dropped (another value is refused below)
     threshold = (r"(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|the\s+threshold)\s*=\s*"
-                 r"(?:10(?:\.0*)?|1(?:\.0*)?e\+?0*1)(?![\d.])")  # '10', '10.0', '1e1'
+                 r"(?:10(?:\.0*)?|1(?:\.0*)?e\+?0*1)(?![\d.])(?:\s+instead\s+of\s+0\.8)?")  # '10', '1e1'
     own = rf"(?:{threshold}|d\s*=\s*1(?:\.0*)?(?![\d.]))"
     text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$|"
                   rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$",
@@ -123,7 +123,7 @@ def _read_text(text: str, answer) -> list[int]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
     text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
-    if re.search(r"(?<![\w.])[0-3]{2,}(?![\w.])", text):  # '03': two actions run together, or a number
+    if re.fullmatch(r"[\s\[\](),;]*[0-3]{2,}[\s\[\](),;]*", text):  # '03': two actions run together
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the actions apart ('0, 3').")
     mask = re.fullmatch(r"\[?\s*((?:(?:True|False)\s*,?\s*){4})\]?", text)
     if mask:  # a boolean array of the four actions as numpy prints it: '[ True False  True False]'
@@ -210,10 +210,11 @@ def _mended(text: str) -> str:
 
     def mend(match):
         word = match.group(0).lower()
-        near = [name for name in ("right", "down", "left") if _one_slip(word, name)]
+        near = [name for name in ("right", "down", "left", *(("up",) if len(word) == 3 and word[0] == "u" else ()))
+                if _one_slip(word, name)]  # 'RIHGT', 'upp'
         return near[0] if len(near) == 1 and word not in _ACTIONS and word not in ("done", "lift", "light") else \
             match.group(0)
-    return re.sub(r"[A-Za-z]{4,6}", mend, text)
+    return re.sub(r"[A-Za-z]{3,6}", mend, text)
 
 
 def _numpy_printed(text: str) -> str:

@@ -47,10 +47,11 @@ _AT_MOST = re.compile(r"\b(?:no|not)\s+more\s+than\b|\bup\s+to\b|\b(?:a\s+)?maxi
 #: two 4-adjacent'), 'of them': dropped
 _RULE = (r"(?:no\s+two(?:\s+of\s+them)?(?:\s+cells)?\s+(?:(?:4|four)-?\s*)?(?:adjacent|touching|neighbou?ring|"
          r"shar(?:ing|e)\s+an\s+edge)(?:\s+cells)?|(?:4|four)-?\s*adjacency)")
-_GRID = r"(?:a\s+|the\s+)?10\s*(?:x|\u00d7|by|-by-)\s*10(?:\s+grid)?"
+_GRID = r"(?:a\s+|the\s+)?(?:10|ten)\s*(?:x|\u00d7|by|-by-)\s*(?:10|ten)(?:\s+grid)?"
 _QUESTIONS_OWN = re.compile(
     rf"^\s*on\s+{_GRID}\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
-    rf"\s+(?:with|if|when)\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+|if\s+)?{_RULE}\s*\)?\s*$",
+    rf"\s+(?:with|if|when)\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+|if\s+)?{_RULE}\s*\)?\s*$|"
+    rf"\s*\(\s*(?:on\s+)?{_GRID}\s*\)\s*$",  # '50 (10 x 10)'
     re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
@@ -166,6 +167,16 @@ def _said_plainly(text: str) -> str:
         except ValueError:
             return text
     text = re.sub(r"^\s*=\s*", "", text)  # '= 50'
+    text = re.sub(r"(?<![\w.])\d+(?:\.\d+)?e[+-]?\d+(?![\w.])", lambda m: repr(float(m.group(0))), text,
+                  flags=re.IGNORECASE) if re.search(r"[*/+-]", text) else text  # '1e2/2': a working in floats
+    # '50 = fifty', 'fifty, i.e. 50': one number said twice
+    said_twice = re.fullmatch(r"\s*([a-z]+(?:-[a-z]+)?|\d+)\s*(?:=|,\s*(?:i\.\s*e\.?|that\s+is)\s*,?)\s*"
+                              r"([a-z]+(?:-[a-z]+)?|\d+)\s*", text, flags=re.IGNORECASE)
+    if said_twice:
+        values = [_number_word(part.lower().replace("-", "")) if not part.isdigit() else float(part)
+                  for part in said_twice.groups()]
+        if None not in values and values[0] == values[1]:
+            return str(int(values[0]))
     text = re.sub(r"\b(?:half|1\s*/\s*2)\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)
     text = re.sub(r"^\s*half\s+(?:of\s+)?the\s+(?:cells|squares|grid|board)\s*$", "100/2", text, flags=re.IGNORECASE)
     text = re.sub(r"^\s*(\d+)\s+or\s+(?:fewer|less)\s*$", r"at most \1", text, flags=re.IGNORECASE)  # the bound

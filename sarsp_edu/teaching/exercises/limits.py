@@ -11,7 +11,7 @@ import re
 import numpy as np
 
 from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
-from .sentences import _one_slip
+from .sentences import _one_slip, said_in_words
 from .wording import shown
 
 __all__ = ["read_limits"]
@@ -59,8 +59,11 @@ _SAID = re.compile(r"^\s*(?:(?:it|the\s+ratio|the\s+limit)\s+)?(?:(?:goes|tends|
 
 
 #: the question's own words around three limits: the Gaussian's ratio, x growing, the order of the three sides
+_LAMBDA = r"(?:lambda|\u03bb|lam)"
+_THREE_SIDES = (rf"{_LAMBDA}\s*<\s*1\s*,\s*(?:{_LAMBDA}\s*)?=\s*1\s*,?\s*(?:and\s+)?(?:{_LAMBDA}\s*)?>\s*1")
 _QUESTIONS_OWN = re.compile(
-    r"^\s*(?:the\s+)?gaussian(?:'s)?(?:\s+ratio)?\s*:\s*|\s+for\s+the\s+gaussian(?:'s\s+ratio)?\s*$|"
+    r"^\s*(?:the\s+)?gaussian(?:'s)?(?:\s+ratio)?\s*:\s*|\s+for\s+the\s+gaussian(?:'s)?(?:\s+ratio)?\s*$|"
+    rf"\s+for\s+{_THREE_SIDES}\s*$|^\s*for\s+{_THREE_SIDES}\s*:\s*|"
     r"\s+as\s+x\s*(?:->|\u2192|goes\s+to|tends\s+to|grows)\s*(?:inf|infinity|\u221e)?\s*$|"
     r"\s*\(\s*(?:lambda|\u03bb|lam)\s*<\s*1\s*,\s*(?:(?:lambda|\u03bb|lam)\s*)?=\s*1\s*,\s*(?:(?:lambda|\u03bb|lam)\s*)?>\s*1"
     r"\s*\)\s*$", re.IGNORECASE)
@@ -81,8 +84,10 @@ def read_limits(answer) -> dict:
         if printed:  # "{'lambda < 1': inf, ...}": the dict as Python prints it
             text = re.sub(r"['\"]", "", printed.group(1))
         text = re.sub(r"^\s*(?:the\s+)?limits\s+are\s*:?\s*|\s*,?\s+respectively\s*\.?\s*$", "", text, flags=re.I)
-        pairs = re.findall(r"(?:^|,|;)\s*((?:lambda|\u03bb|lam)\s*(?:<|=|>|<=|>=)\s*1)\s*(?::|->|=>|\u2192)\s*"
-                           r"([^,;]+)", text, flags=re.I)
+        text = re.sub(r"^\s*(?:np\.|numpy\.)?array\(\s*(\[[^\[\]]*\])\s*(?:,\s*dtype=\w+)?\)\s*$", r"\1",
+                      text)  # numpy's printed form
+        pairs = re.findall(r"(?:^|,|;)\s*((?:lambda|\u03bb|lam)\s*(?:<|=|>|<=|>=)\s*1)(?:\s*(?::|->|=>|\u2192)\s*|\s+)"
+                           r"([^,;]+)", text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞'
         if len(pairs) == 3:  # 'lambda < 1: inf, lambda = 1: 1, lambda > 1: 0', as a dict written out
             answer = dict(pairs)
             text = None
@@ -115,6 +120,7 @@ def read_limits(answer) -> dict:
         if _text(value) is not None:
             value = _SAID.sub("", alone(_text(value), value, what))  # '0 (1 for small x)', '0, probably': not read
             value = "infinity" if _one_slip(value.strip().lower(), "infinity") else value  # 'infinty'
+            value = said_in_words(value)  # 'zero point zero'
             value = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", value)  # 'math.inf' as text
         limits[side] = _exact(value, _number(value, what), what)
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]

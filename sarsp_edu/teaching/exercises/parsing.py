@@ -261,8 +261,9 @@ def _clauses(text: str) -> tuple:
 _TAILS = (r"\s+than\s+(before|((at|with|for)\s+)?((the\s+)?(band|one|tp('s\s+band)?)\s+(at|with|for)\s+)?(nu|\u03bd)"
           r"\s*=\s*3(?![\d.]))\s*$",
           r"\s+(as|when|while)\s+(nu|\u03bd)\s+(goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30(?![\d.])\s*$",
-          r"\s+at\s+((nu|\u03bd)\s*=\s*)?30\s+(vs\.?|versus|against|compared\s+(with|to))\s+(at\s+)?((nu|\u03bd)\s*=\s*)?"
-          r"3(?![\d.])\s*$",
+          r"\s*,?\s+(at\s+|with\s+)?((nu|\u03bd)\s*=\s*)?30\s+(vs\.?|versus|against|compared\s+(with|to)|instead\s+of)"
+          r"\s+(at\s+)?((nu|\u03bd)\s*=\s*)?3(?![\d.])\s*$",
+          r"\s+(with|for|using)\s+(section\s+2'?s\s+)?(the\s+)?(fixed\s+)?(hyperparameters|tp)\s*$",
           r"\s+than\s+(the\s+)?(nu|\u03bd)\s*=\s*3(?![\d.])\s+(band|one)\s*$",
           r"\s+at\s+((nu|\u03bd)\s*=\s*)?30\s+than\s+at\s+((nu|\u03bd)\s*=\s*)?3(?![\d.])\s*$",
           r"\s+(at|for|with|when|if)\s+(nu|\u03bd)\s*(=|is|of)\s*30(?![\d.])\s*$",

@@ -36,8 +36,9 @@ True
 from __future__ import annotations
 
 import re
+import unicodedata
 
-__all__ = ["QUESTION", "parse", "spelled"]
+__all__ = ["QUESTION", "parse", "said_in_words", "spelled"]
 
 _DETERMINERS = {"the", "a", "an", "its", "this", "that", "our", "my"}
 _OWNERS = {"tp's", "tp", "tps", "student-t", "student-t's", "t", "process's", "model's", "fit's"}
@@ -189,3 +190,29 @@ def spelled(text: str) -> str:
         one_word = near and all(known[:6] == near[0][:6] and len(known) >= 6 for known in near)
         return near[0] if len(near) == 1 or one_word else word
     return re.sub(r"[A-Za-z]+", mend, text)
+
+
+_DIGITS = dict(zip("zero nought oh one two three four five six seven eight nine".split(), "000123456789"))
+_PARTS = {"half": 2, "third": 3, "quarter": 4, "fifth": 5, "tenth": 10}
+
+
+def said_in_words(text: str) -> str:
+    """A value said in words as the number ('one half', 'two thirds' -> '1/2', '2/3'; 'zero point
+    three seven' -> '0.37'), its range ('less than one and more than zero', 'under 1, over 0') as 'between 0 and
+    1', 'at 0.37' as '0.37'; else ``text``."""
+    words = text.strip().lower()
+    if len(words) == 1 and unicodedata.numeric(words, None) is not None and not words.isdigit():  # '½'
+        return repr(unicodedata.numeric(words))
+    part = re.fullmatch(r"(?:the\s+factor\s+is\s+)?(a|one|two|three|four)\s+(half|third|quarter|fifth|tenth)s?", words)
+    if part:
+        return f"{'1' if part.group(1) in ('a', 'one') else _DIGITS[part.group(1)]}/{_PARTS[part.group(2)]}"
+    point = re.fullmatch(r"(zero|nought|oh|one|two)\s+point((?:\s+(?:zero|nought|oh|one|two|three|four|five|six|seven|"
+                         r"eight|nine))+)", words)
+    if point:
+        return _DIGITS[point.group(1)] + "." + "".join(_DIGITS[word] for word in point.group(2).split())
+    below_one = r"(?:less\s+than|below|under|smaller\s+than)\s+(?:1|one)"
+    above_zero = r"(?:more\s+than|above|over|greater\s+than)\s+(?:0|zero)"
+    if re.fullmatch(rf"(?:(?:the\s+factor|it)\s+is\s+)?(?:{below_one}\s*(?:,|and|but)?\s*{above_zero}|"
+                    rf"{above_zero}\s*(?:,|and|but)?\s*{below_one})", words):
+        return "between 0 and 1"
+    return re.sub(r"^\s*at\s+(?=\d)", "", text)  # 'less than 1, at 0.37': its value

@@ -41,14 +41,16 @@ from .parsing import (
     alone,
     read_word,
 )
-from .sentences import parse
+from .sentences import parse, said_in_words
 from .wording import shown
 
 __all__ = ["read_band", "read_side"]
 
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
 #: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
-_CLEAN = r"(?:without\s+(?:the\s+|any\s+)?outliers|with\s+no\s+outliers|on\s+(?:the\s+)?clean\s+(?:data|targets))"
+_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|on\s+(?:the\s+)?clean\s+(?:data|targets)|"
+          r"(?:with|for|in|at|using)\s+(?:(?:the\s+)?tp\s+fitted\s+as\s+in\s+section\s+3|section\s+3'?s\s+fit|"
+          r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.])))")  # and the question's own fit: section 3's, at nu = 3
 _FACTOR = r"(?:the\s+)?(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
                      rf"^\s*{_CLEAN}\s*,?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$")  # '(the fitted factor)'
@@ -86,8 +88,10 @@ def read_side(answer) -> str:
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
-    bare = re.sub(_WITHOUT_OUTLIERS, "", re.sub(r"[.!\u2026]+\s*$", "", text), flags=re.I)
-    bare = _said_in_words(bare)
+    bare = re.sub(r"[.!\u2026]+\s*$", "", text)
+    for _ in range(2):  # 'below 1 without outliers at nu = 3': one after another
+        bare = re.sub(_WITHOUT_OUTLIERS, "", bare, flags=re.I)
+    bare = said_in_words(bare)
     written = re.fullmatch(r"\s*(\d+\.\d+)\s*", bare)
     if written:  # a number is on the side its digits put it: '0.9999999999999999999' is below 1, as written
         exact = Decimal(written.group(1))
@@ -141,30 +145,6 @@ def read_side(answer) -> str:
     return sides.pop()
 
 
-_DIGITS = dict(zip("zero nought oh one two three four five six seven eight nine".split(), "000123456789"))
-_PARTS = {"half": 2, "third": 3, "quarter": 4, "fifth": 5, "tenth": 10}
-
-
-def _said_in_words(text: str) -> str:
-    """A value of 2.5's factor said in words as the number ('one half', 'two thirds' -> '1/2', '2/3'; 'zero point
-    three seven' -> '0.37'), its range ('less than one and more than zero', 'under 1, over 0') as 'between 0 and
-    1', 'at 0.37' as '0.37'; else ``text``."""
-    words = text.strip().lower()
-    part = re.fullmatch(r"(?:the\s+factor\s+is\s+)?(a|one|two|three|four)\s+(half|third|quarter|fifth|tenth)s?", words)
-    if part:
-        return f"{'1' if part.group(1) in ('a', 'one') else _DIGITS[part.group(1)]}/{_PARTS[part.group(2)]}"
-    point = re.fullmatch(r"(zero|nought|oh|one|two)\s+point((?:\s+(?:zero|nought|oh|one|two|three|four|five|six|seven|"
-                         r"eight|nine))+)", words)
-    if point:
-        return _DIGITS[point.group(1)] + "." + "".join(_DIGITS[word] for word in point.group(2).split())
-    below_one = r"(?:less\s+than|below|under|smaller\s+than)\s+(?:1|one)"
-    above_zero = r"(?:more\s+than|above|over|greater\s+than)\s+(?:0|zero)"
-    if re.fullmatch(rf"(?:(?:the\s+factor|it)\s+is\s+)?(?:{below_one}\s*(?:,|and|but)?\s*{above_zero}|"
-                    rf"{above_zero}\s*(?:,|and|but)?\s*{below_one})", words):
-        return "between 0 and 1"
-    return re.sub(r"^\s*at\s+(?=\d)", "", text)  # 'less than 1, at 0.37': its value
-
-
 def _said_twice(text: str) -> str | None:
     """The side every clause of ``text`` names alone, where there are two or more and all name the same one with
     no reason among them ('0.37, below 1', 'below 1 (0.37)'); else None."""
@@ -215,6 +195,9 @@ def read_band(answer) -> str:
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up)\s*$|than\b)",
                   " ", text.strip(), flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
     said = re.sub(_OWN_COMPARISON, "", said, flags=re.I)  # "narrower (section 2's TP at nu = 30 against nu = 3)"
+    said = re.sub(rf"\s*\(\s*(than\s+(?:at\s+)?(?:{_NU})?3(?:\.0+)?)\s*\)\s*$|\s*,\s*(?=(?:at\s+)?{_NU}30(?:\.0+)?\s+"
+                  r"(?:vs\.?|versus|against|than|instead\s+of)\s)", lambda m: f" {m.group(1)}" if m.group(1) else " ",
+                  said, flags=re.I)  # 'narrower at nu = 30 (than at nu = 3)', 'narrower, nu = 30 vs 3'
     for pattern, replacement in _AT_THIRTY:
         said = re.sub(pattern, replacement, said, flags=re.I)
     flipped = False
