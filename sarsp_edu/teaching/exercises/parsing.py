@@ -116,7 +116,7 @@ def _text(answer) -> str | None:
             return None
     if isinstance(answer, np.ndarray) and answer.ndim == 0 and answer.dtype.kind in "US":
         answer = answer.item()
-    # full-width forms ('ＢＥＬＯＷ', '＜', '５０', as an East Asian keyboard types them) as their ASCII letters
+    # full-width forms (U+FF01 to U+FF5E: letters, digits and '<' as an East Asian keyboard types them) as ASCII
     return str(answer).translate(_FULL_WIDTH) if isinstance(answer, str) else None
 
 
