@@ -224,3 +224,28 @@ def test_another_setting_or_a_second_value_is_still_refused(reader, answer):
                                                       (read_count, "50 (a chessboard's half)", 50)])
 def test_an_aside_that_itself_reads_as_the_same_answer_is_read(reader, answer, expected):
     assert reader(answer) == expected
+
+
+# -- the thirtieth cold pass (0 false accepts): the last answers it found refused --
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_limits, "inf for lambda < 1, 1 for lambda = 1, 0 for lambda > 1", LIMITS),
+    (read_side, "below 1 for clean data (proportion = 0)", "below"), (read_side, "No outliers: below", "below"),
+    (read_band, "narrower, as nu goes from 3 to 30", "narrower"),
+    (read_band, "wider at nu = 3, narrower at nu = 30", "narrower"),
+    (read_band, "narrower at 30, wider at 3", "narrower"),
+    (read_band, "Narrower; wider at nu = 3", "narrower"), (read_band, "narrower (beta > n)", "narrower"),
+    (read_count, "50 (n^2/2)", 50), (read_actions, "0 and 3, not 1 or 2", [0, 3]),
+    (read_actions, "0, 3; 1 and 2 are not", [0, 3])])
+def test_the_thirtieth_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+def test_a_wrong_answer_said_from_both_ends_is_read_as_the_wrong_answer_it_is():
+    assert read_band("wider at nu = 30, narrower at nu = 3") == "wider"
+
+
+@pytest.mark.parametrize("reader, answer", [(read_band, "narrower, wider"), (read_actions, "0 or 3"),
+                                            (read_side, "below (beta > n)")])
+def test_clauses_that_disagree_or_doubt_are_still_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)

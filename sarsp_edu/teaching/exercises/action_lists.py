@@ -87,6 +87,9 @@ _MORE = re.compile(r"[;:\u2013\u2014()]|\s-\s|\b(?:but|because|since|as|not|unsa
 
 def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
+    text = re.sub(r"(\bnot\s+\w+)\s+or\s+(?=\w)", r"\1 and ", text, flags=re.I)  # '0 and 3, not 1 or 2': a denial
+    text = re.sub(r"^(.*?)\s*;\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?\s*$", r"\1, not \2", text,
+                  flags=re.I)  # '0, 3; 1 and 2 are not'
     if not re.search(r"\d|right|down|left|up", text, flags=re.I):  # '→ and ↑' (not 'safe actions → 0, 2')
         text = text.translate(_ARROWS)
     text = _mended(text)

@@ -167,6 +167,7 @@ def _said_plainly(text: str) -> str:
         except ValueError:
             return text
     text = re.sub(r"^\s*=\s*", "", text)  # '= 50'
+    text = re.sub(r"\bn\s*(?:\^|\*\*|\u00b2)\s*2?(?=\s*/\s*2)", "10**2", text)  # '50 (n^2/2)': the question's n = 10
     text = re.sub(r"(?<![\w.])\d+(?:\.\d+)?e[+-]?\d+(?![\w.])", lambda m: repr(float(m.group(0))), text,
                   flags=re.IGNORECASE) if re.search(r"[*/+-]", text) else text  # '1e2/2': a working in floats
     # '50 = fifty', 'fifty, i.e. 50': one number said twice

@@ -88,7 +88,9 @@ def read_limits(answer) -> dict:
                       text)  # numpy's printed form
         pairs = re.findall(r"(?:^|,|;)\s*((?:lambda|\u03bb|lam)\s*(?:<|=|>|<=|>=)\s*1)(?:\s*(?::|->|=>|\u2192)\s*|\s+)"
                            r"([^,;]+)", text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞'
-        if len(pairs) == 3:  # 'lambda < 1: inf, lambda = 1: 1, lambda > 1: 0', as a dict written out
+        pairs = pairs if len(pairs) == 3 else [(key, value) for value, key in re.findall(
+            r"(?:^|,|;)\s*([^,;]+?)\s+for\s+((?:lambda|\u03bb|lam)\s*(?:<|=|>)\s*1)\s*(?=,|;|$)", text, flags=re.I)]
+        if len(pairs) == 3:  # 'lambda < 1: inf, ...' as a dict written out; 'inf for lambda < 1, ...'
             answer = dict(pairs)
             text = None
     elif isinstance(answer, np.ndarray) and answer.ndim == 1 and len(answer) == 3:

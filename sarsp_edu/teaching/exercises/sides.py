@@ -48,12 +48,14 @@ __all__ = ["read_band", "read_side"]
 
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
 #: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
-_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|on\s+(?:the\s+)?clean\s+(?:data|targets)|"
+_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|"
+          r"(?:on|for|with)\s+(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:with|for|in|at|using)\s+(?:(?:the\s+)?tp\s+fitted\s+as\s+in\s+section\s+3|section\s+3'?s\s+fit|"
           r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.])))")  # and the question's own fit: section 3's, at nu = 3
 _FACTOR = r"(?:the\s+)?(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
-                     rf"^\s*{_CLEAN}\s*,?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$")  # '(the fitted factor)'
+                     rf"^\s*{_CLEAN}\s*[,:]?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$|"
+                     r"\s*\(\s*(?:proportion|p)\s*=\s*0(?:\.0+)?\s*\)\s*$")  # '(the fitted factor)'
 #: 1 said against the factor ('1 is above it'): the factor is on the other side
 _ONE_IS = re.compile(r"^\s*(?:1|one)\s+is\s+(?:(above|over|(?:larger|greater|bigger|more|higher)\s+than)|"
                      r"(below|under|(?:less|smaller|lower)\s+than))\s+(?:it|the\s+(?:variance\s+)?factor)\s*$", re.I)
@@ -192,7 +194,8 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
-    said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up)\s*$|than\b)",
+    said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
+                  r"(?:goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30)\s*$|than\b)",
                   " ", text.strip(), flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
     said = re.sub(_OWN_COMPARISON, "", said, flags=re.I)  # "narrower (section 2's TP at nu = 30 against nu = 3)"
     said = re.sub(rf"\s*\(\s*(than\s+(?:at\s+)?(?:{_NU})?3(?:\.0+)?)\s*\)\s*$|\s*,\s*(?=(?:at\s+)?{_NU}30(?:\.0+)?\s+"
@@ -212,5 +215,13 @@ def read_band(answer) -> str:
     try:
         side = read_word(said, options)
     except Unreadable as refused:
+        first, asides = _clauses(text.strip())
+        if asides and not re.search(r"\b(?:because|since)\b", text, flags=re.I):  # 'narrower at 30, wider at 3'
+            try:
+                sides = {read_band(clause) for clause in (first, *asides)}
+            except Unreadable:
+                sides = set()
+            if len(sides) == 1:  # each clause, the band at nu = 3 read as the other side, gives the same answer
+                return sides.pop()
         raise Unreadable(str(refused).replace(shown(said), shown(answer), 1)) from None
     return {"wider": "narrower", "narrower": "wider"}[side] if flipped else side
