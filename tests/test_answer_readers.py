@@ -249,3 +249,25 @@ def test_a_wrong_answer_said_from_both_ends_is_read_as_the_wrong_answer_it_is():
 def test_clauses_that_disagree_or_doubt_are_still_refused(reader, answer):
     with pytest.raises(Unreadable):
         reader(answer)
+
+
+# -- the thirty-first cold pass: a Python call read as its argument ('range(50)' was 50), a working or a denied
+# value beside the side, 2.6's hyperparameters said without 'section 2' --
+@pytest.mark.parametrize("answer", ["range(50)", "np.arange(50)", "list(range(50))", "len(range(50))"])
+def test_a_python_call_is_refused_as_a_call_not_read_as_its_argument(answer):
+    with pytest.raises(Unreadable, match="it is a Python call"):
+        read_count(answer)
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_count, "np.int64(50)", 50), (read_count, "int(50)", 50), (read_side, "1 - 0.63", "below"),
+    (read_side, "below 1 (0.37, not 3.3)", "below"), (read_band, "narrower with the same hyperparameters", "narrower"),
+    (read_band, "narrower, with fixed hyperparameters", "narrower"),
+    (read_band, "narrower (fixed hyperparameters)", "narrower")])
+def test_the_thirty_first_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+def test_a_value_beside_its_side_that_denies_one_on_the_same_side_is_refused():
+    with pytest.raises(Unreadable):
+        read_side("below 1 (0.37, not 0.4)")

@@ -141,6 +141,10 @@ def read_count(answer) -> int:
     for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
         text = _QUESTIONS_OWN.sub("", text)
     text = _said_plainly(text)
+    text = re.sub(r"^\s*(?:np\.|numpy\.)?(?:u?int\d*|float\d*)\(\s*([^()]+?)\s*\)\s*$", r"\1", text)  # 'np.int64(50)'
+    if re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(50)', 'len(range(50))': a call, not its value
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
+                         "the number itself.")
     text = _alone(text, answer)
     if _HEDGED.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: a count is exact; write the number "

@@ -98,6 +98,9 @@ def read_side(answer) -> str:
     if written:  # a number is on the side its digits put it: '0.9999999999999999999' is below 1, as written
         exact = Decimal(written.group(1))
         return _side_of(float(exact), answer) if exact in (0, 1) else "above" if exact > 1 else "below"
+    worked = arithmetic(bare)
+    if worked is not None:  # '1 - 0.63': a working, read by its value
+        return _side_of(worked, answer)
     one_compared = _ONE_COMPARED.match(bare)
     if one_compared:
         bare = f"{one_compared.group(2)} {'<' if one_compared.group(1) == '>' else '>'} 1"
@@ -153,11 +156,13 @@ def _said_twice(text: str) -> str | None:
     first, asides = _clauses(text)
     if not asides or re.search(r"\b(?:because|since|as|so)\b", text, flags=re.I):
         return None
-    try:
-        sides = {read_side(clause) for clause in (first, *asides)}
+    denied = [re.fullmatch(r"\s*(?:but\s+)?not\s+(.+)", clause, flags=re.I) for clause in (first, *asides)]
+    try:  # each clause's side, and the side of each clause that only denies one ('0.37, not 3.3')
+        sides = {read_side(clause) for clause, denial in zip((first, *asides), denied) if not denial}
+        others = {read_side(denial.group(1)) for denial in denied if denial}
     except Unreadable:
         return None
-    return sides.pop() if len(sides) == 1 else None  # '0.37, above 1': refused as saying more than its side
+    return sides.pop() if len(sides) == 1 and not others & sides else None  # '0.37, above 1': refused
 
 
 #: the question's own nu = 30, said in the subject or in brackets: dropped
@@ -197,6 +202,8 @@ def read_band(answer) -> str:
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
                   r"(?:goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30)\s*$|than\b)",
                   " ", text.strip(), flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
+    said = re.sub(r"\s*[,(]?\s*(?:with|for|using)?\s*(?:section\s+2'?s\s+)?(?:the\s+)?(?:fixed|same)\s+"
+                  r"hyperparameters\s*\)?\s*$", "", said, flags=re.I)  # 'narrower (fixed hyperparameters)'
     said = re.sub(_OWN_COMPARISON, "", said, flags=re.I)  # "narrower (section 2's TP at nu = 30 against nu = 3)"
     said = re.sub(rf"\s*\(\s*(than\s+(?:at\s+)?(?:{_NU})?3(?:\.0+)?)\s*\)\s*$|\s*,\s*(?=(?:at\s+)?{_NU}30(?:\.0+)?\s+"
                   r"(?:vs\.?|versus|against|than|instead\s+of)\s)", lambda m: f" {m.group(1)}" if m.group(1) else " ",
