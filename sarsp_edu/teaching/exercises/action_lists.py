@@ -19,6 +19,7 @@ import re
 import numpy as np
 
 from .parsing import _DOUBT, _PREFACE, Unreadable, _number, _text, exactly
+from .sentences import _one_slip
 from .wording import shown
 
 __all__ = ["read_actions"]
@@ -88,8 +89,8 @@ _MORE = re.compile(r"[;:\u2013\u2014()]|\s-\s|\b(?:but|because|since|as|not|unsa
 def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
     text = re.sub(r"(\bnot\s+\w+)\s+or\s+(?=\w)", r"\1 and ", text, flags=re.I)  # '0 and 3, not 1 or 2': a denial
-    text = re.sub(r"^(.*?)\s*;\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?\s*$", r"\1, not \2", text,
-                  flags=re.I)  # '0, 3; 1 and 2 are not'
+    text = re.sub(r"^(.*?)(?:\s+(?:are|is)\s+safe\s*[,;]|\s*;)\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?"
+                  r"\s*$", r"\1, not \2", text, flags=re.I)  # '0, 3; 1 and 2 are not', '0, 3 are safe, 1, 2 are not'
     if not re.search(r"\d|right|down|left|up", text, flags=re.I):  # '→ and ↑' (not 'safe actions → 0, 2')
         text = text.translate(_ARROWS)
     text = _mended(text)
@@ -111,8 +112,6 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$|"
                   rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$",
                   "", text, flags=re.I)  # '0, 3 (sigma*^2 = 10, d = 1)', '0 and 3 for the GP'
-    text = re.sub(r"^(.*?)\s+(?:are|is)\s+safe\s*[,;]\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?\s*$",
-                  r"\1, not \2", text, flags=re.I)  # '0, 3 are safe, 1, 2 are not'
     restated = re.fullmatch(r"(.*?)\s*,?\s*(?:i\.\s*e\.?|that\s+is|namely)\s*,?\s*(.*)", text, flags=re.I)
     if restated:  # 'right and up, i.e. 0 and 3': the same actions said twice
         first, second = (_read_text(part, answer) for part in restated.groups())
@@ -209,8 +208,6 @@ _LABEL = re.compile(r"^\s*(?:the\s+)?(?:safe\s+actions?|safe|actions?)(?:\s+are)
 
 def _mended(text: str) -> str:
     """``text`` with an action's name one slip off spelt right ('RIHGT' -> 'right'), where it is no other name."""
-    from .sentences import _one_slip
-
     def mend(match):
         word = match.group(0).lower()
         near = [name for name in ("right", "down", "left", *(("up",) if len(word) == 3 and word[0] == "u" else ()))

@@ -72,11 +72,11 @@ def arithmetic(text: str) -> float | None:
     >>> arithmetic("10**2 // 2"), arithmetic("1 / 4"), arithmetic("50"), arithmetic("50 cells")
     (50.0, 0.25, None, None)
     """
-    if not re.fullmatch(r"[\d\s().*x\u00d7/+-]*\d[\d\s().*x\u00d7/+-]*", text) or not re.search(
-            r"\d\s*[)]?\s*[*x\u00d7/+-]", text):
+    if not re.fullmatch(r"[\d\s().*x\u00d7/+-]*\d[\d\s().*x\u00d7/+-]*", text, flags=re.I) or not re.search(
+            r"\d\s*[)]?\s*[*x\u00d7/+-]", text, flags=re.I):
         return None
     try:
-        value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text).strip(), mode="eval").body)
+        value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval").body)
     except (SyntaxError, ZeroDivisionError, ValueError, OverflowError):
         return None
     return value if math.isfinite(value) else None
@@ -113,11 +113,8 @@ def _checked_working(text: str) -> str:
     """``text`` with its working checked and dropped ('50 = 10*10/2' -> '50'); raises :class:`Unreadable` where
     the working does not give the number."""
     if re.fullmatch(r"[\d\s().]*[\d)]\s*[*x\u00d7/+-][\d\s*x\u00d7/+().-]*", text, flags=re.IGNORECASE):  # '(100)/2'
-        try:
-            value = _arithmetic(ast.parse(re.sub(r"[x\u00d7]", "*", text, flags=re.I).strip(), mode="eval").body)
-        except (SyntaxError, ZeroDivisionError, ValueError):
-            return text
-        return str(int(value)) if value == int(value) else text
+        value = arithmetic(text)
+        return str(int(value)) if value is not None and value == int(value) else text
     match = _WORKING.match(text)
     if not match:
         return text

@@ -65,8 +65,7 @@ _QUESTIONS_OWN = re.compile(
     r"^\s*(?:the\s+)?gaussian(?:'s)?(?:\s+ratio)?\s*:\s*|\s+for\s+the\s+gaussian(?:'s)?(?:\s+ratio)?\s*$|"
     rf"\s+for\s+{_THREE_SIDES}\s*$|^\s*for\s+{_THREE_SIDES}\s*:\s*|"
     r"\s+as\s+x\s*(?:->|\u2192|goes\s+to|tends\s+to|grows)\s*(?:inf|infinity|\u221e)?\s*$|"
-    r"\s*\(\s*(?:lambda|\u03bb|lam)\s*<\s*1\s*,\s*(?:(?:lambda|\u03bb|lam)\s*)?=\s*1\s*,\s*(?:(?:lambda|\u03bb|lam)\s*)?>\s*1"
-    r"\s*\)\s*$", re.IGNORECASE)
+    rf"\s*\(\s*{_THREE_SIDES}\s*\)\s*$", re.IGNORECASE)
 
 
 def read_limits(answer) -> dict:
@@ -86,10 +85,10 @@ def read_limits(answer) -> dict:
         text = re.sub(r"^\s*(?:the\s+)?limits\s+are\s*:?\s*|\s*,?\s+respectively\s*\.?\s*$", "", text, flags=re.I)
         text = re.sub(r"^\s*(?:np\.|numpy\.)?array\(\s*(\[[^\[\]]*\])\s*(?:,\s*dtype=\w+)?\)\s*$", r"\1",
                       text)  # numpy's printed form
-        pairs = re.findall(r"(?:^|,|;)\s*((?:lambda|\u03bb|lam)\s*(?:<|=|>|<=|>=)\s*1)(?:\s*(?::|->|=>|\u2192)\s*|\s+)"
-                           r"([^,;]+)", text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞'
+        pairs = re.findall(rf"(?:^|,|;)\s*({_LAMBDA}\s*(?:<|=|>|<=|>=)\s*1)(?:\s*(?::|->|=>|\u2192)\s*|\s+)([^,;]+)",
+                           text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞'
         pairs = pairs if len(pairs) == 3 else [(key, value) for value, key in re.findall(
-            r"(?:^|,|;)\s*([^,;]+?)\s+for\s+((?:lambda|\u03bb|lam)\s*(?:<|=|>)\s*1)\s*(?=,|;|$)", text, flags=re.I)]
+            rf"(?:^|,|;)\s*([^,;]+?)\s+for\s+({_LAMBDA}\s*(?:<|=|>)\s*1)\s*(?=,|;|$)", text, flags=re.I)]
         if len(pairs) == 3:  # 'lambda < 1: inf, ...' as a dict written out; 'inf for lambda < 1, ...'
             answer = dict(pairs)
             text = None

@@ -110,7 +110,7 @@ def read_side(answer) -> str:
     try:
         alone(bare, answer, "'above' or 'below'")  # 'below 1 (3.3)', '0.4 (above 1)', 'below, probably': unread
     except Unreadable as refused:  # unless its asides only deny the other side ('below 1, not above')
-        agreed = _said_twice(bare)
+        agreed = _clauses_agree(bare, read_side, "because|since|as|so")
         if agreed is not None:  # '0.37, below 1': the number and its side, each alone, agree
             return agreed
         try:
@@ -150,19 +150,20 @@ def read_side(answer) -> str:
     return sides.pop()
 
 
-def _said_twice(text: str) -> str | None:
-    """The side every clause of ``text`` names alone, where there are two or more and all name the same one with
-    no reason among them ('0.37, below 1', 'below 1 (0.37)'); else None."""
-    first, asides = _clauses(text)
-    if not asides or re.search(r"\b(?:because|since|as|so)\b", text, flags=re.I):
+def _clauses_agree(text: str, reader, reasons: str) -> str | None:
+    """The answer every clause of ``text`` gives when read alone by ``reader``, where there are two or more, all
+    give the same one, none is a reason (``reasons``) and any that only denies one denies another ('0.37, below 1',
+    'below 1 (0.37, not 3.3)', 'narrower at 30, wider at 3'); else None."""
+    first, asides = _clauses(text.strip())
+    if not asides or re.search(rf"\b(?:{reasons})\b", text, flags=re.I):
         return None
     denied = [re.fullmatch(r"\s*(?:but\s+)?not\s+(.+)", clause, flags=re.I) for clause in (first, *asides)]
-    try:  # each clause's side, and the side of each clause that only denies one ('0.37, not 3.3')
-        sides = {read_side(clause) for clause, denial in zip((first, *asides), denied) if not denial}
-        others = {read_side(denial.group(1)) for denial in denied if denial}
+    try:
+        said = {reader(clause) for clause, denial in zip((first, *asides), denied) if not denial}
+        others = {reader(denial.group(1)) for denial in denied if denial}
     except Unreadable:
         return None
-    return sides.pop() if len(sides) == 1 and not others & sides else None  # '0.37, above 1': refused
+    return said.pop() if len(said) == 1 and not others & said else None  # '0.37, above 1': refused
 
 
 #: the question's own nu = 30, said in the subject or in brackets: dropped
@@ -222,13 +223,8 @@ def read_band(answer) -> str:
     try:
         side = read_word(said, options)
     except Unreadable as refused:
-        first, asides = _clauses(text.strip())
-        if asides and not re.search(r"\b(?:because|since)\b", text, flags=re.I):  # 'narrower at 30, wider at 3'
-            try:
-                sides = {read_band(clause) for clause in (first, *asides)}
-            except Unreadable:
-                sides = set()
-            if len(sides) == 1:  # each clause, the band at nu = 3 read as the other side, gives the same answer
-                return sides.pop()
+        agreed = _clauses_agree(text, read_band, "because|since")  # 'narrower at 30, wider at 3'
+        if agreed is not None:
+            return agreed
         raise Unreadable(str(refused).replace(shown(said), shown(answer), 1)) from None
     return {"wider": "narrower", "narrower": "wider"}[side] if flipped else side
