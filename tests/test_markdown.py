@@ -79,3 +79,20 @@ def test_the_check_finds_a_closing_fence_with_text_an_open_fence_and_a_broken_li
     assert problems("[ok](there.md#a-heading)\n", path) == []
     assert problems("[gone](missing.md) [no](there.md#nowhere)\n", path) == [
         "a link to missing.md, which does not exist", "a link to there.md#nowhere, a heading that does not exist"]
+
+
+def _notebooks() -> list:
+    return sorted(str(p.relative_to(ROOT)) for p in (ROOT / "tutorials").rglob("*.ipynb")
+                  if ".ipynb_checkpoints" not in p.parts)
+
+
+@pytest.mark.parametrize("name", _notebooks())
+def test_every_markdown_cell_of_every_notebook_links_to_what_is_there(name):
+    """The answer copies in tutorials/source/ too: a lecturer opens them where they lie."""
+    import nbformat
+
+    path = ROOT / name
+    cells = nbformat.read(path, as_version=4).cells
+    found = [f"cell {i}: {problem}" for i, cell in enumerate(cells) if cell.cell_type == "markdown"
+             for problem in problems(cell.source, path)]
+    assert found == []

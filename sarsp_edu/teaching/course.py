@@ -123,7 +123,8 @@ def student_notebook(source):
     A code cell's solution regions become :data:`CODE_STUB`; a written
     answer (a Markdown cell marked ``solution`` in its nbgrader metadata)
     becomes :data:`TEXT_STUB`, whole or region by region; hidden tests are
-    removed; outputs and execution counts are cleared.
+    removed; outputs and execution counts are cleared; a Markdown link out of
+    ``source/`` is pointed from the student's folder instead (:func:`relinked`).
     """
     notebook = copy.deepcopy(source)
     for cell in notebook.cells:
@@ -135,6 +136,8 @@ def student_notebook(source):
             lines = text.split("\n")
             text = (clear_solutions(text, TEXT_STUB) if _regions(lines, BEGIN_SOLUTION, END_SOLUTION)
                     else TEXT_STUB)
+        else:
+            text = relinked(text)
         cell.source = text
     return notebook
 
@@ -393,13 +396,38 @@ def write_handout(root=".", out=None, zip_path=None) -> Path:
     return out
 
 
+_LINK = re.compile(r"(!?)\[([^\]]*)\]\(([^)#\s]+)((?:#[^)]*)?)\)")
+
+
+def _local(target: str) -> bool:
+    return "://" not in target and not target.startswith("mailto:")
+
+
+def relinked(text: str, source: str = "source") -> str:
+    """Markdown ``text`` of a notebook in ``source/`` with each relative link that leaves that folder
+    ('../GLOSSARY.md') pointed from the folder above it ('GLOSSARY.md'), where the student notebook lies.
+
+    A link inside ``source/`` (a sibling notebook) is kept: the student copy's sibling has the same name.
+
+    >>> relinked("[glossary](../GLOSSARY.md#nu) and [T4](04_sarsp_live.ipynb)")
+    '[glossary](GLOSSARY.md#nu) and [T4](04_sarsp_live.ipynb)'
+    """
+    def moved(match):
+        target = match.group(3)
+        if not _local(target) or not os.path.normpath(target).startswith(".."):
+            return match.group(0)
+        new = os.path.relpath(os.path.normpath(os.path.join(source, target)), ".").replace(os.sep, "/")
+        return f"{match.group(1)}[{match.group(2)}]({new}{match.group(4)})"
+    return _LINK.sub(moved, text)
+
+
 def _unlinked(text: str, name: Path, inside: set) -> str:
     """A Markdown page of the hand-out with each relative link to a file the hand-out lacks said as text ('the
     figure (`results/x.png` in the sarsp_edu repository)'), so that no link of the copy leads nowhere."""
     def said(match):
         label, target = match.group(2), match.group(3)
         resolved = os.path.normpath((name.parent / target).as_posix())
-        if "://" in target or target.startswith("mailto:") or resolved in inside:
+        if not _local(target) or resolved in inside:
             return match.group(0)
         return f"{label} (`{target}` in the sarsp_edu repository)" if label else f"`{target}` (sarsp_edu repository)"
-    return re.sub(r"(!?)\[([^\]]*)\]\(([^)#\s]+)(?:#[^)]*)?\)", said, text)
+    return _LINK.sub(said, text)

@@ -375,8 +375,7 @@ def write_pages(tutorials="tutorials", out="pages", edition: str = "student") ->
         maths = _Maths()
         body, _ = page_exporter(maths).from_notebook_node(notebook)
         page = out / f"{path.stem}.html"
-        # a source's links are written for where its student copy lives: tutorials/
-        atomic_write_text(page, links.rewrite(body, tutorials))
+        atomic_write_text(page, links.rewrite(body, path.parent))  # a source's links lead from tutorials/source/
         for problem in maths.failed:
             warnings.warn(f"{path.name}: {problem}; the page shows it as TeX source", PagesWarning, stacklevel=2)
         if missing:
