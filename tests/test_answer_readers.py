@@ -271,3 +271,70 @@ def test_the_thirty_first_pass_s_right_answers_are_read(reader, answer, expected
 def test_a_value_beside_its_side_that_denies_one_on_the_same_side_is_refused():
     with pytest.raises(Unreadable):
         read_side("below 1 (0.37, not 0.4)")
+
+
+# -- the thirty-second cold pass (0 false accepts): 31 right answers refused: 1.4's limits as workings, with the
+# other order denied or restated in brackets; 2.5 and 2.6 with the TP named first, or a full stop after 'nu = 3';
+# 3.4 and 4.4 with the denial first or in brackets --
+_INF = math.inf
+_LIMITS = {"<1": _INF, "=1": 1.0, ">1": 0.0}
+
+
+@pytest.mark.parametrize("answer", [
+    {"lambda < 1": _INF, "lambda = 1": "0.5*2", "lambda > 1": 0},
+    {"lambda < 1": _INF, "lambda = 1": 1, "lambda > 1": "1 - 1"},
+    {"lambda < 1": _INF, "lambda = 1": "3 - 2", "lambda > 1": 0},
+    {"lambda < 1": _INF, "lambda = 1": "1*1", "lambda > 1": "0*5"},
+    "inf, 2 - 1, 0", "inf, 1*1, 0", "inf, 3/3, 1-1", "inf, 1, 0 (not 0, 1, inf)", "inf, 1, 0, not 0, 1, inf",
+    {"lambda < 1": "inf, not 0", "lambda = 1": 1, "lambda > 1": 0},
+    {"lambda < 1": "inf (not 0)", "lambda = 1": 1, "lambda > 1": 0},
+    {"lambda < 1": "infinity (inf)", "lambda = 1": "1 (one)", "lambda > 1": "0 (zero)"}])
+def test_the_thirty_second_pass_s_limits_are_read(answer):
+    assert read_limits(answer) == _LIMITS
+
+
+@pytest.mark.parametrize("answer, why", [
+    ("inf, 1, 0 (not inf, 1, 0)", "denies its own answer"),
+    ({"lambda < 1": "inf (not inf)", "lambda = 1": 1, "lambda > 1": 0}, "denies its own answer"),
+    ("range(3)", "Python call"), ("[[inf, 1, 0]]", "brackets do not make one list"),
+    ({"lambda < 1": "inf (0)", "lambda = 1": 1, "lambda > 1": 0}, "alone")])
+def test_limits_that_deny_themselves_are_calls_or_nested_are_refused_saying_so(answer, why):
+    with pytest.raises(Unreadable, match=why):
+        read_limits(answer)
+
+
+def test_a_working_for_a_limit_is_read_by_its_value_right_or_wrong():
+    assert read_limits({"lambda < 1": _INF, "lambda = 1": "2 - 2", "lambda > 1": 0})["=1"] == 0
+    assert read_limits("inf, 0.5*1, 0")["=1"] == 0.5
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_side, "point three seven", "below"), (read_side, "one-third", "below"), (read_side, "TP below 1", "below"),
+    (read_side, "the TP's factor is 0.37", "below"), (read_side, "TP: above", "above"),
+    (read_band, "wider at nu = 3.", "narrower"), (read_band, "wider at nu=3.", "narrower"),
+    (read_band, "wider at nu = 3!", "narrower"), (read_band, "Wider at \u03bd = 3.", "narrower"),
+    (read_band, "narrower at 30, wider at 3.", "narrower"), (read_band, "TP narrower", "narrower"),
+    (read_band, "the TP narrower", "narrower"), (read_band, "narrower (TP)", "narrower"),
+    (read_band, "the TP's band: narrower", "narrower"), (read_band, "TP: narrower", "narrower"),
+    (read_band, "the TP band at nu = 3 is wider", "narrower"), (read_band, "TP wider", "wider"),
+    (read_count, "not 49, 50", 50), (read_count, "not 100, 50", 50), (read_count, "array(50)", 50),
+    (read_actions, "0, 3 (not 1, 2)", [0, 3]), (read_actions, "0, 3 (not 1 or 2)", [0, 3]),
+    (read_actions, "0 and 3 (not 1 or 2)", [0, 3]), (read_actions, "0, 3 (not 1 and not 2)", [0, 3]),
+    (read_actions, "RIGHT and UP (not DOWN or LEFT)", [0, 3]), (read_actions, "not 1 or 2: 0 and 3", [0, 3]),
+    (read_actions, "not 1, 2; 0, 3", [0, 3]), (read_actions, "0, 2 (not 1 or 3)", [0, 2])])
+def test_the_thirty_second_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer", [(read_count, "not 50, 50"), (read_actions, "0, 3 (not 0, 2)"),
+                                            (read_actions, "0, 3 (not 3)"), (read_actions, "range(0, 4, 3)")])
+def test_a_denial_of_the_answer_itself_or_a_call_is_still_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)
+
+
+def test_exercise_4_4_names_a_decision_that_is_not_one():
+    from sarsp_edu.teaching.exercises import _verdict
+
+    with pytest.raises(ValueError, match="decision must be section 3b's gp_decision"):
+        _verdict("4.4", [0, 3], decision={"mu_cost": [1.0] * 4})

@@ -89,6 +89,11 @@ _MORE = re.compile(r"[;:\u2013\u2014()]|\s-\s|\b(?:but|because|since|as|not|unsa
 def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
     text = re.sub(r"(\bnot\s+\w+)\s+or\s+(?=\w)", r"\1 and ", text, flags=re.I)  # '0 and 3, not 1 or 2': a denial
+    for _ in range(2):  # 'not 1 and not 2', 'not 1, not 2': one denial of both
+        text = re.sub(r"(\bnot\s+\w+)\s*(?:,|\band\b|&)\s*not\s+", r"\1 and ", text, flags=re.I)
+    text = re.sub(r"^(.*?\S)\s*\(\s*((?:but\s+)?not\s+[^()]+?)\s*\)\s*\.?\s*$", r"\1, \2", text,
+                  flags=re.I)  # '0, 3 (not 1, 2)'
+    text = re.sub(r"^\s*not\s+([^:;]+?)\s*[:;]\s*(.+?)\s*$", r"\2, not \1", text, flags=re.I)  # 'not 1, 2; 0, 3'
     text = re.sub(r"^(.*?)(?:\s+(?:are|is)\s+safe\s*[,;]|\s*;)\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?"
                   r"\s*$", r"\1, not \2", text, flags=re.I)  # '0, 3; 1 and 2 are not', '0, 3 are safe, 1, 2 are not'
     if not re.search(r"\d|right|down|left|up", text, flags=re.I):  # '→ and ↑' (not 'safe actions → 0, 2')
@@ -125,6 +130,9 @@ def _read_text(text: str, answer) -> list[int]:
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
     text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
+    if re.search(r"\b(?!set\(\))[A-Za-z_][\w.]*\(", text):  # 'range(0, 4, 3)': a call, not its value
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it is a Python call; write the actions themselves "
+                         "('0, 2').")
     if re.fullmatch(r"[\s\[\](),;]*[0-3]{2,}[\s\[\](),;]*", text):  # '03': two actions run together
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the actions apart ('0, 3').")
     mask = re.fullmatch(r"\[?\s*((?:(?:True|False)\s*,?\s*){4})\]?", text)

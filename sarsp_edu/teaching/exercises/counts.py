@@ -138,7 +138,8 @@ def read_count(answer) -> int:
     for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
         text = _QUESTIONS_OWN.sub("", text)
     text = _said_plainly(text)
-    text = re.sub(r"^\s*(?:np\.|numpy\.)?(?:u?int\d*|float\d*)\(\s*([^()]+?)\s*\)\s*$", r"\1", text)  # 'np.int64(50)'
+    text = re.sub(r"^\s*(?:np\.|numpy\.)?(?:u?int\d*|float\d*|array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
+                  text)  # 'np.int64(50)', 'array(50)': numpy's printed forms
     if re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
                          "the number itself.")
@@ -186,8 +187,8 @@ def _said_plainly(text: str) -> str:
     if re.fullmatch(r"\s*\d+(?:\.\d+)?\s+-\s+\d+(?:\.\d+)?\s*", text):  # '100 - 50': a difference
         return _checked_working(text.replace(" - ", "-"))
     denied = (re.fullmatch(r"\s*(\d+)\s*,?\s+(?:but\s+)?not\s+(\d+)\s*", text, flags=re.IGNORECASE),
-              re.fullmatch(r"\s*not\s+(\d+)\s*,?\s*but\s+(\d+)\s*", text, flags=re.IGNORECASE))
-    for match, said in zip(denied, (1, 2)):
+              re.fullmatch(r"\s*not\s+(\d+)\s*(?:,?\s*but|[,;:])\s*(\d+)\s*", text, flags=re.IGNORECASE))
+    for match, said in zip(denied, (1, 2)):  # 'not 49 but 50', 'not 49, 50'
         if match and match.group(1) != match.group(2):
             return match.group(said)
     return text

@@ -10,6 +10,7 @@ import re
 
 import numpy as np
 
+from .counts import arithmetic
 from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
 from .sentences import _one_slip, said_in_words
 from .wording import shown
@@ -92,6 +93,14 @@ def read_limits(answer) -> dict:
         if len(pairs) == 3:  # 'lambda < 1: inf, ...' as a dict written out; 'inf for lambda < 1, ...'
             answer = dict(pairs)
             text = None
+        denied = None if text is None else _DENIAL.fullmatch(text)
+        if denied:  # 'inf, 1, 0 (not 0, 1, inf)', 'inf, 1, 0, not 0, 1, inf': the other order denied
+            return _without_denial(denied.group(1), denied.group(2) or denied.group(3), read_limits, answer)
+        if text is not None and re.match(r"^\s*[\[(]\s*[\[(]", text):  # '[[inf, 1, 0]]'
+            raise Unreadable(f"Could not read {shown(answer)} as three limits: its brackets do not make one list.")
+        if text is not None and re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(3)': a call, not the limits' values
+            raise Unreadable(f"Could not read {shown(answer)} as three limits: it is a Python call; write the limits "
+                             "themselves ('inf, 1, 0' is how three are written).")
     elif isinstance(answer, np.ndarray) and answer.ndim == 1 and len(answer) == 3:
         answer = list(answer)
     whole = None if text is None else re.fullmatch(r"\s*[\[(]([^\[\]()]*)[\])]\s*", text)
@@ -117,14 +126,52 @@ def read_limits(answer) -> dict:
             raise Unreadable(f"Could not read the key {shown(key)} as one of lambda < 1, lambda = 1, lambda > 1.")
         if side in limits:
             raise Unreadable(f"The key {shown(key)} names lambda {side[0]} 1 a second time.")
-        what = f"the limit for lambda {side[0]} 1"
-        if _text(value) is not None:
-            value = _SAID.sub("", alone(_text(value), value, what))  # '0 (1 for small x)', '0, probably': not read
-            value = "infinity" if _one_slip(value.strip().lower(), "infinity") else value  # 'infinty'
-            value = said_in_words(value)  # 'zero point zero'
-            value = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", value)  # 'math.inf' as text
-        limits[side] = _exact(value, _number(value, what), what)
+        limits[side] = _limit(value, f"the limit for lambda {side[0]} 1")
     missing = [f"lambda {side[0]} 1" for side in ("<1", "=1", ">1") if side not in limits]
     if missing:
         raise Unreadable(f"Your dict has no key for {' and '.join(missing)}.")
     return limits
+
+
+#: an answer, then the other answer denied: in brackets ('inf (not 0)') or after a comma ('inf, 1, 0, not 0, 1, inf')
+_DENIAL = re.compile(r"\s*(.*?\S)\s*(?:\(\s*(?:but\s+)?not\s+([^()]+?)\s*\)|[,;]\s*(?:but\s+)?not\s+(.+?))\s*\.?\s*",
+                     re.IGNORECASE)
+
+
+def _without_denial(said: str, denied: str, read, answer):
+    """What ``said`` gives, where ``denied`` gives something else: emphasis ('inf (not 0)'); a denial of the answer
+    itself, or one that cannot be read, leaves the answer unread."""
+    try:
+        given, other = read(said), read(denied)
+    except Unreadable:
+        raise Unreadable(f"Could not read {shown(answer)} as the limits: {ALONE}.") from None
+    if given == other:
+        raise Unreadable(f"Could not read {shown(answer)} as the limits: it denies its own answer.")
+    return given
+
+
+def _limit(value, what: str) -> float:
+    """One limit, exactly: a number, infinity, a working ('3 - 2'), or a word ('one'); said with an aside that
+    only restates it ('1 (one)') or denies another value ('inf (not 0)')."""
+    text = _text(value)
+    if text is None:
+        return _exact(value, _number(value, what), what)
+    denied = _DENIAL.fullmatch(text)
+    if denied:
+        return _without_denial(denied.group(1), denied.group(2) or denied.group(3), lambda v: _limit(v, what), value)
+    restated = re.fullmatch(r"\s*([^()]+?)\s*\(\s*([^()]+?)\s*\)\s*", text)
+    if restated:  # 'infinity (inf)', '1 (one)': the same value twice
+        try:
+            first, second = (_limit(part, what) for part in restated.groups())
+        except Unreadable:
+            first, second = 0.0, 1.0
+        if first == second:
+            return first
+    worked = arithmetic(text.strip().rstrip("."))
+    if worked is not None and worked >= 0:  # '3 - 2', '0.5*2': a working, by its value ('0 - 5': two numbers)
+        return worked
+    text = _SAID.sub("", alone(text, value, what))  # '0 (1 for small x)', '0, probably': not read
+    text = "infinity" if _one_slip(text.strip().lower(), "infinity") else text  # 'infinty'
+    text = said_in_words(text)  # 'zero point zero'
+    text = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", text)  # 'math.inf' as text
+    return _exact(text, _number(text, what), what)

@@ -200,8 +200,9 @@ MODEL_EXERCISES = {
                     "at each finite x."),
             Mistake(lambda x, lam, nu: np.log(_tail_ratio(x, lam, nu)), "That is the logarithm of the ratio."),
         ),
-        hint="Evaluate the log density at lambda x and at x, subtract and exponentiate: a ratio of the densities "
-             "themselves underflows far out (both 0).",
+        hint="Compare your values with f(lambda x) / f(x) for exercise 1.1's density (its power is -(nu + 1)/2) at a "
+             "few x. Far out both densities underflow to 0: there the log densities' difference, exponentiated, "
+             "stays finite.",
         explanation="Its values approach lambda**(-nu - 1) as x grows: the regular variation of eq. 8.",
     ),
     "1.3": CodingExercise(

@@ -203,13 +203,14 @@ def said_in_words(text: str) -> str:
     words = text.strip().lower()
     if len(words) == 1 and unicodedata.numeric(words, None) is not None and not words.isdigit():  # '½'
         return repr(unicodedata.numeric(words))
-    part = re.fullmatch(r"(?:the\s+factor\s+is\s+)?(a|one|two|three|four)\s+(half|third|quarter|fifth|tenth)s?", words)
+    part = re.fullmatch(r"(?:the\s+factor\s+is\s+)?(a|one|two|three|four)(?:\s+|\s*-\s*)(half|third|quarter|fifth|"
+                        r"tenth)s?", words)  # 'one third', 'one-third'
     if part:
         return f"{'1' if part.group(1) in ('a', 'one') else _DIGITS[part.group(1)]}/{_PARTS[part.group(2)]}"
-    point = re.fullmatch(r"(zero|nought|oh|one|two)\s+point((?:\s+(?:zero|nought|oh|one|two|three|four|five|six|seven|"
-                         r"eight|nine))+)", words)
+    point = re.fullmatch(r"(?:(zero|nought|oh|one|two)\s+)?point((?:\s+(?:zero|nought|oh|one|two|three|four|five|six|"
+                         r"seven|eight|nine))+)", words)  # 'zero point three seven', 'point three seven'
     if point:
-        return _DIGITS[point.group(1)] + "." + "".join(_DIGITS[word] for word in point.group(2).split())
+        return _DIGITS[point.group(1) or "zero"] + "." + "".join(_DIGITS[word] for word in point.group(2).split())
     below_one = r"(?:less\s+than|below|under|smaller\s+than)\s+(?:1|one)"
     above_zero = r"(?:more\s+than|above|over|greater\s+than)\s+(?:0|zero)"
     if re.fullmatch(rf"(?:(?:the\s+factor|it)\s+is\s+)?(?:{below_one}\s*(?:,|and|but)?\s*{above_zero}|"

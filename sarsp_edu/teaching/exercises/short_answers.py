@@ -127,6 +127,10 @@ def _gp_safe_at_ten(answer, decision=None, **_) -> bool:
 
     if decision is None:
         raise ValueError("exercise 4.4 checks against the GP's decision: check('4.4', answer, decision=gp_decision)")
+    lacking = [name for name in ("mu_cost", "var_cost", "known_unsafe") if not hasattr(decision, name)]
+    if lacking:
+        raise ValueError(f"decision must be section 3b's gp_decision (it has mu_cost, var_cost and known_unsafe), got "
+                         f"a {type(decision).__name__} without {', '.join(lacking)}")
     rewards = getattr(decision, "mu_reward", None)  # the safe set does not use them: a decision may leave them out
     _, safe, _ = choose_action(decision.mu_cost, decision.var_cost,
                                [0.0] * len(decision.mu_cost) if rewards is None else rewards, decision.known_unsafe,

@@ -56,6 +56,9 @@ _FACTOR = r"(?:the\s+)?(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|vari
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
                      rf"^\s*{_CLEAN}\s*[,:]?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$|"
                      r"\s*\(\s*(?:proportion|p)\s*=\s*0(?:\.0+)?\s*\)\s*$")  # '(the fitted factor)'
+#: the question's own subject said before the answer ('TP below 1', 'the TP: narrower', "the TP's band: narrower")
+_THE_TP = (r"^\s*(?:the\s+)?tp(?:'s)?(?:\s+band)?(?:\s*[:,\u2013\u2014]\s*|\s+is\s+|\s+)"
+           r"(?!(?:fitted\s+|variance\s+)*factor|(?:at|with|for)\s+(?:nu|\u03bd)|band)(?=[a-z0-9.])")
 #: 1 said against the factor ('1 is above it'): the factor is on the other side
 _ONE_IS = re.compile(r"^\s*(?:1|one)\s+is\s+(?:(above|over|(?:larger|greater|bigger|more|higher)\s+than)|"
                      r"(below|under|(?:less|smaller|lower)\s+than))\s+(?:it|the\s+(?:variance\s+)?factor)\s*$", re.I)
@@ -91,6 +94,7 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(r"[.!\u2026]+\s*$", "", text)
+    bare = re.sub(_THE_TP, "", bare, count=1, flags=re.I)  # 'TP below 1', 'the TP: below'
     for _ in range(2):  # 'below 1 without outliers at nu = 3': one after another
         bare = re.sub(_WITHOUT_OUTLIERS, "", bare, flags=re.I)
     bare = said_in_words(bare)
@@ -175,7 +179,7 @@ _AT_THIRTY = ((rf"\bthe\s+{_NU}30(?:\.0+)?\s+band\b", "the band"), (rf"\s*\(\s*(
 _AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*$", r"\1"),
              (r"^(?!.*\bthan\b)(.*?)\s+at\s+3(?:\.0+)?\s*$", r"\1"),
              (rf"^\s*(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*,?\s+", ""),
-             (rf"^(\s*(?:the|its)\s+band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
+             (rf"^(\s*(?:the|its)\s+(?:tp'?s?\s+)?band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
              (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"),
              (rf"^(.*?)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?{_NU}30)", r"\1"),
              (rf"^(.*?)\s+than\s+(?:(?:the\s+band\s+)?(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$",
@@ -200,9 +204,12 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
+    said = re.sub(r"[.!\u2026]+\s*$", "", text.strip())  # 'wider at nu = 3.'
+    said = re.sub(_THE_TP, "", said, count=1, flags=re.I)  # 'TP narrower', "the TP's band: narrower"
+    said = re.sub(r"\s*\(\s*(?:the\s+)?tp(?:'s\s+band)?\s*\)\s*$", "", said, flags=re.I)  # 'narrower (TP)'
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
                   r"(?:goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30)\s*$|than\b)",
-                  " ", text.strip(), flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
+                  " ", said, flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
     said = re.sub(r"\s*[,(]?\s*(?:with|for|using)?\s*(?:section\s+2'?s\s+)?(?:the\s+)?(?:fixed|same)\s+"
                   r"hyperparameters\s*\)?\s*$", "", said, flags=re.I)  # 'narrower (fixed hyperparameters)'
     said = re.sub(_OWN_COMPARISON, "", said, flags=re.I)  # "narrower (section 2's TP at nu = 30 against nu = 3)"
