@@ -77,3 +77,28 @@ def test_the_documents_give_the_courses_counts_as_the_notebooks_have_them():
     sessions = lecturer.count("**Session ")
     assert sessions == 3 and "## Three 90-minute sessions" in lecturer
     assert "2 x 90" not in readme + guide and "three 90-minute sessions" in readme + guide
+
+
+def test_each_session_plan_adds_up_and_its_homework_is_what_its_units_leave():
+    """A session's items' minutes sum to its stated total (90); with its homework they make its units' minutes (its
+    10 minutes on REPRODUCTION.md aside), and the guide's count of the homework is the sum of the sessions'."""
+    guide = (TUTORIALS / "LECTURER.md").read_text(encoding="utf-8")
+    plans = re.findall(r"\*\*Session \d: [^*]+\((Tutorials? [^)]*)\)\.\*\* ([\d + ]+) = (\d+) minutes(.*?)"
+                       r"(?=\*\*Session|\n## )", guide, flags=re.S)
+    assert len(plans) == 3
+    stated = {int(path.name[:2]): minutes(json.loads(path.read_text(encoding="utf-8"))) for path in STUDENT}
+    homework = []
+    for units, terms, total, body in plans:
+        items = [int(m) for m in re.findall(r"^\d+\. \((\d+) min\)", body, flags=re.M)]
+        assert [int(t) for t in terms.split(" + ")] == items and sum(items) == int(total) == 90, units
+        taught = sum(stated[int(n)] for n in re.findall(r"\d+", units))
+        home = re.search(r"Homework, (\d+) minutes", body)
+        aside = 10 if "REPRODUCTION.md" in body.split("Homework")[0] else 0
+        homework.append(int(home.group(1)))
+        assert int(total) - aside + homework[-1] == taught, units
+    said = re.search(r"the other (\d+) are homework: (\d+) after session 1, (\d+) after session 2, (\d+)\s+after "
+                     r"session 3, and Tutorial 7's (\d+)", guide)
+    assert said and [int(g) for g in said.groups()[1:4]] == homework and int(said.group(5)) == stated[7]
+    in_class = re.search(r"hold (\d+) of them in class", guide)
+    assert in_class and int(in_class.group(1)) == sum(int(total) for _, _, total, _ in plans) - 10
+    assert int(said.group(1)) == sum(homework) + stated[7] == sum(stated.values()) - int(in_class.group(1))
