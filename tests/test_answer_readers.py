@@ -338,3 +338,54 @@ def test_exercise_4_4_names_a_decision_that_is_not_one():
 
     with pytest.raises(ValueError, match="decision must be section 3b's gp_decision"):
         _verdict("4.4", [0, 3], decision={"mu_cost": [1.0] * 4})
+
+
+# -- the thirty-third cold pass: 20 false accepts in 3.4 (an aside in words that states no count, or another one,
+# was dropped: '50 (every cell)'), and 24 right answers refused --
+@pytest.mark.parametrize("answer", ["50 (closer to the edge)", "50 (hm)", "50 (wrong)", "50 (impossible)",
+                                    "50 (every cell)", "50 (all the cells)", "50 (the whole grid)", "50 (all but one)",
+                                    "50 (a full row)", "50 (the diagonal)", "50 (one per row)",
+                                    "50 (a quarter of the grid)", "50 (a third)", "50 (a dozen)", "50 (a score)",
+                                    "50 (the edge cells only)", "50 (the package limit)", "50, the capacity"])
+def test_a_count_with_an_aside_in_words_that_states_no_count_or_another_is_refused(answer):
+    with pytest.raises(Unreadable):
+        read_count(answer)
+
+
+@pytest.mark.parametrize("answer", ["50 (checkerboard)", "50, half the grid", "50 (one colour of a chessboard)",
+                                    "50, every other cell", "50 (the black squares)", "50 (exactly)"])
+def test_a_count_with_an_aside_that_describes_it_is_still_read(answer):
+    assert read_count(answer) == 50
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_limits, "inf, 1, 0 (the first is infinity)", _LIMITS),
+    (read_limits, "inf, 1, 0 (inf for lambda < 1)", _LIMITS),
+    (read_limits, "inf, 1, 0 (1 for lambda = 1)", _LIMITS),
+    (read_limits, {"lambda < 1": "inf (blows up)", "lambda = 1": 1, "lambda > 1": "0 (decays)"}, _LIMITS),
+    (read_limits, {"lambda < 1": "not 0, inf", "lambda = 1": 1, "lambda > 1": 0}, _LIMITS),
+    (read_limits, {"lambda < 1": _INF, "lambda = 1": "1 (not 0 or inf)", "lambda > 1": 0}, _LIMITS),
+    (read_limits, "not 0, 1, inf, but inf, 1, 0", _LIMITS),
+    (read_limits, "0, 1, inf for lambda > 1, = 1, < 1", _LIMITS),
+    (read_side, "below (TP)", "below"), (read_side, "below (clean data)", "below"),
+    (read_band, "wider at 3 than at 30", "narrower"), (read_band, "narrower, not wider, at nu = 30", "narrower"),
+    (read_band, "narrower (the factor drops to 3.5)", "narrower"),
+    (read_band, "narrower (factor 5.1 to 3.5)", "narrower"),
+    (read_actions, "0, 1, 2 (3 is unsafe)", [0, 1, 2]), (read_actions, "3 is unsafe: 0, 1, 2", [0, 1, 2]),
+    (read_actions, "0, 1, 2 are safe, 3 is unsafe", [0, 1, 2]), (read_actions, "0 1 2 (UP unsafe)", [0, 1, 2]),
+    (read_actions, "0, 1, 2 (all but UP)", [0, 1, 2])])
+def test_the_thirty_third_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer, why", [
+    (read_side, "below, not below", "denies its own answer"), (read_band, "narrower, not narrower", "denies its own"),
+    (read_count, "50, not 50", "denies its own answer"),
+    (read_band, "narrower (the factor rises to 6)", "moves the factor the other way"),
+    (read_limits, {"lambda < 1": _INF, "lambda = 1": "math.exp(0)", "lambda > 1": 0}, "Python call"),
+    (read_limits, {"lambda < 1": _INF, "lambda = 1": "1 (not 1 or inf)", "lambda > 1": 0}, "denies its own"),
+    (read_limits, "inf, 1, 0 (0 for lambda < 1)", "alone"), (read_actions, "0, 1, 2 (0 is unsafe)", "alone"),
+    (read_actions, "0, 1 (all but UP)", "alone")])
+def test_a_self_denial_a_disagreeing_aside_or_a_call_is_refused_saying_why(reader, answer, why):
+    with pytest.raises(Unreadable, match=why):
+        reader(answer)

@@ -91,6 +91,11 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(r"(\bnot\s+\w+)\s+or\s+(?=\w)", r"\1 and ", text, flags=re.I)  # '0 and 3, not 1 or 2': a denial
     for _ in range(2):  # 'not 1 and not 2', 'not 1, not 2': one denial of both
         text = re.sub(r"(\bnot\s+\w+)\s*(?:,|\band\b|&)\s*not\s+", r"\1 and ", text, flags=re.I)
+    unsafe = r"(?:(?:is|are)\s+)?(?:unsafe|not\s+safe)"  # '3 is unsafe', 'UP unsafe': the others denied
+    text = re.sub(rf"\(\s*([\w\s,&]+?)\s+{unsafe}\s*\)", r"(not \1)", text, flags=re.I)  # '0, 1, 2 (3 is unsafe)'
+    text = re.sub(rf"^\s*([\w\s,&]+?)\s+{unsafe}\s*[:;]\s*(.+)$", r"\2, not \1", text, flags=re.I)  # '3 is unsafe: 0'
+    text = re.sub(rf"^(.*?)\s+(?:is|are)\s+safe\s*[,;]\s*(?:and\s+|but\s+)?(.+?)\s+{unsafe}\s*$", r"\1, not \2", text,
+                  flags=re.I)  # '0, 1, 2 are safe, 3 is unsafe'
     text = re.sub(r"^(.*?\S)\s*\(\s*((?:but\s+)?not\s+[^()]+?)\s*\)\s*\.?\s*$", r"\1, \2", text,
                   flags=re.I)  # '0, 3 (not 1, 2)'
     text = re.sub(r"^\s*not\s+([^:;]+?)\s*[:;]\s*(.+?)\s*$", r"\2, not \1", text, flags=re.I)  # 'not 1, 2; 0, 3'
@@ -117,6 +122,14 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$|"
                   rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$",
                   "", text, flags=re.I)  # '0, 3 (sigma*^2 = 10, d = 1)', '0 and 3 for the GP'
+    again = re.fullmatch(r"(.*?\S)\s*\(\s*((?:all|every)[^()]*)\)\s*", text, flags=re.I)
+    if again:  # '0, 1, 2 (all but UP)': the same actions said again in brackets
+        try:
+            first, second = (_read_text(part, answer) for part in again.groups())
+        except Unreadable:
+            first, second = None, None
+        if first is not None and first == second:
+            return first
     restated = re.fullmatch(r"(.*?)\s*,?\s*(?:i\.\s*e\.?|that\s+is|namely)\s*,?\s*(.*)", text, flags=re.I)
     if restated:  # 'right and up, i.e. 0 and 3': the same actions said twice
         first, second = (_read_text(part, answer) for part in restated.groups())

@@ -206,6 +206,9 @@ def _alone(text: str, answer) -> str:
         if re.search(r"\b(?:because|since|as|so)\b", text, flags=re.I):  # a reason: read alone, as elsewhere
             raise
         main, asides = _clauses(text.strip().rstrip(".!"))
+        if any(re.fullmatch(rf"\s*(?:but\s+)?not\s+{re.escape(main.strip())}\s*", aside, flags=re.I)
+               for aside in asides):  # '50, not 50'
+            raise Unreadable(f"Could not read {shown(answer)} as a whole number: it denies its own answer.") from None
         asides = [re.sub(r"^\s*=\s*", "", aside) for aside in asides  # '50 (= 100/2)': its working
                   if not _denies_another(aside, main)]  # '50, not 25': emphasis
         if any(_NEGATION.search(aside.lower()) or _NOT_A_COUNT.search(aside) or _HEDGED.search(aside) or "%" in aside
@@ -213,6 +216,8 @@ def _alone(text: str, answer) -> str:
             raise
         numbered = [clause for clause in (main, *asides)
                     if re.search(r"\d", clause) or _number_word(_compact(clause)) is not None]
+        if any(aside not in numbered and not _DESCRIBES_THE_COUNT.fullmatch(aside.strip()) for aside in asides):
+            raise  # '50 (closer to the edge)', '50 (every cell)': an aside that states no count, or another one
         try:
             counts = {_read_count(_worked(clause)) for clause in numbered}
         except Unreadable:
@@ -223,6 +228,18 @@ def _alone(text: str, answer) -> str:
         if not numbered:
             raise
         return numbered[0]
+
+
+#: the count described in words, as an aside may say it ('a checkerboard', 'one colour of a chessboard', 'half the
+#: grid', 'every other cell'): any other aside without a number names no count, or another one ('every cell')
+_DESCRIBES_THE_COUNT = re.compile(
+    r"(?:i\.\s*e\.?\s*|that\s+is\s*,?\s*|so\s+|=\s*)?(?:(?:a|the|one|either)\s+)?(?:exactly|"
+    r"(?:chess|checker)[\s-]?board'?s\s+half|"
+    r"(?:(?:colou?r|half)\s+of\s+(?:a|the)\s+)?(?:gridsize\s+)?(?:chess|checker)[\s-]?board(?:\s+(?:pattern|colou?ring|layout))?|"
+    r"(?:checker|chess)[\s-]?board(?:\s+(?:pattern|colou?ring|layout))?|colou?r(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
+    r"(?:black|white|dark|light)\s+(?:squares|cells)(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
+    r"half\s+(?:of\s+)?(?:the\s+)?(?:grid|cells|board|squares|grid'?s\s+cells)|every\s+other\s+(?:cell|square)|"
+    r"alternat(?:e|ing)\s+(?:cells|squares))", re.IGNORECASE)
 
 
 def _denies_another(aside: str, main: str) -> bool:

@@ -79,6 +79,16 @@ def read_limits(answer) -> dict:
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
     if text is not None:  # Python's spellings of infinity, a closing 'respectively', a preface ('The limits are')
         text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+        first = _DENIED_FIRST.fullmatch(text)
+        if first:  # 'not 0, 1, inf, but inf, 1, 0': the other order denied first
+            return _without_denial(first.group(2), first.group(1), read_limits, answer)
+        ordered = _IN_ITS_ORDER.fullmatch(text)
+        if ordered:  # '0, 1, inf for lambda > 1, = 1, < 1': each limit with its own side, in any order
+            values = [part.strip() for part in re.split(r"[,;]|\band\b", ordered.group(1)) if part.strip()]
+            sides = re.findall(r"[<=>]", ordered.group(2))
+            if len(values) == 3 and sorted(sides) == ["<", "=", ">"]:
+                answer, text = {f"lambda {side} 1": value for side, value in zip(sides, values)}, None
+    if text is not None:
         text = _QUESTIONS_OWN.sub("", text)  # 'Gaussian: inf, 1, 0', 'inf, 1, 0 (lambda < 1, = 1, > 1)'
         printed = re.fullmatch(r"\s*\{(.*)\}\s*", text)
         if printed:  # "{'lambda < 1': inf, ...}": the dict as Python prints it
@@ -96,6 +106,14 @@ def read_limits(answer) -> dict:
         denied = None if text is None else _DENIAL.fullmatch(text)
         if denied:  # 'inf, 1, 0 (not 0, 1, inf)', 'inf, 1, 0, not 0, 1, inf': the other order denied
             return _without_denial(denied.group(1), denied.group(2) or denied.group(3), read_limits, answer)
+        aside = None if text is None else re.fullmatch(r"\s*(.*?\S)\s*\(([^()]+)\)\s*\.?\s*", text)
+        if aside:  # 'inf, 1, 0 (inf for lambda < 1)', 'inf, 1, 0 (the first is infinity)': one limit said again
+            try:
+                limits = read_limits(aside.group(1))
+            except Unreadable:
+                limits = None
+            if limits is not None and _restates(aside.group(2), limits):
+                return limits
         if text is not None and re.match(r"^\s*[\[(]\s*[\[(]", text):  # '[[inf, 1, 0]]'
             raise Unreadable(f"Could not read {shown(answer)} as three limits: its brackets do not make one list.")
         if text is not None and re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(3)': a call, not the limits' values
@@ -133,19 +151,50 @@ def read_limits(answer) -> dict:
     return limits
 
 
+#: three limits, then their sides in any order ('0, 1, inf for lambda > 1, = 1, < 1')
+_IN_ITS_ORDER = re.compile(rf"\s*(.+?)\s+for\s+((?:{_LAMBDA}\s*)?[<=>]\s*1\s*(?:,\s*and|,|and)\s*(?:{_LAMBDA}\s*)?"
+                           rf"[<=>]\s*1\s*(?:,\s*and|,|and)\s*(?:{_LAMBDA}\s*)?[<=>]\s*1)\s*\.?\s*", re.IGNORECASE)
+#: the other answer denied first ('not 0, 1, inf, but inf, 1, 0'; one limit: 'not 0, inf')
+_DENIED_FIRST = re.compile(r"\s*not\s+(.+?)\s*(?:[,;:]\s*but|;|:|\s+but)\s+(.+?)\s*\.?\s*", re.IGNORECASE)
+_ONE_DENIED_FIRST = re.compile(r"\s*not\s+([^,;:]+?)\s*[,;:]\s*(?:but\s+)?(.+?)\s*\.?\s*", re.IGNORECASE)
+_ORDINALS = {"first": "<1", "second": "=1", "third": ">1", "last": ">1"}
+
+
+def _restates(aside: str, limits: dict) -> bool:
+    """Whether ``aside`` says one of ``limits`` again: 'inf for lambda < 1', 'lambda = 1: 1', 'the first is
+    infinity'."""
+    said = (re.fullmatch(rf"\s*(.+?)\s+for\s+({_LAMBDA}\s*[<=>]\s*1)\s*", aside, flags=re.I)
+            or re.fullmatch(rf"\s*({_LAMBDA}\s*[<=>]\s*1)\s*(?::|=|->|\u2192)\s*(.+?)\s*", aside, flags=re.I))
+    if said:
+        value, key = said.groups() if "for" in said.group(0).lower().split() else said.groups()[::-1]
+        side = _limit_key(key)
+    else:
+        ordinal = re.fullmatch(r"\s*the\s+(first|second|third|last)(?:\s+one)?\s+(?:is|=)\s+(.+?)\s*", aside,
+                               flags=re.I)
+        if not ordinal:
+            return False
+        side, value = _ORDINALS[ordinal.group(1).lower()], ordinal.group(2)
+    try:
+        return side is not None and _limit(value, "a limit") == limits[side]
+    except Unreadable:
+        return False
+
+
 #: an answer, then the other answer denied: in brackets ('inf (not 0)') or after a comma ('inf, 1, 0, not 0, 1, inf')
 _DENIAL = re.compile(r"\s*(.*?\S)\s*(?:\(\s*(?:but\s+)?not\s+([^()]+?)\s*\)|[,;]\s*(?:but\s+)?not\s+(.+?))\s*\.?\s*",
                      re.IGNORECASE)
 
 
-def _without_denial(said: str, denied: str, read, answer):
+def _without_denial(said: str, denied: str, read, answer, several: bool = False):
     """What ``said`` gives, where ``denied`` gives something else: emphasis ('inf (not 0)'); a denial of the answer
-    itself, or one that cannot be read, leaves the answer unread."""
+    itself, or one that cannot be read, leaves the answer unread.  ``several``: ``denied`` may name several values
+    ('1 (not 0 or inf)')."""
+    parts = re.split(r"\s*(?:,|\bor\b|\band\b|&|/)\s*", denied) if several else [denied]
     try:
-        given, other = read(said), read(denied)
+        given, others = read(said), [read(part) for part in parts if part.strip()]
     except Unreadable:
         raise Unreadable(f"Could not read {shown(answer)} as the limits: {ALONE}.") from None
-    if given == other:
+    if given in others or not others:
         raise Unreadable(f"Could not read {shown(answer)} as the limits: it denies its own answer.")
     return given
 
@@ -156,9 +205,15 @@ def _limit(value, what: str) -> float:
     text = _text(value)
     if text is None:
         return _exact(value, _number(value, what), what)
+    text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+    if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", text):  # 'math.exp(0)': a call, not the limit's value
+        raise Unreadable(f"Could not read {shown(value)} as {what}: it is a Python call; write the limit itself.")
+    first = _ONE_DENIED_FIRST.fullmatch(text)  # 'not 0, inf'
     denied = _DENIAL.fullmatch(text)
-    if denied:
-        return _without_denial(denied.group(1), denied.group(2) or denied.group(3), lambda v: _limit(v, what), value)
+    if first or denied:
+        said, other = ((first.group(2), first.group(1)) if first
+                       else (denied.group(1), denied.group(2) or denied.group(3)))
+        return _without_denial(said, other, lambda v: _limit(v, what), value, several=True)
     restated = re.fullmatch(r"\s*([^()]+?)\s*\(\s*([^()]+?)\s*\)\s*", text)
     if restated:  # 'infinity (inf)', '1 (one)': the same value twice
         try:
@@ -174,4 +229,12 @@ def _limit(value, what: str) -> float:
     text = "infinity" if _one_slip(text.strip().lower(), "infinity") else text  # 'infinty'
     text = said_in_words(text)  # 'zero point zero'
     text = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", text)  # 'math.inf' as text
+    verb = _GOES.get(re.sub(r"[^a-z]", "", text.lower()).removeprefix("it"))
+    if verb is not None:  # 'blows up', 'it decays': where the ratio goes, said by its verb
+        return verb
     return _exact(text, _number(text, what), what)
+
+
+#: a limit said by its verb alone ('blows up', 'decays')
+_GOES = {**dict.fromkeys(("blowsup", "explodes", "divergestoinfinity", "growswithoutbound"), math.inf),
+         **dict.fromkeys(("decays", "vanishes", "diesout", "decaystozero", "vanishestozero"), 0.0)}

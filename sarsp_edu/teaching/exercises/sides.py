@@ -48,7 +48,7 @@ __all__ = ["read_band", "read_side"]
 
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
 #: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
-_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|"
+_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:on|for|with)\s+(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:with|for|in|at|using)\s+(?:(?:the\s+)?tp\s+fitted\s+as\s+in\s+section\s+3|section\s+3'?s\s+fit|"
           r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.])))")  # and the question's own fit: section 3's, at nu = 3
@@ -59,6 +59,8 @@ _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLE
 #: the question's own subject said before the answer ('TP below 1', 'the TP: narrower', "the TP's band: narrower")
 _THE_TP = (r"^\s*(?:the\s+)?tp(?:'s)?(?:\s+band)?(?:\s*[:,\u2013\u2014]\s*|\s+is\s+|\s+)"
            r"(?!(?:fitted\s+|variance\s+)*factor|(?:at|with|for)\s+(?:nu|\u03bd)|band)(?=[a-z0-9.])")
+#: the question's own subject in brackets after the answer ('narrower (TP)', 'below (the TP)')
+_TP_ASIDE = r"\s*\(\s*(?:the\s+)?tp(?:'s\s+(?:band|factor))?\s*\)\s*$"
 #: 1 said against the factor ('1 is above it'): the factor is on the other side
 _ONE_IS = re.compile(r"^\s*(?:1|one)\s+is\s+(?:(above|over|(?:larger|greater|bigger|more|higher)\s+than)|"
                      r"(below|under|(?:less|smaller|lower)\s+than))\s+(?:it|the\s+(?:variance\s+)?factor)\s*$", re.I)
@@ -95,6 +97,7 @@ def read_side(answer) -> str:
         return _side_of(value, answer)
     bare = re.sub(r"[.!\u2026]+\s*$", "", text)
     bare = re.sub(_THE_TP, "", bare, count=1, flags=re.I)  # 'TP below 1', 'the TP: below'
+    bare = re.sub(_TP_ASIDE, "", bare, flags=re.I)  # 'below (TP)'
     for _ in range(2):  # 'below 1 without outliers at nu = 3': one after another
         bare = re.sub(_WITHOUT_OUTLIERS, "", bare, flags=re.I)
     bare = said_in_words(bare)
@@ -167,11 +170,14 @@ def _clauses_agree(text: str, reader, reasons: str) -> str | None:
         others = {reader(denial.group(1)) for denial in denied if denial}
     except Unreadable:
         return None
-    return said.pop() if len(said) == 1 and not others & said else None  # '0.37, above 1': refused
+    if len(said) == 1 and others & said:  # 'below, not below'
+        raise Unreadable(f"Could not read {shown(text)}: it denies its own answer.")
+    return said.pop() if len(said) == 1 else None  # '0.37, above 1': refused
 
 
 #: the question's own nu = 30, said in the subject or in brackets: dropped
 _AT_THIRTY = ((rf"\bthe\s+{_NU}30(?:\.0+)?\s+band\b", "the band"), (rf"\s*\(\s*(?:at\s+)?{_NU}30(?:\.0+)?\s*\)", ""),
+              (rf"\s*,\s*(?:at|with|for)\s+{_NU}30(?:\.0+)?\s*$", ""),  # 'narrower, not wider, at nu = 30'
               (r"\s*,\s*(?=towards?\s+(?:the\s+)?(?:gp|gaussian))", " "))
 #: the band at nu = 3 said in place of the band at nu = 30 ('wider at nu = 3', 'the band at nu = 3 is wider', 'wider
 #: as nu shrinks'); at the end only where no comparison precedes it ('narrower than the band at nu = 3' is the
@@ -181,13 +187,14 @@ _AT_THREE = ((rf"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?
              (rf"^\s*(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])\s*,?\s+", ""),
              (rf"^(\s*(?:the|its)\s+(?:tp'?s?\s+)?band)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])", r"\1"),
              (rf"^(\s*the)\s+{_NU}3(?:\.0+)?(?=\s+band\b)", r"\1"),
-             (rf"^(.*?)\s+(?:at|with|for)\s+{_NU}3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?{_NU}30)", r"\1"),
+             (rf"^(.*?)\s+(?:at|with|for)\s+(?:{_NU})?3(?:\.0+)?(?![\d.])(?=\s+than\s+(?:at\s+|with\s+)?(?:{_NU})?30)",
+              r"\1"),  # 'wider at nu = 3 than at nu = 30', 'wider at 3 than at 30'
              (rf"^(.*?)\s+than\s+(?:(?:the\s+band\s+)?(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$",
               r"\1"),  # 'wider than at nu = 30'
              (r"^(?!.*\bthan\b)(.*?)\s*,?\s+(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:shrinks|decreases|falls|drops|"
               r"goes\s+down|gets\s+(?:smaller|lower))\s*$", r"\1"))  # 'wider as nu shrinks': the way back to 3
 #: the comparison the question makes, said after the band at nu = 3 ('... is wider than at nu = 30'): dropped
-_THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?{_NU}30(?:\.0+)?\s*$"
+_THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?(?:{_NU})?30(?:\.0+)?\s*$"
 
 
 #: 2.6's own comparison in brackets, nu = 30 first ("(section 2's TP at nu = 30 against nu = 3)", '(nu = 30 vs 3)')
@@ -206,7 +213,7 @@ def read_band(answer) -> str:
         return read_word(answer, options)
     said = re.sub(r"[.!\u2026]+\s*$", "", text.strip())  # 'wider at nu = 3.'
     said = re.sub(_THE_TP, "", said, count=1, flags=re.I)  # 'TP narrower', "the TP's band: narrower"
-    said = re.sub(r"\s*\(\s*(?:the\s+)?tp(?:'s\s+band)?\s*\)\s*$", "", said, flags=re.I)  # 'narrower (TP)'
+    said = re.sub(_TP_ASIDE, "", said, flags=re.I)  # 'narrower (TP)'
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
                   r"(?:goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30)\s*$|than\b)",
                   " ", said, flags=re.I)  # 'narrower, as nu grows', 'narrower at nu = 30, than nu = 3'
@@ -227,6 +234,16 @@ def read_band(answer) -> str:
         if re.search(rf"\bthan\s+(?:the\s+band\s+)?(?:(?:at|with|for)\s+)?{_NU}3(?:\.0+)?(?![\d.])", said, flags=re.I):
             raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': it compares the band at nu = 3 "
                              "with itself.")
+    factor = re.fullmatch(r"(.*?\S)\s*\(\s*(?:the\s+)?(?:tp'?s\s+)?factor\s+(?:(drops|falls|decreases|shrinks|"
+                          r"goes\s+down)|(rises|grows|increases|goes\s+up))?\s*(?:from\s+)?([\d.]+)?\s*"
+                          r"(?:to|->|\u2192)\s*([\d.]+)\s*\)", said, flags=re.I)
+    factor_way = None
+    if factor:  # 'narrower (the factor drops to 3.5)', 'narrower (factor 5.1 to 3.5)': the factor's way, said again
+        way = "narrower" if factor.group(2) else "wider" if factor.group(3) else None
+        start, end = (float(n) if n and re.fullmatch(r"\d+(?:\.\d+)?", n) else None for n in factor.group(4, 5))
+        moved = None if start is None or end is None or start == end else "wider" if end > start else "narrower"
+        if (way or moved) and (moved or way) == (way or moved) and end is not None and end > 1:  # its way agrees
+            said, factor_way = factor.group(1), way or moved
     try:
         side = read_word(said, options)
     except Unreadable as refused:
@@ -234,4 +251,8 @@ def read_band(answer) -> str:
         if agreed is not None:
             return agreed
         raise Unreadable(str(refused).replace(shown(said), shown(answer), 1)) from None
-    return {"wider": "narrower", "narrower": "wider"}[side] if flipped else side
+    side = {"wider": "narrower", "narrower": "wider"}[side] if flipped else side
+    if factor_way and factor_way != side:  # 'narrower (the factor rises to 6)'
+        raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': its aside moves the factor the "
+                         "other way.")
+    return side
