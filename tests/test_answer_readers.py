@@ -384,8 +384,33 @@ def test_the_thirty_third_pass_s_right_answers_are_read(reader, answer, expected
     (read_band, "narrower (the factor rises to 6)", "moves the factor the other way"),
     (read_limits, {"lambda < 1": _INF, "lambda = 1": "math.exp(0)", "lambda > 1": 0}, "Python call"),
     (read_limits, {"lambda < 1": _INF, "lambda = 1": "1 (not 1 or inf)", "lambda > 1": 0}, "denies its own"),
-    (read_limits, "inf, 1, 0 (0 for lambda < 1)", "alone"), (read_actions, "0, 1, 2 (0 is unsafe)", "alone"),
+    (read_limits, "inf, 1, 0 (0 for lambda < 1)", "alone"),
+    (read_actions, "0, 1, 2 (0 is unsafe)", "denies its own answer"),
+    (read_actions, "0, 1, 2; 2 is not safe", "denies its own answer"),
     (read_actions, "0, 1 (all but UP)", "alone")])
 def test_a_self_denial_a_disagreeing_aside_or_a_call_is_refused_saying_why(reader, answer, why):
+    with pytest.raises(Unreadable, match=why):
+        reader(answer)
+
+
+# -- the thirty-fourth cold pass (0 false accepts): 13 right answers refused and two replies that misdiagnosed --
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_side, "np.float64(0.37)", "below"), (read_side, "array(0.37)", "below"),
+    (read_side, "below (nu = 3)", "below"),
+    (read_side, "below 1 (nu = 3)", "below"), (read_side, "below, nu = 3.", "below"),
+    (read_side, "the TP's factor: below 1", "below"), (read_band, "narrower at 30 and wider at 3", "narrower"),
+    (read_band, "narrower (30)", "narrower"), (read_band, "narrower (30 vs 3)", "narrower"),
+    (read_count, "50 or fewer cells", 50), (read_count, "50 (for a 10 x 10 grid)", 50),
+    (read_count, "50 (a chessboard colour)", 50), (read_actions, "0, 1, 2 safe; 3 unsafe", [0, 1, 2]),
+    (read_actions, "(0, 1, 2) and not 3", [0, 1, 2])])
+def test_the_thirty_fourth_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer, why", [
+    (read_side, "math.exp(-1)", "Python call"), (read_actions, "0, 1, 2, not 0, 1, 2", "denies its own answer"),
+    (read_actions, "0, 1, 2 (not 2)", "'0, 1, 2 \\(not 2\\)' as a list of action numbers: it denies its own answer"),
+    (read_side, "below (nu = 30)", "alone"), (read_count, "50 (for a 8 x 8 grid)", "another number")])
+def test_a_call_a_self_denial_or_another_setting_is_refused_saying_why(reader, answer, why):
     with pytest.raises(Unreadable, match=why):
         reader(answer)

@@ -94,7 +94,10 @@ def _read_text(text: str, answer) -> list[int]:
     unsafe = r"(?:(?:is|are)\s+)?(?:unsafe|not\s+safe)"  # '3 is unsafe', 'UP unsafe': the others denied
     text = re.sub(rf"\(\s*([\w\s,&]+?)\s+{unsafe}\s*\)", r"(not \1)", text, flags=re.I)  # '0, 1, 2 (3 is unsafe)'
     text = re.sub(rf"^\s*([\w\s,&]+?)\s+{unsafe}\s*[:;]\s*(.+)$", r"\2, not \1", text, flags=re.I)  # '3 is unsafe: 0'
-    text = re.sub(rf"^(.*?)\s+(?:is|are)\s+safe\s*[,;]\s*(?:and\s+|but\s+)?(.+?)\s+{unsafe}\s*$", r"\1, not \2", text,
+    text = re.sub(r"^\s*\(([^()]*)\)\s*(?:,?\s*and\s+|,\s*)(?:but\s+)?not\s+", r"\1, not ", text,
+                  flags=re.I)  # '(0, 1) and not 3'
+    text = re.sub(rf"^(.*?)\s+(?:(?:is|are)\s+)?safe\s*[,;]\s*(?:and\s+|but\s+)?(.+?)\s+{unsafe}\s*$", r"\1, not \2",
+                  text,
                   flags=re.I)  # '0, 1, 2 are safe, 3 is unsafe'
     text = re.sub(r"^(.*?\S)\s*\(\s*((?:but\s+)?not\s+[^()]+?)\s*\)\s*\.?\s*$", r"\1, \2", text,
                   flags=re.I)  # '0, 3 (not 1, 2)'
@@ -187,7 +190,7 @@ def _read_text(text: str, answer) -> list[int]:
             return []  # 'zero actions', 'zero safe actions are safe': none
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it counts the safe actions; name them (for "
                          f"example '0, 2').")
-    said = _without_denied(said)  # '0 and 3, not 1': emphasis, when the denied actions are not in the list
+    said = _without_denied(said, answer)  # '0 and 3, not 1': emphasis, when the denied actions are not in the list
     semicolons = re.fullmatch(rf"[\s\[\]()]*{_ITEM}(?:\s*;\s*{_ITEM})+[\s\[\]()]*", said, flags=re.I)  # '0; 2'
     if not semicolons and _MORE.search(everything_but.group(1) if everything_but else said):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: write the safe actions alone (for example "
@@ -265,7 +268,7 @@ def _names_beside(text: str, answer) -> str:
     return beside.group(1)
 
 
-def _without_denied(said: str) -> str:
+def _without_denied(said: str, answer) -> str:
     """``said`` without a closing 'not ...' that names only actions its list does not ('0 and 3, not 1', 'RIGHT and
     UP, not DOWN'), or another whole list ('[0, 3] not [0, 1, 3]'); else as it is."""
     found = re.fullmatch(r"(.*?)\s*[,;]?\s+(?:but\s+)?not\s+([\w\s,&\[\]]+)", said, flags=re.I)
@@ -278,8 +281,9 @@ def _without_denied(said: str) -> str:
     except Unreadable:
         return said
     lists = all(re.fullmatch(r"\s*\[[^\[\]]*\]\s*", found.group(group)) for group in (1, 2))
-    return found.group(1) if listed and denied and (listed != denied if lists else not set(listed) & set(denied)) \
-        else said
+    if listed and denied and not lists and set(listed) & set(denied):  # '0, 1, 2 (not 2)'
+        raise Unreadable(f"Could not read {shown(answer)} as a list of action numbers: it denies its own answer.")
+    return found.group(1) if listed and denied and (listed != denied if lists else True) else said
 
 
 def _named_equals(answer):

@@ -51,7 +51,7 @@ _GRID = r"(?:a\s+|the\s+)?(?:10|ten)\s*(?:x|\u00d7|by|-by-)\s*(?:10|ten)(?:\s+gr
 _QUESTIONS_OWN = re.compile(
     rf"^\s*on\s+{_GRID}\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
     rf"\s+(?:with|if|when)\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+|if\s+)?{_RULE}\s*\)?\s*$|"
-    rf"\s*\(\s*(?:on\s+)?{_GRID}\s*\)\s*$",  # '50 (10 x 10)'
+    rf"\s*\(\s*(?:(?:on|for|in)\s+)?{_GRID}\s*\)\s*$",  # '50 (10 x 10)', '50 (for a 10 x 10 grid)'
     re.IGNORECASE)
 #: a grid's size ('10 x 10', '10x10', '10-by-10'): given by the question, not a count
 _GRID_SIZE = re.compile(r"\b10\s*(?:x|\u00d7|\*|-?by-?)\s*10\b(?!\s*/)", re.IGNORECASE)  # the question's grid
@@ -182,7 +182,8 @@ def _said_plainly(text: str) -> str:
             return str(int(values[0]))
     text = re.sub(r"\b(?:half|1\s*/\s*2)\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)
     text = re.sub(r"^\s*half\s+(?:of\s+)?the\s+(?:cells|squares|grid|board)\s*$", "100/2", text, flags=re.IGNORECASE)
-    text = re.sub(r"^\s*(\d+)\s+or\s+(?:fewer|less)\s*$", r"at most \1", text, flags=re.IGNORECASE)  # the bound
+    text = re.sub(r"^\s*(\d+)\s+or\s+(?:fewer|less)(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?\s*$", r"at most \1",
+                  text, flags=re.IGNORECASE)  # the bound, '50 or fewer cells'
     text = re.sub(r"^\s*(\d+)\s+or\s+(?:more|greater)\s*$", r"at least \1", text, flags=re.IGNORECASE)  # not it
     if re.fullmatch(r"\s*\d+(?:\.\d+)?\s+-\s+\d+(?:\.\d+)?\s*", text):  # '100 - 50': a difference
         return _checked_working(text.replace(" - ", "-"))
@@ -236,7 +237,7 @@ _DESCRIBES_THE_COUNT = re.compile(
     r"(?:i\.\s*e\.?\s*|that\s+is\s*,?\s*|so\s+|=\s*)?(?:(?:a|the|one|either)\s+)?(?:exactly|"
     r"(?:chess|checker)[\s-]?board'?s\s+half|"
     r"(?:(?:colou?r|half)\s+of\s+(?:a|the)\s+)?(?:gridsize\s+)?(?:chess|checker)[\s-]?board(?:\s+(?:pattern|colou?ring|layout))?|"
-    r"(?:checker|chess)[\s-]?board(?:\s+(?:pattern|colou?ring|layout))?|colou?r(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
+    r"(?:checker|chess)[\s-]?board(?:\s+(?:pattern|colou?ring|colou?r|layout))?|colou?r(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
     r"(?:black|white|dark|light)\s+(?:squares|cells)(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
     r"half\s+(?:of\s+)?(?:the\s+)?(?:grid|cells|board|squares|grid'?s\s+cells)|every\s+other\s+(?:cell|square)|"
     r"alternat(?:e|ing)\s+(?:cells|squares))", re.IGNORECASE)

@@ -51,7 +51,8 @@ _NU = r"(?:nu|\u03bd)\s*=?\s*"
 _CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:on|for|with)\s+(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:with|for|in|at|using)\s+(?:(?:the\s+)?tp\s+fitted\s+as\s+in\s+section\s+3|section\s+3'?s\s+fit|"
-          r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.])))")  # and the question's own fit: section 3's, at nu = 3
+          r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.]))|(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.]))")  # and the question's
+# own fit: section 3's, at nu = 3 ('below (nu = 3)')
 _FACTOR = r"(?:the\s+)?(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
                      rf"^\s*{_CLEAN}\s*[,:]?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$|"
@@ -96,6 +97,12 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(r"[.!\u2026]+\s*$", "", text)
+    if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", bare) and not re.fullmatch(
+            r"\s*(?:np\.|numpy\.)?(?:float\d*|array)\(\s*[\d.]+\s*\)\s*", bare):  # 'math.exp(-1)': a call
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is a Python call; write the side, "
+                         "or the number itself.")
+    bare = re.sub(r"^\s*(?:np\.|numpy\.)?(?:float\d*|array)\(\s*([\d.]+)\s*\)\s*$", r"\1", bare)  # 'array(0.37)'
+    bare = re.sub(rf"^\s*{_FACTOR}\s*:\s*", "", bare, count=1, flags=re.I)  # "the TP's factor: below 1"
     bare = re.sub(_THE_TP, "", bare, count=1, flags=re.I)  # 'TP below 1', 'the TP: below'
     bare = re.sub(_TP_ASIDE, "", bare, flags=re.I)  # 'below (TP)'
     for _ in range(2):  # 'below 1 without outliers at nu = 3': one after another
@@ -176,7 +183,8 @@ def _clauses_agree(text: str, reader, reasons: str) -> str | None:
 
 
 #: the question's own nu = 30, said in the subject or in brackets: dropped
-_AT_THIRTY = ((rf"\bthe\s+{_NU}30(?:\.0+)?\s+band\b", "the band"), (rf"\s*\(\s*(?:at\s+)?{_NU}30(?:\.0+)?\s*\)", ""),
+_AT_THIRTY = ((rf"\bthe\s+{_NU}30(?:\.0+)?\s+band\b", "the band"),
+              (rf"\s*\(\s*(?:at\s+)?(?:{_NU})?30(?:\.0+)?\s*\)", ""),  # 'narrower (nu = 30)', 'narrower (30)'
               (rf"\s*,\s*(?:at|with|for)\s+{_NU}30(?:\.0+)?\s*$", ""),  # 'narrower, not wider, at nu = 30'
               (r"\s*,\s*(?=towards?\s+(?:the\s+)?(?:gp|gaussian))", " "))
 #: the band at nu = 3 said in place of the band at nu = 30 ('wider at nu = 3', 'the band at nu = 3 is wider', 'wider
@@ -199,7 +207,7 @@ _THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?(?:
 
 #: 2.6's own comparison in brackets, nu = 30 first ("(section 2's TP at nu = 30 against nu = 3)", '(nu = 30 vs 3)')
 _OWN_COMPARISON = (r"\s*\(\s*(?:section\s+2'?s?\s+)?(?:the\s+)?(?:tp'?s?\s+)?(?:band\s+)?(?:at\s+)?"
-                   rf"{_NU}30(?:\.0+)?(?:\s*,?\s*(?:against|vs\.?|versus|than|compared\s+(?:with|to))\s+(?:at\s+)?"
+                   rf"(?:{_NU})?30(?:\.0+)?(?:\s*,?\s*(?:against|vs\.?|versus|than|compared\s+(?:with|to))\s+(?:at\s+)?"
                    rf"(?:{_NU})?3(?:\.0+)?)?\s*\)\s*$")
 
 
@@ -247,7 +255,9 @@ def read_band(answer) -> str:
     try:
         side = read_word(said, options)
     except Unreadable as refused:
-        agreed = _clauses_agree(text, read_band, "because|since")  # 'narrower at 30, wider at 3'
+        both_ends = re.sub(r"\s+and\s+(?=(?:but\s+)?(?:wider|narrower|the\s+band)\b.*\b(?:at|with|for)\s+"
+                           r"(?:nu\s*=\s*)?3(?:\.0+)?\.?\s*$)", ", ", text, flags=re.I)  # '... at 30 and wider at 3'
+        agreed = _clauses_agree(both_ends, read_band, "because|since")  # 'narrower at 30, wider at 3'
         if agreed is not None:
             return agreed
         raise Unreadable(str(refused).replace(shown(said), shown(answer), 1)) from None
