@@ -133,6 +133,8 @@ def _read_text(text: str, answer) -> list[int]:
             first, second = None, None
         if first is not None and first == second:
             return first
+    text = re.sub(rf"^\s*(?:(?:with|at|for|when)\s+)?{own}(?:\s*(?:,|and)\s*{own})?\s*[:,]\s*", "", text,
+                  flags=re.I)  # 'sigma*^2 = 10: 0, 1, 2': the question's own settings first
     restated = re.fullmatch(r"(.*?)\s*,?\s*(?:i\.\s*e\.?|that\s+is|namely)\s*,?\s*(.*)", text, flags=re.I)
     if restated:  # 'right and up, i.e. 0 and 3': the same actions said twice
         first, second = (_read_text(part, answer) for part in restated.groups())

@@ -49,7 +49,7 @@ _RULE = (r"(?:no\s+two(?:\s+of\s+them)?(?:\s+cells)?\s+(?:(?:4|four)-?\s*)?(?:ad
          r"shar(?:ing|e)\s+an\s+edge)(?:\s+cells)?|(?:4|four)-?\s*adjacency)")
 _GRID = r"(?:a\s+|the\s+)?(?:10|ten)\s*(?:x|\u00d7|by|-by-)\s*(?:10|ten)(?:\s+grid)?"
 _QUESTIONS_OWN = re.compile(
-    rf"^\s*on\s+{_GRID}\s*,?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
+    rf"^\s*(?:(?:on|for|in)\s+)?{_GRID}\s*[,:]?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
     rf"\s+(?:with|if|when)\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+|if\s+)?{_RULE}\s*\)?\s*$|"
     rf"\s*\(\s*(?:(?:on|for|in)\s+)?{_GRID}\s*\)\s*$",  # '50 (10 x 10)', '50 (for a 10 x 10 grid)'
     re.IGNORECASE)
@@ -138,8 +138,8 @@ def read_count(answer) -> int:
     for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
         text = _QUESTIONS_OWN.sub("", text)
     text = _said_plainly(text)
-    text = re.sub(r"^\s*(?:np\.|numpy\.)?(?:u?int\d*|float\d*|array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
-                  text)  # 'np.int64(50)', 'array(50)': numpy's printed forms
+    text = re.sub(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|(?:np\.|numpy\.)?array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
+                  text)  # 'np.int64(50)', 'array(50)': numpy's printed forms ('int(50)' is a call)
     if re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
                          "the number itself.")

@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import math
 import re
+import unicodedata
 
 import numpy as np
 
 from .counts import arithmetic
 from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
-from .sentences import _one_slip, said_in_words
+from .sentences import said_in_words
 from .wording import shown
 
 __all__ = ["read_limits"]
@@ -206,6 +207,9 @@ def _limit(value, what: str) -> float:
     if text is None:
         return _exact(value, _number(value, what), what)
     text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+    text = re.sub(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|(?:np\.|numpy\.)?array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
+                  text)  # numpy's printed forms: 'np.float64(1.0)', 'array(1)'
+    text = re.sub("[\u00bc-\u00be\u2150-\u215e]", lambda m: f"({unicodedata.numeric(m.group(0))!r})", text)  # '½ + ½'
     if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", text):  # 'math.exp(0)': a call, not the limit's value
         raise Unreadable(f"Could not read {shown(value)} as {what}: it is a Python call; write the limit itself.")
     first = _ONE_DENIED_FIRST.fullmatch(text)  # 'not 0, inf'
@@ -226,7 +230,6 @@ def _limit(value, what: str) -> float:
     if worked is not None and worked >= 0:  # '3 - 2', '0.5*2': a working, by its value ('0 - 5': two numbers)
         return worked
     text = _SAID.sub("", alone(text, value, what))  # '0 (1 for small x)', '0, probably': not read
-    text = "infinity" if _one_slip(text.strip().lower(), "infinity") else text  # 'infinty'
     text = said_in_words(text)  # 'zero point zero'
     text = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", text)  # 'math.inf' as text
     verb = _GOES.get(re.sub(r"[^a-z]", "", text.lower()).removeprefix("it"))

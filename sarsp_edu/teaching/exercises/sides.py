@@ -53,7 +53,7 @@ _CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|(?
           r"(?:with|for|in|at|using)\s+(?:(?:the\s+)?tp\s+fitted\s+as\s+in\s+section\s+3|section\s+3'?s\s+fit|"
           r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.]))|(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.]))")  # and the question's
 # own fit: section 3's, at nu = 3 ('below (nu = 3)')
-_FACTOR = r"(?:the\s+)?(?:tp'?s\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
+_FACTOR = r"(?:the\s+)?(?:tp(?:'?s)?\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
                      rf"^\s*{_CLEAN}\s*[,:]?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$|"
                      r"\s*\(\s*(?:proportion|p)\s*=\s*0(?:\.0+)?\s*\)\s*$")  # '(the fitted factor)'
