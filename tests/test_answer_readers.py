@@ -437,3 +437,25 @@ def test_a_misspelt_infinity_or_a_python_call_is_refused(reader, answer):
     (read_actions, "with sigma*^2 = 10: 0, 1, 2", [0, 1, 2]), (read_actions, "d = 1: 0, 1, 2", [0, 1, 2])])
 def test_the_thirty_fifth_pass_s_right_answers_are_read(reader, answer, expected):
     assert reader(answer) == expected
+
+
+# -- the thirty-sixth cold pass: 1 false accept ('0.35 (0.37)': an aside with another value) and 11 right answers
+# refused (1.4's three limits restated in brackets, 2.6's factor said as an aside without the word 'drops', a denial in
+# number words, 4.4's 'at 10', 'UP is not' and ASCII arrows) --
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_limits, "inf, 1, 0 (infinity, one, zero)", _LIMITS), (read_limits, "inf, 1, 0 (\u221e, 1, 0)", _LIMITS),
+    (read_limits, "\u221e, 1, 0 (inf, 1, 0)", _LIMITS), (read_limits, "inf, 1, 0 (inf, 1, 0)", _LIMITS),
+    (read_band, "narrower (smaller factor)", "narrower"), (read_band, "narrower (5.10 -> 3.47)", "narrower"),
+    (read_band, "narrower (3.47 < 5.10)", "narrower"), (read_count, "fifty, not forty-nine", 50),
+    (read_actions, "0, 1, 2 (at 10)", [0, 1, 2]), (read_actions, "0, 1, 2 (UP is not)", [0, 1, 2]),
+    (read_actions, "->, \u2193, <-", [0, 1, 2])])
+def test_the_thirty_sixth_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer", [
+    (read_side, "0.35 (0.37)"), (read_limits, "inf, 1, 0 (0, 1, inf)"), (read_band, "narrower (larger factor)"),
+    (read_band, "narrower (3.47 -> 5.10)"), (read_count, "fifty, not fifty"), (read_actions, "0, 1, 2 (at 0.8)")])
+def test_an_aside_with_another_value_or_the_other_way_is_still_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)

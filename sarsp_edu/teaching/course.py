@@ -409,6 +409,13 @@ def relinked(text: str, source: str = "source") -> str:
 
     A link inside ``source/`` (a sibling notebook) is kept: the student copy's sibling has the same name.
 
+    Parameters
+    ----------
+    text : str
+        A Markdown cell's text.
+    source : str, default "source"
+        The sources' folder, relative to the student notebooks' folder.
+
     >>> relinked("[glossary](../GLOSSARY.md#nu) and [T4](04_sarsp_live.ipynb)")
     '[glossary](GLOSSARY.md#nu) and [T4](04_sarsp_live.ipynb)'
     """

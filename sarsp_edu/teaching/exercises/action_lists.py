@@ -91,7 +91,7 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(r"(\bnot\s+\w+)\s+or\s+(?=\w)", r"\1 and ", text, flags=re.I)  # '0 and 3, not 1 or 2': a denial
     for _ in range(2):  # 'not 1 and not 2', 'not 1, not 2': one denial of both
         text = re.sub(r"(\bnot\s+\w+)\s*(?:,|\band\b|&)\s*not\s+", r"\1 and ", text, flags=re.I)
-    unsafe = r"(?:(?:is|are)\s+)?(?:unsafe|not\s+safe)"  # '3 is unsafe', 'UP unsafe': the others denied
+    unsafe = r"(?:(?:(?:is|are)\s+)?(?:unsafe|not\s+safe)|(?:is|are)\s+not)"  # '3 is unsafe', 'UP unsafe', 'UP is not'
     text = re.sub(rf"\(\s*([\w\s,&]+?)\s+{unsafe}\s*\)", r"(not \1)", text, flags=re.I)  # '0, 1, 2 (3 is unsafe)'
     text = re.sub(rf"^\s*([\w\s,&]+?)\s+{unsafe}\s*[:;]\s*(.+)$", r"\2, not \1", text, flags=re.I)  # '3 is unsafe: 0'
     text = re.sub(r"^\s*\(([^()]*)\)\s*(?:,?\s*and\s+|,\s*)(?:but\s+)?not\s+", r"\1, not ", text,
@@ -105,7 +105,7 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(r"^(.*?)(?:\s+(?:are|is)\s+safe\s*[,;]|\s*;)\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?"
                   r"\s*$", r"\1, not \2", text, flags=re.I)  # '0, 3; 1 and 2 are not', '0, 3 are safe, 1, 2 are not'
     if not re.search(r"\d|right|down|left|up", text, flags=re.I):  # '→ and ↑' (not 'safe actions → 0, 2')
-        text = text.translate(_ARROWS)
+        text = re.sub(r"<-+(?!>)", " left ", re.sub(r"(?<!<)-+>", " right ", text)).translate(_ARROWS)  # '->', '<-'
     text = _mended(text)
     text = re.sub(r"^\s*none\s+but\s+", "only ", text, flags=re.I)  # 'none but 0 and 3'
     unsafe = re.fullmatch(r"\s*(.+?)\s+(?:are|is)\s+(?:unsafe|not\s+safe)\s*\.?\s*", text, flags=re.I)
@@ -123,7 +123,8 @@ def _read_text(text: str, answer) -> list[int]:
                  r"(?:10(?:\.0*)?|1(?:\.0*)?e\+?0*1)(?![\d.])(?:\s+instead\s+of\s+0\.8)?")  # '10', '1e1'
     own = rf"(?:{threshold}|d\s*=\s*1(?:\.0*)?(?![\d.]))"
     text = re.sub(rf"\s*(?:,|\()?\s*(?:with|at|for|when)\s+{own}(?:\s*(?:,|and)\s*{own})?\s*\)?\s*$|"
-                  rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$",
+                  rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$|"
+                  r"\s*\(\s*(?:at|with)\s+10(?:\.0*)?\s*\)\s*$",
                   "", text, flags=re.I)  # '0, 3 (sigma*^2 = 10, d = 1)', '0 and 3 for the GP'
     again = re.fullmatch(r"(.*?\S)\s*\(\s*((?:all|every)[^()]*)\)\s*", text, flags=re.I)
     if again:  # '0, 1, 2 (all but UP)': the same actions said again in brackets

@@ -187,6 +187,12 @@ def _said_plainly(text: str) -> str:
     text = re.sub(r"^\s*(\d+)\s+or\s+(?:more|greater)\s*$", r"at least \1", text, flags=re.IGNORECASE)  # not it
     if re.fullmatch(r"\s*\d+(?:\.\d+)?\s+-\s+\d+(?:\.\d+)?\s*", text):  # '100 - 50': a difference
         return _checked_working(text.replace(" - ", "-"))
+    worded = re.fullmatch(r"\s*([a-z]+(?:-[a-z]+)?|\d+)\s*(,?\s+(?:but\s+)?not\s+)([a-z]+(?:-[a-z]+)?|\d+)\s*", text,
+                          flags=re.IGNORECASE)  # 'fifty, not forty-nine': the denial in words
+    if worded:
+        said = [part if part.isdigit() else _number_word(part.lower().replace("-", "")) for part in worded.group(1, 3)]
+        if None not in said:
+            text = f"{int(float(said[0]))}{worded.group(2)}{int(float(said[1]))}"
     denied = (re.fullmatch(r"\s*(\d+)\s*,?\s+(?:but\s+)?not\s+(\d+)\s*", text, flags=re.IGNORECASE),
               re.fullmatch(r"\s*not\s+(\d+)\s*(?:,?\s*but|[,;:])\s*(\d+)\s*", text, flags=re.IGNORECASE))
     for match, said in zip(denied, (1, 2)):  # 'not 49 but 50', 'not 49, 50'

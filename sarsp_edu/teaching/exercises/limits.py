@@ -162,8 +162,13 @@ _ORDINALS = {"first": "<1", "second": "=1", "third": ">1", "last": ">1"}
 
 
 def _restates(aside: str, limits: dict) -> bool:
-    """Whether ``aside`` says one of ``limits`` again: 'inf for lambda < 1', 'lambda = 1: 1', 'the first is
-    infinity'."""
+    """Whether ``aside`` says one of ``limits``, or all three, again: 'inf for lambda < 1', 'lambda = 1: 1', 'the
+    first is infinity', 'infinity, one, zero'."""
+    try:
+        if read_limits(aside) == limits:
+            return True
+    except Unreadable:
+        pass
     said = (re.fullmatch(rf"\s*(.+?)\s+for\s+({_LAMBDA}\s*[<=>]\s*1)\s*", aside, flags=re.I)
             or re.fullmatch(rf"\s*({_LAMBDA}\s*[<=>]\s*1)\s*(?::|=|->|\u2192)\s*(.+?)\s*", aside, flags=re.I))
     if said:

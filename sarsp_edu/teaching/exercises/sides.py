@@ -179,6 +179,9 @@ def _clauses_agree(text: str, reader, reasons: str) -> str | None:
         return None
     if len(said) == 1 and others & said:  # 'below, not below'
         raise Unreadable(f"Could not read {shown(text)}: it denies its own answer.")
+    values = {float(clause) for clause in (first, *asides) if re.fullmatch(r"\s*\d*\.?\d+\s*", clause)}
+    if len(values) > 1:  # '0.35 (0.37)': two values, whatever their side
+        return None
     return said.pop() if len(said) == 1 else None  # '0.37, above 1': refused
 
 
@@ -246,6 +249,20 @@ def read_band(answer) -> str:
                           r"goes\s+down)|(rises|grows|increases|goes\s+up))?\s*(?:from\s+)?([\d.]+)?\s*"
                           r"(?:to|->|\u2192)\s*([\d.]+)\s*\)", said, flags=re.I)
     factor_way = None
+    if not factor:  # 'narrower (smaller factor)', 'narrower (5.10 -> 3.47)', 'narrower (3.47 < 5.10)'
+        worded = re.fullmatch(r"(.*?\S)\s*\(\s*(?:a\s+)?(?:(smaller|lower)|(larger|bigger|higher))\s+factor\s*\)", said,
+                              flags=re.I)
+        moved = re.fullmatch(r"(.*?\S)\s*\(\s*(?:(?:the\s+)?factor\s+)?(\d+(?:\.\d+)?)\s*(->|\u2192|<|>)\s*"
+                             r"(\d+(?:\.\d+)?)\s*\)", said, flags=re.I)
+        if worded:
+            said, factor_way = worded.group(1), "narrower" if worded.group(2) else "wider"
+        elif moved and float(moved.group(2)) != float(moved.group(4)) and min(float(moved.group(2)),
+                                                                               float(moved.group(4))) > 1:
+            first, sign, second = float(moved.group(2)), moved.group(3), float(moved.group(4))
+            if sign in ("<", ">") and (first < second) == (sign == "<"):  # nu = 30's factor first
+                said, factor_way = moved.group(1), "narrower" if first < second else "wider"
+            elif sign not in ("<", ">"):  # from nu = 3's to nu = 30's
+                said, factor_way = moved.group(1), "narrower" if second < first else "wider"
     if factor:  # 'narrower (the factor drops to 3.5)', 'narrower (factor 5.1 to 3.5)': the factor's way, said again
         way = "narrower" if factor.group(2) else "wider" if factor.group(3) else None
         start, end = (float(n) if n and re.fullmatch(r"\d+(?:\.\d+)?", n) else None for n in factor.group(4, 5))
