@@ -459,3 +459,23 @@ def test_the_thirty_sixth_pass_s_right_answers_are_read(reader, answer, expected
 def test_an_aside_with_another_value_or_the_other_way_is_still_refused(reader, answer):
     with pytest.raises(Unreadable):
         reader(answer)
+
+
+# -- the thirty-seventh cold pass: 8 false accepts (constructors read as lists, 'float(0.37)', a list inside a list as
+# text; 'set([0, 2])', read by an earlier pass, is a call too) and 6 right answers refused (a trailing comma,
+# 'limits: inf, 1, 0', '(the Gaussian ratio)', 'one half of 100') --
+@pytest.mark.parametrize("reader, answer", [
+    (read_side, "float(0.37)"), (read_actions, "np.array([0, 1, 2])"), (read_actions, "set([0,1,2])"),
+    (read_actions, "tuple([0,1,2])"), (read_actions, "list([0, 1, 2])"), (read_actions, "[0, [1, 2]]")])
+def test_a_constructor_call_or_a_list_inside_a_list_is_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_side, "below,", "below"), (read_side, "below 1,", "below"), (read_side, "below ,", "below"),
+    (read_band, "narrower,", "narrower"), (read_limits, "limits: inf, 1, 0", _LIMITS),
+    (read_limits, "the limits: inf, 1, 0", _LIMITS), (read_limits, "inf, 1, 0 (the Gaussian ratio)", _LIMITS),
+    (read_count, "one half of 100", 50), (read_actions, "array([0, 1, 2])", [0, 1, 2])])
+def test_the_thirty_seventh_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected

@@ -1404,7 +1404,7 @@ def test_a_band_against_itself_a_hedged_number_and_a_reason_are_refused(reader, 
     (read_side, "1 > 0.37", "below"), (read_count, "50 (= 100/2)", 50), (read_count, "50, not 25", 50),
     (read_count, "50 (no two 4-adjacent)", 50), (read_count, "50 cells, no two adjacent", 50),
     (read_actions, "0, 2 with sigma*^2 = 10 and d = 1", [0, 2]), (read_actions, "RIGHT and LEFT (0 and 2)", [0, 2]),
-    (read_actions, "0,2,", [0, 2]), (read_actions, "set([0, 2])", [0, 2]),
+    (read_actions, "0,2,", [0, 2]),
     (read_actions, "0, 2 (with sigma*^2 = 10)", [0, 2])])
 def test_more_of_the_questions_own_words_and_emphasis_are_read(reader, answer, expected):
     assert reader(answer) == expected

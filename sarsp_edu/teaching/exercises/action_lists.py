@@ -116,7 +116,7 @@ def _read_text(text: str, answer) -> list[int]:
     if re.search(r"\.{2,}|\u2026|\betc\b|\band\s+so\s+on\b", text, flags=re.I):  # '0, 2, ...': the list goes on
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it says the list goes on; name every safe action.")
     if any(text.count(opening) != text.count(closing) for opening, closing in ("[]", "()", "{}")) or re.search(
-            r"^\s*[\[({]\s*[\[({]", text):  # '[0, 1, 3', '[0, 1, 3]]', '[[0, 1, 3]]': not one list
+            r"^\s*[\[({]\s*[\[({]|\[[^\]]*\[", text):  # '[0, 1, 3', '[[0, 1, 3]]', '[0, [1, 2]]': not one list
         raise Unreadable(f"Could not read {shown(answer)} as {what}: its brackets do not make one list.")
     # the question's own sigma*^2 = 10 and d = 1, said after the list: dropped (another value is refused below)
     threshold = (r"(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|the\s+threshold)\s*=\s*"
@@ -248,7 +248,7 @@ def _numpy_printed(text: str) -> str:
     """A list as numpy prints it, read as the list: 'array([0, 2])', '(array([0, 2]),)' (np.nonzero's answer),
     '[np.int64(0), np.int64(2)]'."""
     text = re.sub(r"\bnp\.(?:u?int\d*|intp)\(\s*(\d+)\s*\)", r"\1", text)
-    inner = re.fullmatch(r"\(?\s*(?:np\.)?(?:array|set|list|tuple)\((\[[^\[\]]*\])(?:\s*,\s*dtype=\w+)?\)"
+    inner = re.fullmatch(r"\(?\s*array\((\[[^\[\]]*\])(?:\s*,\s*dtype=\w+)?\)"
                          r"\s*(?:,\s*\))?", text)
     return inner.group(1) if inner else text
 

@@ -180,7 +180,8 @@ def _said_plainly(text: str) -> str:
                   for part in said_twice.groups()]
         if None not in values and values[0] == values[1]:
             return str(int(values[0]))
-    text = re.sub(r"\b(?:half|1\s*/\s*2)\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text, flags=re.IGNORECASE)
+    text = re.sub(r"\b(?:(?:one|a)\s+half|half|1\s*/\s*2)\s+(?:of\s+)?(?:the\s+)?(\d+)\b", r"\1/2", text,
+                  flags=re.IGNORECASE)  # 'half of 100', 'one half of 100'
     text = re.sub(r"^\s*half\s+(?:of\s+)?the\s+(?:cells|squares|grid|board)\s*$", "100/2", text, flags=re.IGNORECASE)
     text = re.sub(r"^\s*(\d+)\s+or\s+(?:fewer|less)(?:\s+(?:unsafe\s+)?(?:cells|states|squares))?\s*$", r"at most \1",
                   text, flags=re.IGNORECASE)  # the bound, '50 or fewer cells'

@@ -229,7 +229,7 @@ def alone(text: str, answer, what: str) -> str:
     """
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
-    text = re.sub(r"[.!\u2026;:]+\s*$|\s+[-\u2013\u2014]\s*$", "",  # 'Narrower.', 'narrower;', 'Narrower - '
+    text = re.sub(r"\s*[.!\u2026;:,]+\s*$|\s+[-\u2013\u2014]\s*$", "",  # 'Narrower.', 'below,', 'Narrower - '
                   _PREFACE.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
     whole = re.fullmatch(r"\(([^()]*)\)", text)  # '(0.4)', '(50)': the value in brackets
     if whole:

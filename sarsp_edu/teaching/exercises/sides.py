@@ -96,12 +96,12 @@ def read_side(answer) -> str:
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
-    bare = re.sub(r"[.!\u2026]+\s*$", "", text)
+    bare = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text)  # 'below.', 'below 1,'
     if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", bare) and not re.fullmatch(
-            r"\s*(?:np\.|numpy\.)?(?:float\d*|array)\(\s*[\d.]+\s*\)\s*", bare):  # 'math.exp(-1)': a call
+            r"\s*(?:(?:np\.|numpy\.)float\d*|array)\(\s*[\d.]+\s*\)\s*", bare):  # 'math.exp(-1)', 'float(0.37)': calls
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is a Python call; write the side, "
                          "or the number itself.")
-    bare = re.sub(r"^\s*(?:np\.|numpy\.)?(?:float\d*|array)\(\s*([\d.]+)\s*\)\s*$", r"\1", bare)  # 'array(0.37)'
+    bare = re.sub(r"^\s*(?:(?:np\.|numpy\.)float\d*|array)\(\s*([\d.]+)\s*\)\s*$", r"\1", bare)  # 'array(0.37)'
     bare = re.sub(rf"^\s*{_FACTOR}\s*:\s*", "", bare, count=1, flags=re.I)  # "the TP's factor: below 1"
     bare = re.sub(_THE_TP, "", bare, count=1, flags=re.I)  # 'TP below 1', 'the TP: below'
     bare = re.sub(_TP_ASIDE, "", bare, flags=re.I)  # 'below (TP)'
@@ -222,7 +222,7 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
-    said = re.sub(r"[.!\u2026]+\s*$", "", text.strip())  # 'wider at nu = 3.'
+    said = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text.strip())  # 'wider at nu = 3.', 'narrower,'
     said = re.sub(_THE_TP, "", said, count=1, flags=re.I)  # 'TP narrower', "the TP's band: narrower"
     said = re.sub(_TP_ASIDE, "", said, flags=re.I)  # 'narrower (TP)'
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
