@@ -479,3 +479,10 @@ def test_a_constructor_call_or_a_list_inside_a_list_is_refused(reader, answer):
     (read_count, "one half of 100", 50), (read_actions, "array([0, 1, 2])", [0, 1, 2])])
 def test_the_thirty_seventh_pass_s_right_answers_are_read(reader, answer, expected):
     assert reader(answer) == expected
+
+
+def test_a_numpy_constructor_is_a_call_in_every_reader_and_its_printed_form_is_not():
+    assert read_count("array(50)") == 50 and read_actions("array([0, 2])") == [0, 2]
+    for reader, answer in ((read_count, "np.array(50)"), (read_actions, "np.array([0, 2])")):
+        with pytest.raises(Unreadable, match="Python call"):
+            reader(answer)

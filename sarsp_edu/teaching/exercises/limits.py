@@ -214,7 +214,7 @@ def _limit(value, what: str) -> float:
     if text is None:
         return _exact(value, _number(value, what), what)
     text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
-    text = re.sub(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|(?:np\.|numpy\.)?array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
+    text = re.sub(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
                   text)  # numpy's printed forms: 'np.float64(1.0)', 'array(1)'
     text = re.sub("[\u00bc-\u00be\u2150-\u215e]", lambda m: f"({unicodedata.numeric(m.group(0))!r})", text)  # '½ + ½'
     if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", text):  # 'math.exp(0)': a call, not the limit's value
