@@ -486,3 +486,26 @@ def test_a_numpy_constructor_is_a_call_in_every_reader_and_its_printed_form_is_n
     for reader, answer in ((read_count, "np.array(50)"), (read_actions, "np.array([0, 2])")):
         with pytest.raises(Unreadable, match="Python call"):
             reader(answer)
+
+
+# -- the thirty-eighth cold pass (0 false accepts): 22 right answers refused --
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_limits, "as x -> infinity: inf, 1, 0", _LIMITS), (read_side, "below 1 (\u03b2 < n)", "below"),
+    (read_side, "below (\u03b2/n < 1)", "below"), (read_band, "nu=30: narrower, nu=3: wider", "narrower"),
+    (read_band, "nu = 30: narrower, nu = 3: wider", "narrower"), (read_band, "at 30: narrower", "narrower"),
+    (read_band, "not wider but narrower", "narrower"), (read_band, "narrower and not wider", "narrower"),
+    (read_band, "narrower than at 3", "narrower"), (read_count, "50 (max)", 50), (read_count, "50 (the maximum)", 50),
+    (read_count, "50 (every second cell)", 50), (read_count, "50 (all the black squares)", 50),
+    (read_count, "\u00bd \u00d7 100", 50), (read_count, "\u00bd \u00b7 100", 50), (read_count, "\u00bd of 100", 50),
+    (read_actions, "[0, 1, 2],", [0, 1, 2]), (read_actions, "(0, 1, 2),", [0, 1, 2]),
+    (read_actions, "{0, 1, 2},", [0, 1, 2]), (read_actions, "RIGHT, DOWN, LEFT,", [0, 1, 2]),
+    (read_actions, "0, 1, 2;", [0, 1, 2])])
+def test_the_thirty_eighth_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer", [(read_band, "narrower and not narrower"), (read_count, "50 (the minimum)"),
+                                            (read_actions, "0, 2 and,")])
+def test_a_self_denial_another_bound_or_a_list_cut_off_is_still_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)

@@ -142,7 +142,7 @@ def _read_text(text: str, answer) -> list[int]:
         if first != second:
             raise Unreadable(f"{shown(answer)} names other actions after 'i.e.' than before it.")
         return first
-    text = re.sub(r"(?<=\d)\s*,\s*$", "", text)  # '0, 2,': a trailing comma, as Python allows
+    text = re.sub(r"(?<=[\d\])}A-Za-z])\s*[,;]\s*$", "", text)  # '0, 2,', '[0, 2],', 'RIGHT, LEFT;': a trailing mark
     if re.search(r",\s*,", text):  # '0,,3': a place with no action in it
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it has an empty place between two commas.")
     if re.search(r"(?:\s(?:with|at|for|when)\s+|\(\s*)(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):

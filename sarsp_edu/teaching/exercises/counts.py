@@ -161,6 +161,7 @@ def _said_plainly(text: str) -> str:
     """``text`` with what only restates the count said as the count: Python's literals ('0x32' -> '50'), 'half of
     100' as '100/2', a sum said whole ('100 - 50', not read as a dash), another number denied ('50 not 19', 'not
     19 but 50' -> '50')."""
+    text = text.replace("\u00bd", " 1/2 ").replace("\u00b7", "*").strip()  # '½ of 100', '½ · 100'
     literal = re.fullmatch(r"\s*(0[xob][0-9a-f_]+|\d+(?:_\d+)+)(\s+(?:unsafe\s+)?(?:cells|states|squares))?\s*", text,
                            flags=re.IGNORECASE)
     if literal:  # '0x32', '5_0', '0x32 cells'
@@ -245,8 +246,8 @@ _DESCRIBES_THE_COUNT = re.compile(
     r"(?:chess|checker)[\s-]?board'?s\s+half|"
     r"(?:(?:colou?r|half)\s+of\s+(?:a|the)\s+)?(?:gridsize\s+)?(?:chess|checker)[\s-]?board(?:\s+(?:pattern|colou?ring|layout))?|"
     r"(?:checker|chess)[\s-]?board(?:\s+(?:pattern|colou?ring|colou?r|layout))?|colou?r(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
-    r"(?:black|white|dark|light)\s+(?:squares|cells)(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
-    r"half\s+(?:of\s+)?(?:the\s+)?(?:grid|cells|board|squares|grid'?s\s+cells)|every\s+other\s+(?:cell|square)|"
+    r"(?:all\s+(?:the\s+)?)?(?:black|white|dark|light)\s+(?:squares|cells)(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
+    r"half\s+(?:of\s+)?(?:the\s+)?(?:grid|cells|board|squares|grid'?s\s+cells)|every\s+(?:other|second)\s+(?:cell|square)|(?:the\s+)?max(?:imum)?|"
     r"alternat(?:e|ing)\s+(?:cells|squares))", re.IGNORECASE)
 
 

@@ -94,7 +94,8 @@ def read_limits(answer) -> dict:
         printed = re.fullmatch(r"\s*\{(.*)\}\s*", text)
         if printed:  # "{'lambda < 1': inf, ...}": the dict as Python prints it
             text = re.sub(r"['\"]", "", printed.group(1))
-        text = re.sub(r"^\s*(?:the\s+)?limits(?:\s+are)?\s*:?\s*|\s*,?\s+respectively\s*\.?\s*$|"
+        text = re.sub(r"^\s*as\s+x\s*(?:->|\u2192|goes\s+to|tends\s+to|grows)\s*(?:inf|infinity|\u221e)?\s*[:,]\s*|"
+                      r"^\s*(?:the\s+)?limits(?:\s+are)?\s*:?\s*|\s*,?\s+respectively\s*\.?\s*$|"
                       r"\s*\(\s*(?:for\s+)?(?:the\s+)?gaussian(?:'s)?(?:\s+ratio)?\s*\)\s*$", "", text,
                       flags=re.I)  # 'The limits are', 'limits:', '(the Gaussian ratio)'
         text = re.sub(r"^\s*(?:np\.|numpy\.)?array\(\s*(\[[^\[\]]*\])\s*(?:,\s*dtype=\w+)?\)\s*$", r"\1",

@@ -259,7 +259,7 @@ def _clauses(text: str) -> tuple:
 #: nu = 3, the question's own nu = 30 and its own change ('as nu grows'), where the band heads ('towards the GP's
 #: band'); any other condition ('when nu = 3', 'as nu decreases') leaves the answer unread
 _TAILS = (r"\s+than\s+(before|((at|with|for)\s+)?((the\s+)?(band|one|tp('s\s+band)?)\s+(at|with|for)\s+)?(nu|\u03bd)"
-          r"\s*=\s*3(?![\d.]))\s*$",
+          r"\s*=\s*3(?![\d.])|(at|with|for)\s+3(?![\d.]))\s*$",
           r"\s+(as|when|while)\s+(nu|\u03bd)\s+(goes|grows|increases|rises|moves)\s+from\s+3\s+to\s+30(?![\d.])\s*$",
           r"\s*,?\s+(at\s+|with\s+)?((nu|\u03bd)\s*=\s*)?30\s+(vs\.?|versus|against|compared\s+(with|to)|instead\s+of)"
           r"\s+(at\s+)?((nu|\u03bd)\s*=\s*)?3(?![\d.])\s*$",

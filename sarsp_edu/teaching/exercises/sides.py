@@ -60,6 +60,12 @@ _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLE
 #: the question's own subject said before the answer ('TP below 1', 'the TP: narrower', "the TP's band: narrower")
 _THE_TP = (r"^\s*(?:the\s+)?tp(?:'s)?(?:\s+band)?(?:\s*[:,\u2013\u2014]\s*|\s+is\s+|\s+)"
            r"(?!(?:fitted\s+|variance\s+)*factor|(?:at|with|for)\s+(?:nu|\u03bd)|band)(?=[a-z0-9.])")
+def _DENIED_WITH_BUT(text: str) -> str:  # noqa: N802 (a rewrite, named as the patterns around it)
+    """'not wider but narrower' and 'narrower and not wider' said as 'narrower, not wider'."""
+    text = re.sub(r"^\s*not\s+([a-z]+)\s*,?\s+but\s+([a-z]+)\s*$", r"\2, not \1", text, flags=re.I)
+    return re.sub(r"^\s*([a-z]+)\s*,?\s+and\s+not\s+([a-z]+)\s*$", r"\1, not \2", text, flags=re.I)
+
+
 #: the question's own subject in brackets after the answer ('narrower (TP)', 'below (the TP)')
 _TP_ASIDE = r"\s*\(\s*(?:the\s+)?tp(?:'s\s+(?:band|factor))?\s*\)\s*$"
 #: 1 said against the factor ('1 is above it'): the factor is on the other side
@@ -97,6 +103,7 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text)  # 'below.', 'below 1,'
+    bare = _DENIED_WITH_BUT(bare.replace("\u03b2", "beta"))  # 'below 1 (β < n)', 'not above but below'
     if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", bare) and not re.fullmatch(
             r"\s*(?:(?:np\.|numpy\.)float\d*|array)\(\s*[\d.]+\s*\)\s*", bare):  # 'math.exp(-1)', 'float(0.37)': calls
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is a Python call; write the side, "
@@ -223,6 +230,9 @@ def read_band(answer) -> str:
     if text is None:
         return read_word(answer, options)
     said = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text.strip())  # 'wider at nu = 3.', 'narrower,'
+    said = re.sub(rf"(?:^|(?<=,\s))(?:at\s+)?(?:{_NU})?(30|3)(?:\.0+)?\s*:\s*([a-z]+)", r"\2 at nu = \1", said,
+                  flags=re.I)  # 'nu = 30: narrower, nu = 3: wider', 'at 30: narrower'
+    said = rewritten = _DENIED_WITH_BUT(said)  # 'not wider but narrower', 'narrower and not wider'
     said = re.sub(_THE_TP, "", said, count=1, flags=re.I)  # 'TP narrower', "the TP's band: narrower"
     said = re.sub(_TP_ASIDE, "", said, flags=re.I)  # 'narrower (TP)'
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
@@ -273,7 +283,7 @@ def read_band(answer) -> str:
         side = read_word(said, options)
     except Unreadable as refused:
         both_ends = re.sub(r"\s+and\s+(?=(?:but\s+)?(?:wider|narrower|the\s+band)\b.*\b(?:at|with|for)\s+"
-                           r"(?:nu\s*=\s*)?3(?:\.0+)?\.?\s*$)", ", ", text, flags=re.I)  # '... at 30 and wider at 3'
+                           r"(?:nu\s*=\s*)?3(?:\.0+)?\.?\s*$)", ", ", rewritten, flags=re.I)  # '... and wider at 3'
         agreed = _clauses_agree(both_ends, read_band, "because|since")  # 'narrower at 30, wider at 3'
         if agreed is not None:
             return agreed
