@@ -19,8 +19,10 @@ import math
 import re
 
 from .parsing import (
+    _CALL,
     _HEDGED,
     _NEGATION,
+    _NUMPY_PRINTED,
     ALONE,
     Unreadable,
     _clauses,
@@ -138,9 +140,8 @@ def read_count(answer) -> int:
     for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
         text = _QUESTIONS_OWN.sub("", text)
     text = _said_plainly(text)
-    text = re.sub(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
-                  text)  # 'np.int64(50)', 'array(50)': numpy's printed forms ('int(50)' is a call)
-    if re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(50)', 'len(range(50))': a call, not its value
+    text = _NUMPY_PRINTED.sub(r"\1", text)  # 'np.int64(50)', 'array(50)': numpy's printed forms ('int(50)' is a call)
+    if _CALL.search(text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
                          "the number itself.")
     text = _alone(text, answer)

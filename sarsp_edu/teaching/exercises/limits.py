@@ -12,7 +12,20 @@ import unicodedata
 import numpy as np
 
 from .counts import arithmetic
-from .parsing import _DOUBT, _HEDGED, ALONE, Unreadable, _compact, _number, _text, alone, exactly
+from .parsing import (
+    _CALL,
+    _DOUBT,
+    _HEDGED,
+    _NUMPY_PRINTED,
+    _ONE_CALL,
+    ALONE,
+    Unreadable,
+    _compact,
+    _number,
+    _text,
+    alone,
+    exactly,
+)
 from .sentences import said_in_words
 from .wording import shown
 
@@ -79,7 +92,7 @@ def read_limits(answer) -> dict:
     if text is not None and _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: it doubts its own answer.")
     if text is not None:  # Python's spellings of infinity, a closing 'respectively', a preface ('The limits are')
-        text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+        text = _python_infinity(text)
         first = _DENIED_FIRST.fullmatch(text)
         if first:  # 'not 0, 1, inf, but inf, 1, 0': the other order denied first
             return _without_denial(first.group(2), first.group(1), read_limits, answer)
@@ -120,7 +133,7 @@ def read_limits(answer) -> dict:
                 return limits
         if text is not None and re.match(r"^\s*[\[(]\s*[\[(]", text):  # '[[inf, 1, 0]]'
             raise Unreadable(f"Could not read {shown(answer)} as three limits: its brackets do not make one list.")
-        if text is not None and re.search(r"\b[A-Za-z_][\w.]*\(", text):  # 'range(3)': a call, not the limits' values
+        if text is not None and _CALL.search(text):  # 'range(3)': a call, not the limits' values
             raise Unreadable(f"Could not read {shown(answer)} as three limits: it is a Python call; write the limits "
                              "themselves ('inf, 1, 0' is how three are written).")
     elif isinstance(answer, np.ndarray) and answer.ndim == 1 and len(answer) == 3:
@@ -208,17 +221,20 @@ def _without_denial(said: str, denied: str, read, answer, several: bool = False)
     return given
 
 
+def _python_infinity(text: str) -> str:
+    """``text`` with Python's spelling of infinity, float('inf'), as 'inf' (the question asks for math.inf)."""
+    return re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
+
+
 def _limit(value, what: str) -> float:
     """One limit, exactly: a number, infinity, a working ('3 - 2'), or a word ('one'); said with an aside that
     only restates it ('1 (one)') or denies another value ('inf (not 0)')."""
     text = _text(value)
     if text is None:
         return _exact(value, _number(value, what), what)
-    text = re.sub(r"float\(\s*['\"](?:inf|infinity)['\"]\s*\)", "inf", text, flags=re.I)
-    text = re.sub(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)\s*$", r"\1",
-                  text)  # numpy's printed forms: 'np.float64(1.0)', 'array(1)'
+    text = _NUMPY_PRINTED.sub(r"\1", _python_infinity(text))  # numpy's printed forms: 'np.float64(1.0)', 'array(1)'
     text = re.sub("[\u00bc-\u00be\u2150-\u215e]", lambda m: f"({unicodedata.numeric(m.group(0))!r})", text)  # '½ + ½'
-    if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", text):  # 'math.exp(0)': a call, not the limit's value
+    if _ONE_CALL.fullmatch(text):  # 'math.exp(0)': a call, not the limit's value
         raise Unreadable(f"Could not read {shown(value)} as {what}: it is a Python call; write the limit itself.")
     first = _ONE_DENIED_FIRST.fullmatch(text)  # 'not 0, inf'
     denied = _DENIAL.fullmatch(text)

@@ -195,6 +195,11 @@ _HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|approx|nearly|alm
 _PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
                       r"the\s+answer\s+is\s*:?|answer\s*:|(?:(?:at|with)\s+)?(?:nu|\u03bd)\s*=\s*30\s*[,:]?)\s*",
                       re.IGNORECASE)
+#: a Python call anywhere in an answer ('range(50)'), and an answer that is one call ('math.exp(0)')
+_CALL = re.compile(r"\b[A-Za-z_][\w.]*\(")
+_ONE_CALL = re.compile(r"\s*[A-Za-z_][\w.]*\(.*\)\s*")
+#: a number as numpy prints it ('np.int64(50)', 'np.float64(1.0)', 'array(50)'), not a call: its value is group 1
+_NUMPY_PRINTED = re.compile(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)\s*$")
 #: the reply to an answer that says more than its prediction
 ALONE = ("write the prediction alone, as the question asks; anything more (a reason, another condition, an aside) "
          "belongs in the written answer below, which no check grades")

@@ -29,6 +29,7 @@ from decimal import Decimal
 from .counts import arithmetic
 from .parsing import (
     _HEDGED,
+    _ONE_CALL,
     _PREFACE,
     ABOVE,
     BELOW,
@@ -60,7 +61,7 @@ _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLE
 #: the question's own subject said before the answer ('TP below 1', 'the TP: narrower', "the TP's band: narrower")
 _THE_TP = (r"^\s*(?:the\s+)?tp(?:'s)?(?:\s+band)?(?:\s*[:,\u2013\u2014]\s*|\s+is\s+|\s+)"
            r"(?!(?:fitted\s+|variance\s+)*factor|(?:at|with|for)\s+(?:nu|\u03bd)|band)(?=[a-z0-9.])")
-def _DENIED_WITH_BUT(text: str) -> str:  # noqa: N802 (a rewrite, named as the patterns around it)
+def _denial_said_plainly(text: str) -> str:
     """'not wider but narrower' and 'narrower and not wider' said as 'narrower, not wider'."""
     text = re.sub(r"^\s*not\s+([a-z]+)\s*,?\s+but\s+([a-z]+)\s*$", r"\2, not \1", text, flags=re.I)
     return re.sub(r"^\s*([a-z]+)\s*,?\s+and\s+not\s+([a-z]+)\s*$", r"\1, not \2", text, flags=re.I)
@@ -103,8 +104,8 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     bare = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text)  # 'below.', 'below 1,'
-    bare = _DENIED_WITH_BUT(bare.replace("\u03b2", "beta"))  # 'below 1 (β < n)', 'not above but below'
-    if re.fullmatch(r"\s*[A-Za-z_][\w.]*\(.*\)\s*", bare) and not re.fullmatch(
+    bare = _denial_said_plainly(bare.replace("\u03b2", "beta"))  # 'below 1 (β < n)', 'not above but below'
+    if _ONE_CALL.fullmatch(bare) and not re.fullmatch(
             r"\s*(?:(?:np\.|numpy\.)float\d*|array)\(\s*[\d.]+\s*\)\s*", bare):  # 'math.exp(-1)', 'float(0.37)': calls
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it is a Python call; write the side, "
                          "or the number itself.")
@@ -221,6 +222,41 @@ _OWN_COMPARISON = (r"\s*\(\s*(?:section\s+2'?s?\s+)?(?:the\s+)?(?:tp'?s?\s+)?(?:
                    rf"(?:{_NU})?3(?:\.0+)?)?\s*\)\s*$")
 
 
+#: the factor's way said in words or numbers, from nu = 3 to nu = 30 ('the factor drops to 3.5', 'factor 5.1 to 3.5')
+_FACTOR_MOVES = re.compile(r"(?:the\s+)?(?:tp'?s\s+)?factor\s+(?:(drops|falls|decreases|shrinks|goes\s+down)|"
+                           r"(rises|grows|increases|goes\s+up))?\s*(?:from\s+)?([\d.]+)?\s*(?:to|->|\u2192)\s*([\d.]+)",
+                           re.IGNORECASE)
+#: the factor compared without a verb ('smaller factor'; '5.10 -> 3.47', from nu = 3's; '3.47 < 5.10', nu = 30's first)
+_FACTOR_WORDED = re.compile(r"(?:a\s+)?(?:(smaller|lower)|(larger|bigger|higher))\s+factor", re.IGNORECASE)
+_FACTOR_COMPARED = re.compile(r"(?:(?:the\s+)?factor\s+)?(\d+(?:\.\d+)?)\s*(->|\u2192|<|>)\s*(\d+(?:\.\d+)?)",
+                              re.IGNORECASE)
+
+
+def _factor_way(aside: str) -> str | None:
+    """'narrower' or 'wider': the band's way that an aside about the TP's factor gives ('the factor drops to 3.5',
+    'smaller factor', '5.10 -> 3.47', '3.47 < 5.10'), where its words and numbers agree and the factor stays above 1
+    (as it does here); else None."""
+    said = _FACTOR_MOVES.fullmatch(aside)
+    if said:
+        way = "narrower" if said.group(1) else "wider" if said.group(2) else None
+        start, end = (float(n) if n and re.fullmatch(r"\d+(?:\.\d+)?", n) else None for n in said.group(3, 4))
+        moved = None if start is None or end is None or start == end else "wider" if end > start else "narrower"
+        return (way or moved) if (way or moved) and (moved or way) == (way or moved) and end is not None and end > 1 \
+            else None
+    worded = _FACTOR_WORDED.fullmatch(aside)
+    if worded:
+        return "narrower" if worded.group(1) else "wider"
+    compared = _FACTOR_COMPARED.fullmatch(aside)
+    if not compared:
+        return None
+    first, sign, second = float(compared.group(1)), compared.group(2), float(compared.group(3))
+    if first == second or min(first, second) <= 1:
+        return None
+    if sign in ("<", ">"):  # nu = 30's factor first
+        return ("narrower" if first < second else "wider") if (first < second) == (sign == "<") else None
+    return "narrower" if second < first else "wider"  # from nu = 3's to nu = 30's
+
+
 def read_band(answer) -> str:
     """'wider' or 'narrower' for the band at nu = 30 against nu = 3 (exercise 2.6): :func:`~.parsing.read_word`
     with :data:`~.parsing.WIDER` and :data:`~.parsing.NARROWER`, the question's own nu = 30 dropped, and the
@@ -232,7 +268,7 @@ def read_band(answer) -> str:
     said = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text.strip())  # 'wider at nu = 3.', 'narrower,'
     said = re.sub(rf"(?:^|(?<=,\s))(?:at\s+)?(?:{_NU})?(30|3)(?:\.0+)?\s*:\s*([a-z]+)", r"\2 at nu = \1", said,
                   flags=re.I)  # 'nu = 30: narrower, nu = 3: wider', 'at 30: narrower'
-    said = rewritten = _DENIED_WITH_BUT(said)  # 'not wider but narrower', 'narrower and not wider'
+    said = rewritten = _denial_said_plainly(said)  # 'not wider but narrower', 'narrower and not wider'
     said = re.sub(_THE_TP, "", said, count=1, flags=re.I)  # 'TP narrower', "the TP's band: narrower"
     said = re.sub(_TP_ASIDE, "", said, flags=re.I)  # 'narrower (TP)'
     said = re.sub(r"\s*,\s*(?=(?:as|when|while|once)\s+(?:nu|\u03bd)\s+(?:grows|increases|rises|goes\s+up|"
@@ -255,30 +291,10 @@ def read_band(answer) -> str:
         if re.search(rf"\bthan\s+(?:the\s+band\s+)?(?:(?:at|with|for)\s+)?{_NU}3(?:\.0+)?(?![\d.])", said, flags=re.I):
             raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': it compares the band at nu = 3 "
                              "with itself.")
-    factor = re.fullmatch(r"(.*?\S)\s*\(\s*(?:the\s+)?(?:tp'?s\s+)?factor\s+(?:(drops|falls|decreases|shrinks|"
-                          r"goes\s+down)|(rises|grows|increases|goes\s+up))?\s*(?:from\s+)?([\d.]+)?\s*"
-                          r"(?:to|->|\u2192)\s*([\d.]+)\s*\)", said, flags=re.I)
-    factor_way = None
-    if not factor:  # 'narrower (smaller factor)', 'narrower (5.10 -> 3.47)', 'narrower (3.47 < 5.10)'
-        worded = re.fullmatch(r"(.*?\S)\s*\(\s*(?:a\s+)?(?:(smaller|lower)|(larger|bigger|higher))\s+factor\s*\)", said,
-                              flags=re.I)
-        moved = re.fullmatch(r"(.*?\S)\s*\(\s*(?:(?:the\s+)?factor\s+)?(\d+(?:\.\d+)?)\s*(->|\u2192|<|>)\s*"
-                             r"(\d+(?:\.\d+)?)\s*\)", said, flags=re.I)
-        if worded:
-            said, factor_way = worded.group(1), "narrower" if worded.group(2) else "wider"
-        elif moved and float(moved.group(2)) != float(moved.group(4)) and min(float(moved.group(2)),
-                                                                               float(moved.group(4))) > 1:
-            first, sign, second = float(moved.group(2)), moved.group(3), float(moved.group(4))
-            if sign in ("<", ">") and (first < second) == (sign == "<"):  # nu = 30's factor first
-                said, factor_way = moved.group(1), "narrower" if first < second else "wider"
-            elif sign not in ("<", ">"):  # from nu = 3's to nu = 30's
-                said, factor_way = moved.group(1), "narrower" if second < first else "wider"
-    if factor:  # 'narrower (the factor drops to 3.5)', 'narrower (factor 5.1 to 3.5)': the factor's way, said again
-        way = "narrower" if factor.group(2) else "wider" if factor.group(3) else None
-        start, end = (float(n) if n and re.fullmatch(r"\d+(?:\.\d+)?", n) else None for n in factor.group(4, 5))
-        moved = None if start is None or end is None or start == end else "wider" if end > start else "narrower"
-        if (way or moved) and (moved or way) == (way or moved) and end is not None and end > 1:  # its way agrees
-            said, factor_way = factor.group(1), way or moved
+    aside = re.fullmatch(r"(.*?\S)\s*\(\s*([^()]*?)\s*\)", said)
+    factor_way = None if aside is None else _factor_way(aside.group(2))
+    if factor_way:  # 'narrower (the factor drops to 3.5)': the factor's way, said again
+        said = aside.group(1)
     try:
         side = read_word(said, options)
     except Unreadable as refused:
