@@ -204,7 +204,9 @@ def test_a_side_with_its_own_decision_parts_runs_them_beside_the_packages(monkey
 
 # -- the live run's controls: a clean exit, one stepper at a time, no stale run after a slider move -------------
 def test_a_script_that_plays_the_agents_in_the_background_exits_when_it_reaches_its_end(tmp_path):
-    script = ("from sarsp_edu.config import ExperimentConfig\nfrom sarsp_edu.teaching.live import agent_dashboard\n"
+    script = ("import atexit, threading\n"  # registered first, so run last: what the package's exit hooks left
+              "atexit.register(lambda: print('left', [t.name for t in threading.enumerate()][1:]))\n"
+              "from sarsp_edu.config import ExperimentConfig\nfrom sarsp_edu.teaching.live import agent_dashboard\n"
               f"config = ExperimentConfig(**{ {k: v for k, v in SMALL.items() if k != 'episodes'}!r})\n"
               "live = agent_dashboard(episodes=250, n_switch_states=1, config=config, steps_per_second=2)\n"
               "live.play_in_background()\nimport time; time.sleep(3)\nprint('end', live.running)\n")
@@ -212,7 +214,8 @@ def test_a_script_that_plays_the_agents_in_the_background_exits_when_it_reaches_
     done = subprocess.run([sys.executable, "-c", script], timeout=120, capture_output=True, text=True, check=False,
                           env={"SARSP_EDU_CACHE": str(tmp_path), "PATH": "/usr/bin:/bin"})
     assert done.returncode == 0, done.stderr[-2000:]
-    assert done.stdout.strip() == "end True"  # the agents were walking when the script ended
+    # the agents were walking when the script ended, and no thread of the run outlived the exit hooks
+    assert done.stdout.strip().split("\n") == ["end True", "left []"]
     assert time.monotonic() - start < 100  # and the script ended with it, not 250 episodes at 2 steps a second
 
 

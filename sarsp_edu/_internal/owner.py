@@ -7,12 +7,19 @@ its view, :class:`~sarsp_edu.teaching.live.controller.LiveRun`).  The object sta
 with :meth:`Owner.post_news`.  Between two items the thread does work of its own: the subclass says when
 (``_due``: seconds from now, or None for none) and what (``_advance``), and what news means (``_news``).
 Work submitted from the owning thread itself is done at once, so that it never waits for itself.
+
+The owning thread is a daemon (a notebook never waits for it), so a script may reach its end while the thread
+is inside numpy or a lock; the interpreter then ends under it, which may abort the process.  So every owner
+still open when the interpreter begins to exit is closed then (an ``atexit`` hook): its thread ends the item
+under way and stops, and the interpreter ends after it.
 """
 
 from __future__ import annotations
 
+import atexit
 import queue
 import threading
+import weakref
 from concurrent.futures import Future
 
 __all__ = ["Closed", "Owner"]
@@ -24,6 +31,8 @@ class Closed(RuntimeError):
 
 #: a news item on the queue (``post_news``)
 _NEWS = object()
+#: every owner whose thread was started, closed at the interpreter's exit (:func:`_close_all`)
+_OWNERS = weakref.WeakSet()
 
 
 class Owner:
@@ -37,6 +46,7 @@ class Owner:
         self._owner_ending = False
         self._owner_thread = threading.Thread(target=self._own, name=name, daemon=True)
         self._owner_thread.start()
+        _OWNERS.add(self)
 
     @property
     def in_owner_thread(self) -> bool:
@@ -91,6 +101,11 @@ class Owner:
         if not self.in_owner_thread:
             self._owner_thread.join()
 
+    def close(self) -> None:
+        """End the owning thread once the item under way is done, and wait for it (a subclass says more)."""
+        self.submit(self._end_owner)
+        self._join_owner()
+
     # -- what the subclass defines ----------------------------------------------------------
     def _due(self) -> float | None:
         """Seconds until the owning thread has work of its own (0: now; None: none until an item comes)."""
@@ -128,6 +143,13 @@ class Owner:
                 return
             if item is not _NEWS:
                 item[2].set_exception(Closed(self.closed_message))
+
+
+@atexit.register
+def _close_all() -> None:
+    for owner in list(_OWNERS):
+        if owner._owner_thread.is_alive():
+            owner.close()
 
 
 def _settle(future: Future, function, args) -> None:
