@@ -21,7 +21,7 @@ from sarsp_edu.models.processes.predictive import probability_below
 
 from .test_sarsp import OBS, tiny_agent, tiny_data
 
-NEW_FIELDS = ("reward_model", "outliers", "variance", "safe_rule", "tail_delta", "fit_restarts")
+NEW_FIELDS = ("reward_model", "outliers", "variance", "safe_rule", "tail_delta", "fit_restarts", "warm_refits")
 
 
 # -- the settings -----------------------------------------------------------------------------------------
@@ -33,6 +33,7 @@ NEW_FIELDS = ("reward_model", "outliers", "variance", "safe_rule", "tail_delta",
     (dict(tail_delta=True), r"tail_delta must be a probability"),
     (dict(fit_restarts=21), r"fit_restarts must be an integer from 0 to 20 \(.*\), got fit_restarts=21"),
     (dict(fit_restarts=-1), r"fit_restarts must be an integer from 0 to 20"),
+    (dict(warm_refits=1), r"warm_refits must be True or False, got warm_refits=1"),
     (dict(outliers="inputs"), r"outliers must be one of 'inputs-and-targets', 'targets'"),
     (dict(reward_model="student"), r"reward_model must be one of 'tp', 'gp', 't-likelihood'"),
     (dict(model="t-likelihood", likelihood_nu="fit"),
@@ -49,10 +50,12 @@ def test_a_config_stores_a_new_setting_only_when_it_is_changed():
     assert not set(NEW_FIELDS) & set(plain.to_dict())  # a run made as before stores what it stored before
     assert ExperimentConfig.from_dict(plain.to_dict()) == plain
     changed = ExperimentConfig(model="t-likelihood", likelihood_nu="fitted", reward_model="tp", outliers="targets",
-                               variance="latent", safe_rule="tail", tail_delta=0.01, fit_restarts=2)
+                               variance="latent", safe_rule="tail", tail_delta=0.01, fit_restarts=2,
+                               warm_refits=True)
     stored = changed.to_dict()
     assert {name: stored[name] for name in NEW_FIELDS} == dict(
-        reward_model="tp", outliers="targets", variance="latent", safe_rule="tail", tail_delta=0.01, fit_restarts=2)
+        reward_model="tp", outliers="targets", variance="latent", safe_rule="tail", tail_delta=0.01, fit_restarts=2,
+        warm_refits=True)
     assert stored["likelihood_nu"] == "fitted" and "nu" in stored  # the TP's nu: the reward model's
     assert ExperimentConfig.from_dict(stored) == changed
     cut = dict(stored)
@@ -75,20 +78,23 @@ def test_the_command_takes_each_new_flag():
     parser = build_parser()
     args = parser.parse_args(["run", "--model", "t-likelihood", "--likelihood-nu", "fitted", "--safe-rule", "tail",
                               "--tail-delta", "0.2", "--variance", "latent", "--fit-restarts", "1", "--outliers",
-                              "targets", "--reward-model", "tp"])
+                              "targets", "--reward-model", "tp", "--warm-refits"])
     from sarsp_edu.cli.arguments import config_from_args
 
     config = config_from_args(parser, args)
     assert (config.likelihood_nu, config.safe_rule, config.tail_delta, config.variance, config.fit_restarts,
-            config.outliers, config.reward_model) == ("fitted", "tail", 0.2, "latent", 1, "targets", "tp")
+            config.outliers, config.reward_model, config.warm_refits) == ("fitted", "tail", 0.2, "latent", 1,
+                                                                           "targets", "tp", True)
     assert parser.parse_args(["run", "--likelihood-nu", "2.5"]).likelihood_nu == 2.5
 
 
 def test_each_model_is_made_from_the_settings():
-    config = ExperimentConfig(model="t-likelihood", likelihood_nu="fitted", reward_model="tp", fit_restarts=2)
+    config = ExperimentConfig(model="t-likelihood", likelihood_nu="fitted", reward_model="tp", fit_restarts=2,
+                              warm_refits=True)
     cost, reward = make_model(config), make_model(config, "reward")
     assert isinstance(cost, StudentTLikelihoodGP) and cost.fit_nu and cost.nu == 3.0 and cost.n_restarts == 2
     assert isinstance(reward, StudentTProcess) and reward.n_restarts == 2
+    assert cost.warm_start and reward.warm_start and not make_model(ExperimentConfig()).warm_start
     assert isinstance(make_model(ExperimentConfig(model="gp"), "reward"), GaussianProcess)
     with pytest.raises(ValueError, match="role must be one of 'cost', 'reward'"):
         make_model(config, "both")
@@ -217,6 +223,28 @@ def test_a_fit_with_restarts_is_never_worse_and_reports_each_start(model):
     assert more.start_objectives_[0] == pytest.approx(one.start_objectives_[0], rel=1e-12)
     assert max(more.start_objectives_) >= one.start_objectives_[0] - 1e-9 * abs(one.start_objectives_[0])
     assert np.isfinite(one.gradient_norm_) and np.isfinite(more.gradient_norm_)
+
+
+def _log_hyperparameters(model):
+    kernel = model.kernel_
+    noise = model.scale_ if isinstance(model, StudentTLikelihoodGP) else model.noise_variance_
+    return np.log([kernel.amplitude, kernel.length_scale, noise])
+
+
+@pytest.mark.parametrize("model", [GaussianProcess, StudentTProcess, StudentTLikelihoodGP])
+def test_a_warm_refit_searches_from_the_last_fit_in_one_start(model):
+    X, y = wave(25)
+    warm = model(RBF(1.0, 1.0), optimizer="adam", max_iter=40, n_restarts=2, warm_start=True).fit(X, y)
+    assert len(warm.start_objectives_) == 3  # a first fit takes its restarts
+    first = _log_hyperparameters(warm)
+    assert np.max(np.abs(first)) > 0.5  # far enough from the start (log 1 = 0) for one step to tell them apart
+    warm.set_params(max_iter=1).fit(X, y + 0.01)
+    cold = model(RBF(1.0, 1.0), optimizer="adam", max_iter=1, n_restarts=2).fit(X, y + 0.01)
+    assert len(warm.start_objectives_) == 1 and len(cold.start_objectives_) == 3
+    # one Adam step moves each log hyperparameter by at most its learning rate, 0.1
+    assert np.max(np.abs(_log_hyperparameters(warm) - first)) <= 0.1 + 1e-9
+    with pytest.raises(ValueError, match="warm_start must be True or False, got warm_start='yes'"):
+        model(warm_start="yes").fit(X, y)
 
 
 # -- outliers in the targets only ----------------------------------------------------------------------

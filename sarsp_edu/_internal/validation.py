@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 import numbers
 
+import numpy as np
+
 
 def _as_float(value) -> float:
     """``float(value)`` for a number, NaN for anything else.
@@ -53,6 +55,13 @@ def check_int(name: str, value, minimum: int | None = None, maximum: int | None 
             valid += f" ({why})"
         raise ValueError(f"{name} must be {valid}, got {name}={value!r}")
     return int(value)
+
+
+def check_bool(name: str, value) -> bool:
+    """True or False (numpy's bool too)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {name}={value!r}")
+    return bool(value)
 
 
 def check_choice(name: str, value, choices):
@@ -120,8 +129,6 @@ LARGEST = 1e75
 
 def check_X(X, name="X", n_features=None):
     """A finite 2-D float array of model inputs (rows are samples)."""
-    import numpy as np
-
     X = np.asarray(X, dtype=float)
     if X.ndim != 2:
         hint = (" (Reshape your data: X.reshape(-1, 1) for a single feature, X.reshape(1, -1) for a single sample)"

@@ -130,6 +130,9 @@ class ExperimentConfig(_Settings):
     fit_restarts: int = _field("model", 0, "extra starts of each hyperparameter search, the best objective kept: "
                                "the first from narrow noise (noise / e^4), then wide noise, short and long length "
                                "scales, low and high amplitude (paper: none)", since="0.3")
+    warm_refits: bool = _field("model", False, "whether the corrective updates' refits search from the last fit's "
+                               "hyperparameters, one start, where each otherwise starts again from 1 with "
+                               "fit_restarts extra starts (reference code: from 1)", since="0.3")
     prior: str | None = _field("model", "lognormal", "hyperparameter priors: 'lognormal' (LogNormal(0, 1), "
                                "reference code) or None (plain marginal likelihood)", choices=PRIORS)
     cost_fit_points: int | None = _field("agent", COST_FIT_POINTS, "rows of the cost model's data for each "

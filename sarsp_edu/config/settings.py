@@ -136,6 +136,7 @@ CHECKS = {
     "outlier_proportion": lambda value: check_fraction("outlier_proportion", value),
     "cost_outliers": _check_bool("cost_outliers"),
     "reward_outliers": _check_bool("reward_outliers"),
+    "warm_refits": _check_bool("warm_refits"),
     "offline_episodes": _limited_int("offline_episodes", 1),
     "cost_duplicates": lambda value: check_int("cost_duplicates", value, 1),
     "reward_duplicates": lambda value: check_int("reward_duplicates", value, 1),

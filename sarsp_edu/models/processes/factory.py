@@ -33,6 +33,7 @@ def make_model(config: ExperimentConfig, role: str = "cost"):
         prior=settings.prior,
         max_fit_points=None,  # the agent draws the fit subsets
         n_restarts=settings.fit_restarts,
+        warm_start=settings.warm_refits,
     )
     if kind == "tp":
         return StudentTProcess(RBF(1.0, 1.0), nu=settings.nu, noise_convention=settings.noise_convention, **common)
@@ -41,5 +42,6 @@ def make_model(config: ExperimentConfig, role: str = "cost"):
         return StudentTLikelihoodGP(RBF(1.0, 1.0), nu=LIKELIHOOD_NU if fitted else settings.likelihood_nu,
                                     fit_nu=fitted, scale=AGENT_NOISE_START, optimizer=settings.optimizer,
                                     learning_rate=settings.learning_rate, max_iter=settings.optimizer_steps,
-                                    prior=settings.prior, n_restarts=settings.fit_restarts)
+                                    prior=settings.prior, n_restarts=settings.fit_restarts,
+                                    warm_start=settings.warm_refits)
     return GaussianProcess(RBF(1.0, 1.0), **common)

@@ -42,6 +42,10 @@ class GaussianProcess(ProcessRegressor):
         (:func:`~sarsp_edu.models.optimizers.restart_points`: narrow noise
         first, then wide noise, short and long length scales, low and high
         amplitude); deterministic.
+    warm_start : bool, default False
+        As scikit-learn's estimators: a refit searches from the last fit's
+        hyperparameters, one start (``n_restarts`` count only in a first
+        fit); the SARSP agent's online refits with ``warm_refits``.
 
     Attributes
     ----------

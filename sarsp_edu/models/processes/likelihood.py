@@ -39,7 +39,7 @@ from scipy import optimize, stats
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.utils.validation import validate_data
 
-from ..._internal.validation import check_choice, check_int, check_positive, check_X
+from ..._internal.validation import check_bool, check_choice, check_int, check_positive, check_X
 from ...config import ADAM_STEPS, LEARNING_RATE, LIKELIHOOD_NU, LIKELIHOOD_SCALE, NU_PRIOR, PRIORS
 from ..kernels import RBF
 from ..linalg import distinct_rows
@@ -112,6 +112,9 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         Extra starts of the hyperparameter search, the best objective kept
         (:func:`~sarsp_edu.models.optimizers.restart_points`: narrow noise
         first); deterministic.
+    warm_start : bool, default False
+        A refit searches from the last fit's hyperparameters, one start (as
+        :class:`~sarsp_edu.models.processes.gp.GaussianProcess`).
     max_newton : int, default 1000
         Steps allowed to find the posterior mode in the hyperparameter search, which turns back where a
         search needs more (a prior of the agent's cost data took 182, its EM steps slow where most rows start
@@ -152,11 +155,13 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
 
     def __init__(self, kernel: RBF | None = None, *, nu: float = LIKELIHOOD_NU, scale: float = LIKELIHOOD_SCALE,
                  optimizer: str | None = "lbfgs", learning_rate: float = LEARNING_RATE, max_iter: int | None = None,
-                 prior: str | None = None, max_newton: int = MAX_NEWTON, fit_nu: bool = False, n_restarts: int = 0):
+                 prior: str | None = None, max_newton: int = MAX_NEWTON, fit_nu: bool = False, n_restarts: int = 0,
+                 warm_start: bool = False):
         self.kernel = kernel
         self.nu = nu
         self.fit_nu = fit_nu
         self.n_restarts = n_restarts
+        self.warm_start = warm_start
         self.scale = scale
         self.optimizer = optimizer
         self.learning_rate = learning_rate
@@ -203,8 +208,8 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         check_int("max_iter", self.max_iter, 1, allow_none=True)
         check_choice("prior", self.prior, PRIORS)
         check_int("max_newton", self.max_newton, 1)
-        if not isinstance(self.fit_nu, bool):
-            raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
+        check_bool("fit_nu", self.fit_nu)
+        check_bool("warm_start", self.warm_start)
         if self.fit_nu and not self.nu > 2:
             raise ValueError(f"nu must be above 2 with fit_nu=True (the search fits log(nu - 2) from it), got "
                              f"nu={self.nu!r}")
@@ -217,8 +222,13 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         last = None
         gradient_norm, start_objectives = math.nan, np.array([])
         if self.optimizer is not None:
-            theta0 = [kernel.amplitude, kernel.length_scale, scale] + ([self.nu - 2.0] if self.fit_nu else [])
-            theta, last, gradient_norm, start_objectives = self._search(np.log(theta0), U, y, group, on_step)
+            warm = self.warm_start and hasattr(self, "kernel_")
+            if warm:  # from the last fit's values
+                kernel, scale = self.kernel_, self.scale_
+                nu = self.nu_ if self.fit_nu else nu
+            theta0 = [kernel.amplitude, kernel.length_scale, scale] + ([nu - 2.0] if self.fit_nu else [])
+            theta, last, gradient_norm, start_objectives = self._search(np.log(theta0), U, y, group, on_step,
+                                                                       0 if warm else self.n_restarts)
             amplitude, length, scale = np.exp(theta[:3])
             kernel = RBF(amplitude, length)
             if self.fit_nu:
@@ -251,7 +261,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         self.X_train_ = X
         self.residual_ = y - self.f_hat_
 
-    def _search(self, theta0, U, y, group, on_step=None):
+    def _search(self, theta0, U, y, group, on_step=None, n_restarts=0):
         """The log hyperparameters that maximise the approximate log marginal likelihood (plus the log priors),
         the last mode found (where the final one's search starts), the gradient norm where the search ended and
         each start's final objective."""
@@ -285,7 +295,7 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
             found, trace, n_iter = adam(negative, theta, bounds, self.learning_rate, steps, on_step=on_step)
             return found, trace, n_iter
 
-        starts = restart_points(theta0, bounds, self.n_restarts)
+        starts = restart_points(theta0, bounds, n_restarts)
         if len(starts) == 1:
             theta, _, self.n_iter_ = search(starts[0])
             finals = None

@@ -18,6 +18,7 @@ from sklearn.utils.validation import validate_data
 
 from ..._internal.rng import as_generator, draw_subset
 from ..._internal.validation import (
+    check_bool,
     check_choice,
     check_int,
     check_positive,
@@ -57,6 +58,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         bounds: tuple[float, float] = HYPERPARAMETER_BOUNDS,
         rng=None,
         n_restarts: int = 0,
+        warm_start: bool = False,
     ):
         self.kernel = kernel
         self.noise_variance = noise_variance
@@ -68,6 +70,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         self.bounds = bounds
         self.rng = rng
         self.n_restarts = n_restarts
+        self.warm_start = warm_start
 
     def set_params(self, **params):
         """Set constructor arguments by name, ``kernel__length_scale`` too; checked at the next ``fit``.
@@ -90,6 +93,7 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         check_choice("prior", self.prior, PRIORS)
         check_int("max_fit_points", self.max_fit_points, 1, allow_none=True)
         check_int("n_restarts", self.n_restarts, 0)
+        check_bool("warm_start", self.warm_start)
         check_positive_pair("bounds", self.bounds)
         if not isinstance(self.rng, np.random.Generator):
             as_generator(self.rng)  # raises a clear error for anything else
@@ -102,7 +106,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
     def fit(self, X, y, *, on_step=None):
         """Fit the hyperparameters (unless ``optimizer=None``) and condition on the data.
 
-        Every fit starts from the constructor's hyperparameters.  The
+        Every fit starts from the constructor's hyperparameters (with
+        ``warm_start``, a refit from the last fit's, one start).  The
         hyperparameter search uses at most ``max_fit_points`` training points
         (a random subset drawn from ``rng``); the fitted model then conditions
         on *all* of ``X, y``.
@@ -124,7 +129,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
         # (n, 1) flattened with a warning; sets n_features_in_), then ours, which name a non-finite entry
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64, ensure_all_finite=False)
         X, y = check_training(X, y)
-        theta0 = self._initial_theta()
+        warm = self.warm_start and self.optimizer is not None and hasattr(self, "theta_")
+        theta0 = np.array(self.theta_) if warm else self._initial_theta()
         if self.optimizer is None:
             theta, trace, n_iter = theta0, [], 0
             self.fit_indices_ = np.arange(X.shape[0])
@@ -154,7 +160,8 @@ class ProcessRegressor(Objective, RegressorMixin, BaseEstimator):
                 self._warn_out_of_reach(y, steps)
             search = searcher(self.optimizer, negative, bounds, self.learning_rate, steps, self.max_iter, len(idx),
                               on_step)
-            theta, trace, n_iter, finals = best_of_starts(search, restart_points(theta0, bounds, self.n_restarts))
+            starts = restart_points(theta0, bounds, 0 if warm else self.n_restarts)
+            theta, trace, n_iter, finals = best_of_starts(search, starts)
             trace = [-v for v in trace]
             self.start_objectives_, self.gradient_norm_ = -np.asarray(finals), projected_gradient_norm(
                 negative(theta)[1], theta, bounds)

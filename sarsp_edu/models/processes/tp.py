@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..._internal.validation import check_choice, check_nu
+from ..._internal.validation import check_bool, check_choice, check_nu
 from ...config import HYPERPARAMETER_BOUNDS, LEARNING_RATE, NOISE_CONVENTIONS, NU
 from ..kernels import RBF
 from .equations import (
@@ -49,6 +49,8 @@ class StudentTProcess(ProcessRegressor):
         likelihood are the same in both.
     n_restarts : int, default 0
         Extra starts of the hyperparameter search (:class:`GaussianProcess`).
+    warm_start : bool, default False
+        Refits search from the last fit's hyperparameters (:class:`GaussianProcess`).
 
     Attributes
     ----------
@@ -91,6 +93,7 @@ class StudentTProcess(ProcessRegressor):
         bounds: tuple[float, float] = HYPERPARAMETER_BOUNDS,
         rng=None,
         n_restarts: int = 0,
+        warm_start: bool = False,
     ):
         self.nu = nu
         self.fit_nu = fit_nu
@@ -106,13 +109,13 @@ class StudentTProcess(ProcessRegressor):
             bounds=bounds,
             rng=rng,
             n_restarts=n_restarts,
+            warm_start=warm_start,
         )
 
     def _check_params(self):
         super()._check_params()
         check_nu(self.nu)
-        if not isinstance(self.fit_nu, (bool, np.bool_)):
-            raise ValueError(f"fit_nu must be True or False, got fit_nu={self.fit_nu!r}")
+        check_bool("fit_nu", self.fit_nu)
         check_choice("noise_convention", self.noise_convention, NOISE_CONVENTIONS)
 
     # -- where the TP differs (the GP's versions are in Objective) --
