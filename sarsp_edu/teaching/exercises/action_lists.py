@@ -18,7 +18,7 @@ import re
 
 import numpy as np
 
-from .parsing import _DOUBT, _PREFACE, Unreadable, _number, _text, exactly
+from .parsing import _DOUBT, _LEAD_IN, Unreadable, _number, _text, exactly
 from .sentences import _one_slip
 from .wording import shown
 
@@ -101,7 +101,8 @@ def _read_text(text: str, answer) -> list[int]:
                   flags=re.I)  # '0, 1, 2 are safe, 3 is unsafe'
     text = re.sub(r"^(.*?\S)\s*\(\s*((?:but\s+)?not\s+[^()]+?)\s*\)\s*\.?\s*$", r"\1, \2", text,
                   flags=re.I)  # '0, 3 (not 1, 2)'
-    text = re.sub(r"^\s*not\s+([^:;]+?)\s*[:;]\s*(.+?)\s*$", r"\2, not \1", text, flags=re.I)  # 'not 1, 2; 0, 3'
+    text = re.sub(r"^\s*not\s+([^:;]+?)\s*(?:[:;]|\s+but(?=\s))\s*(.+?)\s*$", r"\2, not \1", text,
+                  flags=re.I)  # 'not 1, 2; 0, 3', 'not 3 but 0, 1, 2'
     text = re.sub(r"^(.*?)(?:\s+(?:are|is)\s+safe\s*[,;]|\s*;)\s*(?:but\s+|and\s+)?(.*?)\s+(?:are|is)\s+not(?:\s+safe)?"
                   r"\s*$", r"\1, not \2", text, flags=re.I)  # '0, 3; 1 and 2 are not', '0, 3 are safe, 1, 2 are not'
     if not re.search(r"\d|right|down|left|up", text, flags=re.I):  # '→ and ↑' (not 'safe actions → 0, 2')
@@ -148,7 +149,7 @@ def _read_text(text: str, answer) -> list[int]:
     if re.search(r"(?:\s(?:with|at|for|when)\s+|\(\s*)(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
-    text = _numpy_printed(_PREFACE.sub("", text, count=1).strip().rstrip(".!\u2026"))
+    text = _numpy_printed(_LEAD_IN.sub("", text, count=1).strip().rstrip(".!\u2026"))
     if re.search(r"\b(?!set\(\))[A-Za-z_][\w.]*\(", text):  # 'range(0, 4, 3)': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it is a Python call; write the actions themselves "
                          "('0, 2').")

@@ -263,7 +263,7 @@ def _read_count(answer) -> int:
     try:
         value = _number(answer, "a whole number", single=True)
     except Unreadable as refused:
-        if "two numbers" in str(refused) or "percentage" in str(refused):
+        if any(why in str(refused) for why in ("two numbers", "percentage", "begin with 0")):
             raise
         value = _count_in_words(answer)
     if not math.isfinite(value) or value != int(value):

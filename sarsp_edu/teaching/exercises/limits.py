@@ -263,5 +263,9 @@ def _limit(value, what: str) -> float:
 
 
 #: a limit said by its verb alone ('blows up', 'decays')
-_GOES = {**dict.fromkeys(("blowsup", "explodes", "divergestoinfinity", "growswithoutbound"), math.inf),
-         **dict.fromkeys(("decays", "vanishes", "diesout", "decaystozero", "vanishestozero"), 0.0)}
+_GOES = {**dict.fromkeys(("blowsup", "explodes", "divergestoinfinity", "growswithoutbound", "shootsup",
+                          "isunbounded", "unbounded"), math.inf),
+         **dict.fromkeys(("decays", "vanishes", "diesout", "diesoff", "decaystozero", "vanishestozero", "nothing",
+                          "disappears", "fadesaway", "fadesout"), 0.0),  # 'decays to nothing': _SAID drops the verb
+         **dict.fromkeys(("unchanged", "stays", "staysthesame", "thesame", "same", "constant", "nochange",
+                          "doesnotchange", "doesntchange", "remainsthesame", "staysput"), 1.0)}

@@ -74,7 +74,8 @@ def _bands(*words):
 ABOVE = _compared(("above", "over", "greater", "larger", "bigger", "higher", "more"), ">", "> 1", "> 1.0", "> one",
                   "factor > 1",
                   "1 < factor", "beta > n", *_UP)
-BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower"), "<", "< 1", "< 1.0", "< one",
+BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower", "fewer"), "<", "< 1", "< 1.0", "< one",
+                  "sub-1", "sub 1", "sub-one",
                   "factor < 1", "1 > factor", "between 0 and 1", "between zero and one",
                   "beta < n",
                   *_DOWN)
@@ -82,10 +83,10 @@ WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide"
                "broadened", "more", ">", "more wide", "more broad", "less narrow", "not as narrow", "less tight",
                "getting wider", "getting broader", "wider and wider",
                "beta < n", *_UP)  # beta < n: the factor rises towards 1
-NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "smaller", "lower"), "narrow", "narrows",
-                  "narrowed", "tightens", "tightened", "less", "<", "more narrow", "less wide", "not as wide",
-                  "less broad", "not as broad", "getting narrower", "getting tighter", "narrower and narrower",
-                  "beta > n", *_DOWN)
+NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "skinnier", "smaller", "lower"), "narrow",
+                  "narrows", "narrowed", "tightens", "tightened", "less", "<", "more narrow", "less wide",
+                  "not as wide", "less broad", "not as broad", "getting narrower", "getting tighter",
+                  "narrower and narrower", "beta > n", *_DOWN)
 #: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
 _UNITS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen "
           "seventeen eighteen nineteen").split()
@@ -97,6 +98,8 @@ def _number_word(compact: str) -> float | None:
     compact = compact.replace("-", "")
     if compact in _UNITS:
         return float(_UNITS.index(compact))
+    if compact in ("nought", "naught"):  # 0 as British English says it
+        return 0.0
     if compact in ("onehundred", "ahundred", "hundred"):
         return 100.0
     for word, tens in _TENS.items():
@@ -108,7 +111,8 @@ def _number_word(compact: str) -> float | None:
 
 
 def _text(answer) -> str | None:
-    """``answer`` as text when it is one (a str, numpy's str, bytes), else None."""
+    """``answer`` as text when it is one (a str, numpy's str, bytes), else None: full-width characters as ASCII, a
+    lead-in (:data:`_LEAD_IN`) and trailing exclamation marks and spaces dropped."""
     if isinstance(answer, bytes):
         try:
             answer = answer.decode()
@@ -116,8 +120,15 @@ def _text(answer) -> str | None:
             return None
     if isinstance(answer, np.ndarray) and answer.ndim == 0 and answer.dtype.kind in "US":
         answer = answer.item()
+    if not isinstance(answer, str):
+        return None
     # full-width forms (U+FF01 to U+FF5E: letters, digits and '<' as an East Asian keyboard types them) as ASCII
-    return str(answer).translate(_FULL_WIDTH) if isinstance(answer, str) else None
+    text = answer.translate(_FULL_WIDTH)
+    for _ in range(2):  # 'Answer: my prediction is ...': one lead-in after another
+        text = _LEAD_IN.sub("", text, count=1)
+    if re.search(r"(?:\.\.|\u2026)[\s.!]*$", text):  # an ellipsis: a sentence left open, read as it is
+        return text.rstrip()
+    return re.sub(r"[\s.!]+$", "", text)  # 'Below!', '0, 1, 2 (not 3)!', 'array(50).': the sentence's end
 
 
 _FULL_WIDTH = {code: code - 0xFEE0 for code in range(0xFF01, 0xFF5F)}
@@ -142,10 +153,13 @@ def read_word(answer, options: dict, tails=None) -> str:
         question's own nu = 30 and its own change of nu, 'than before', 'towards the GP').
     """
     names = " or ".join(repr(option) for option in options)
+    own_thirty = tails is None  # exercise 2.6's: its own nu = 30 may be said first ('At nu = 30 the band is narrower')
     tails = _TAILS if tails is None else tails
     text = _text(answer)
     if text is not None:
         text = spelled(text)  # 'beloww', 'narower': one slip from one direction word
+        if own_thirty:
+            text = re.sub(r"^\s*(?:(?:at|with)\s+)?(?:nu|\u03bd)\s*=\s*30\s*[,:]?\s*", "", text, count=1, flags=re.I)
         text = re.sub(r"^\s*not\s+([^,;]+?)\s*[,;]\s*(?:but\s+)?([^,;]+)$", r"\2, not \1", text,
                       flags=re.I)  # 'not wider, narrower': the other option denied first
         try:
@@ -192,9 +206,15 @@ _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly
 _HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|approx|nearly|almost|close\s+to|rounded|estimated?)\b|"
                      r"[~\u2248]", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
-_PREFACE = re.compile(r"^\s*(?:(?:my\s+)?(?:prediction|answer)\s*(?:is\s*:?|:)|i\s+(?:predict|expect)(?:\s+that)?\s*:?|"
-                      r"the\s+answer\s+is\s*:?|answer\s*:|(?:(?:at|with)\s+)?(?:nu|\u03bd)\s*=\s*30\s*[,:]?)\s*",
-                      re.IGNORECASE)
+_LEAD = (r"(?:(?:my|the|final)\s+)*(?:prediction|answer)\s*(?::|(?:is|would\s+be|will\s+be)\b\s*:?)|"
+         r"i(?:\s+would|'d|\u2019d)?\s+(?:predict|expect|say|answer)\b(?:\s+that)?\s*:?|"
+         r"(?:the\s+)?(?:largest|maximum|max|greatest)\s+(?:possible\s+)?(?:number|count)(?:\s+of\s+(?:unsafe\s+)?"
+         r"(?:cells|states|squares))?\s*(?:is\b|:|=)|(?:the\s+)?(?:tp(?:'?s)?\s+)?band\s+(?:is|gets|becomes|will\s+be)\b\s*:?|"
+         r"(?:the\s+)?(?:tp(?:'?s)?\s+)?(?:fitted\s+)?(?:variance\s+)?factor\s+(?:is|will\s+be|gets|becomes)\b\s*:?|"
+         r"(?:the\s+)?safe\s+(?:actions|set)\s*(?:(?:are|is)\b\s*:?|:|=>|->|\u2192|=)")
+#: what a student may write before the prediction itself, dropped from every answer ('My prediction: narrower',
+#: 'I predict below', 'Answer: 50', 'The band is narrower', 'Largest number: 50', 'Safe actions: 0, 1, 2')
+_LEAD_IN = re.compile(rf"^\s*(?:{_LEAD})\s*", re.IGNORECASE)
 #: a Python call anywhere in an answer ('range(50)'), and an answer that is one call ('math.exp(0)')
 _CALL = re.compile(r"\b[A-Za-z_][\w.]*\(")
 _ONE_CALL = re.compile(r"\s*[A-Za-z_][\w.]*\(.*\)\s*")
@@ -235,7 +255,7 @@ def alone(text: str, answer, what: str) -> str:
     if _DOUBT.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it doubts its own answer.")
     text = re.sub(r"\s*[.!\u2026;:,]+\s*$|\s+[-\u2013\u2014]\s*$", "",  # 'Narrower.', 'below,', 'Narrower - '
-                  _PREFACE.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
+                  _LEAD_IN.sub("", text.replace("\u2019", "'"), count=1).strip()).strip()
     whole = re.fullmatch(r"\(([^()]*)\)", text)  # '(0.4)', '(50)': the value in brackets
     if whole:
         text = whole.group(1).strip()
@@ -304,6 +324,9 @@ def _number(answer, what: str, single: bool = False) -> float:
     if text is not None:
         if re.search(r"\d\s+\d", text):  # '5 0' is two numbers, not 50
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
+        if re.search(r"(?<![\w.])0\d", text):  # '050', '01', '00': Python refuses such a number, and so does a reader
+            raise Unreadable(f"Could not read {shown(answer)} as {what}: a number in digits does not begin with 0 "
+                             "(but 0 itself, or 0.5).")
         main, asides = _clauses(text)
         if _NEGATION.search(" ".join(asides).lower()):  # '50 (or 25)', '50 (not 50)': refused
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
@@ -372,7 +395,8 @@ def exactly(given, value: float, what: str) -> float:
     text = _text(given)
     if text is not None:  # a number written in digits must be the value exactly; a word is ('one', 'infinite')
         quotient = re.fullmatch(r"\s*([+-]?\d+)\s*/\s*(\d+)\s*", text)
-        digits = re.search(r"[+-]?\d+(?:\.\d*)?(?:e[+-]?\d+)?", text, flags=re.I)
+        digits = re.search(r"[+-]?\d+(?:\.\d*)?(?:e[+-]?\d+)?", re.sub(r"(?<=\d)_(?=\d)", "", text),
+                           flags=re.I)  # '1_0' is Python's 10
         if quotient and int(quotient.group(2)):
             exact = Fraction(int(quotient.group(1)), int(quotient.group(2))) == value
         else:

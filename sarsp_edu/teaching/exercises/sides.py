@@ -29,8 +29,8 @@ from decimal import Decimal
 from .counts import arithmetic
 from .parsing import (
     _HEDGED,
+    _LEAD_IN,
     _ONE_CALL,
-    _PREFACE,
     ABOVE,
     BELOW,
     NARROWER,
@@ -62,8 +62,10 @@ _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLE
 _THE_TP = (r"^\s*(?:the\s+)?tp(?:'s)?(?:\s+band)?(?:\s*[:,\u2013\u2014]\s*|\s+is\s+|\s+)"
            r"(?!(?:fitted\s+|variance\s+)*factor|(?:at|with|for)\s+(?:nu|\u03bd)|band)(?=[a-z0-9.])")
 def _denial_said_plainly(text: str) -> str:
-    """'not wider but narrower' and 'narrower and not wider' said as 'narrower, not wider'."""
-    text = re.sub(r"^\s*not\s+([a-z]+)\s*,?\s+but\s+([a-z]+)\s*$", r"\2, not \1", text, flags=re.I)
+    """'not wider but narrower' ('not above 1 but below') and 'narrower and not wider' said as 'narrower, not
+    wider'."""
+    word = r"([a-z]+(?:\s+(?:1|one))?)"
+    text = re.sub(rf"^\s*not\s+{word}\s*,?\s+but\s+{word}\s*$", r"\2, not \1", text, flags=re.I)
     return re.sub(r"^\s*([a-z]+)\s*,?\s+and\s+not\s+([a-z]+)\s*$", r"\1, not \2", text, flags=re.I)
 
 
@@ -147,7 +149,7 @@ def read_side(answer) -> str:
         side, unread = read_word(bare, {"above": ABOVE, "below": BELOW}, tails=()), None
     except Unreadable as refused:  # its reply may say why ('not above': what the factor is not)
         side, unread = None, str(refused).replace(shown(bare), shown(answer), 1)
-    bare = _FACTOR_IS.sub("", _PREFACE.sub("", bare, count=1), count=1)
+    bare = _FACTOR_IS.sub("", _LEAD_IN.sub("", bare, count=1), count=1)
     compared = _COMPARED.match(bare)
     values = [float(compared.group(1))] if compared else []
     moved = [(way, float(complement.removeprefix("to "))) for way, complement in parse(bare)
@@ -266,6 +268,10 @@ def read_band(answer) -> str:
     if text is None:
         return read_word(answer, options)
     said = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text.strip())  # 'wider at nu = 3.', 'narrower,'
+    said = re.sub(rf"^\s*(?:(?:at|with|for)\s+)?(?:{_NU})?30(?:\.0+)?\s*(?::|,|->|\u2192|(?=\s[a-z]))\s*"
+                  rf"(?!.*\b(?:{_NU})?3(?:\.0+)?\s*:)|"
+                  rf"^\s*(?:from\s+)?(?:{_NU})?3(?:\.0+)?\s*(?:->|\u2192|to)\s*(?:{_NU})?30(?:\.0+)?\s*:\s*", "",
+                  said, flags=re.I)  # 'At nu = 30: it's narrower', 'at nu = 30 narrower', 'from 3 to 30: narrower'
     said = re.sub(rf"(?:^|(?<=,\s))(?:at\s+)?(?:{_NU})?(30|3)(?:\.0+)?\s*:\s*([a-z]+)", r"\2 at nu = \1", said,
                   flags=re.I)  # 'nu = 30: narrower, nu = 3: wider', 'at 30: narrower'
     said = rewritten = _denial_said_plainly(said)  # 'not wider but narrower', 'narrower and not wider'
