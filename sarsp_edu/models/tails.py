@@ -187,14 +187,14 @@ def derivation_steps(density: str = "student_t") -> list[tuple[str, sp.Expr]]:
         return [
             ("the Karamata ratio f(lambda x) / f(x)", gaussian_pdf(LAMBDA * X) / gaussian_pdf(X)),
             ("simplified", ratio),
-            ("for lambda > 1 write lambda**2 = 1 + 2c with c > 0", ratio.subs(LAMBDA**2, 1 + 2 * _C)),
+            ("for lambda > 1 write lambda squared as 1 + 2c, with c > 0", ratio.subs(LAMBDA**2, 1 + 2 * _C)),
             ("so the limit is 0 (and oo for lambda < 1): not a power of lambda", gaussian_tail_limit()),
         ]
     if density == "ratio":
         quotient = sp.simplify(gaussian_pdf(X) / student_t_pdf(X))
         return [
             ("Gaussian density over Student-t density", gaussian_pdf(X) / student_t_pdf(X)),
-            ("simplified: a polynomial times exp(-x**2 / 2)", quotient),
+            ("simplified: a polynomial times exp(-x squared / 2)", quotient),
             ("the exponential wins: the limit is 0, so the Student-t tails are heavier",
              gaussian_over_student_t_limit()),
         ]
