@@ -568,3 +568,28 @@ def test_the_thirty_ninth_pass_s_right_answers_are_read(reader, answer, expected
 def test_an_underscored_literal_is_read_as_python_reads_it():
     """'1_0' is Python's 10: read as 10 (a wrong limit, for its hint), not told 'it is not exactly 10'."""
     assert read_limits({"lambda < 1": math.inf, "lambda = 1": "1_0", "lambda > 1": 0})["=1"] == 10.0
+
+
+# -- the fortieth cold pass (0 false accepts; every coding exercise and the capstone: 0 false verdicts): 5 right
+# answers refused, an aside inside one of three limits written as text, the question's grid before an arrow, the
+# same actions said again in brackets --
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_limits, "inf (blows up), 1, 0", _LIMITS), (read_limits, "inf, 1 (one), 0", _LIMITS),
+    (read_count, "10 x 10 -> 50", 50), (read_count, "10 \u00d7 10 \u2192 50", 50),
+    (read_actions, "0, 1, 2 (0, 1, 2)", [0, 1, 2]), (read_actions, "0, 1, 2 (RIGHT, DOWN, LEFT)", [0, 1, 2])])
+def test_the_fortieth_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected
+
+
+@pytest.mark.parametrize("reader, answer", [
+    (read_limits, "inf, 1 (0), 0"), (read_limits, "inf (0), 1, 0"), (read_actions, "0, 1, 2 (0, 1)"),
+    (read_actions, "0, 1, 2 (0, 1, 2, 3)")])
+def test_an_aside_inside_three_limits_or_a_list_that_says_another_value_is_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)
+
+
+@pytest.mark.parametrize("answer", ["not 49", "not fifty", "never 50"])
+def test_a_count_said_only_by_what_it_is_not_is_told_so(answer):
+    with pytest.raises(Unreadable, match="it says what the count is not"):
+        read_count(answer)

@@ -127,8 +127,8 @@ def _read_text(text: str, answer) -> list[int]:
                   rf"\s*\(\s*{own}(?:\s*(?:,|and)\s*{own})?\s*\)\s*$|\s*,?\s+for\s+the\s+gp(?:'s\s+decision)?\s*$|"
                   r"\s*\(\s*(?:at|with)\s+10(?:\.0*)?\s*\)\s*$",
                   "", text, flags=re.I)  # '0, 3 (sigma*^2 = 10, d = 1)', '0 and 3 for the GP'
-    again = re.fullmatch(r"(.*?\S)\s*\(\s*((?:all|every)[^()]*)\)\s*", text, flags=re.I)
-    if again:  # '0, 1, 2 (all but UP)': the same actions said again in brackets
+    again = re.fullmatch(r"(.*?\S)\s*\(\s*((?:all|every)[^()]*|[\w\s,&]+)\)\s*", text, flags=re.I)
+    if again:  # '0, 1, 2 (all but UP)', '0, 1, 2 (RIGHT, DOWN, LEFT)': the same actions said again in brackets
         try:
             first, second = (_read_text(part, answer) for part in again.groups())
         except Unreadable:

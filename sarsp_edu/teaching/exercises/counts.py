@@ -51,7 +51,8 @@ _RULE = (r"(?:no\s+two(?:\s+of\s+them)?(?:\s+cells)?\s+(?:(?:4|four)-?\s*)?(?:ad
          r"shar(?:ing|e)\s+an\s+edge)(?:\s+cells)?|(?:4|four)-?\s*adjacency)")
 _GRID = r"(?:a\s+|the\s+)?(?:10|ten)\s*(?:x|\u00d7|by|-by-)\s*(?:10|ten)(?:\s+grid)?"
 _QUESTIONS_OWN = re.compile(
-    rf"^\s*(?:(?:on|for|in)\s+)?{_GRID}\s*[,:]?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
+    rf"^\s*(?:(?:on|for|in)\s+)?{_GRID}\s*(?:[,:]|->|=>|\u2192)?\s*(?=(?:it\s+is|it'?s|there\s+are|\d|[a-z]+\s*$))|"
+    rf"\s*,?\s+(?:on|in)\s+{_GRID}\s*$|"
     rf"\s+(?:with|if|when)\s+{_RULE}\s*$|\s+of\s+them\s*$|\s*(?:,|\()\s*(?:with\s+|if\s+)?{_RULE}\s*\)?\s*$|"
     rf"\s*\(\s*(?:(?:on|for|in)\s+)?{_GRID}\s*\)\s*$",  # '50 (10 x 10)', '50 (for a 10 x 10 grid)'
     re.IGNORECASE)
@@ -144,6 +145,9 @@ def read_count(answer) -> int:
     if _CALL.search(text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
                          "the number itself.")
+    if re.fullmatch(r"\s*(?:not|never)\s+[^,;:()]+", text, flags=re.I):  # 'not 49': what the count is not
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it says what the count is not; write "
+                         "what it is.")
     text = _alone(text, answer)
     if _HEDGED.search(text):
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: a count is exact; write the number "

@@ -143,6 +143,9 @@ def read_limits(answer) -> dict:
         text = whole.group(1)
     if text is not None:  # 'math.inf', 'np.inf': infinity as Python spells it
         text = re.sub(r"\b(?:math|np|numpy)\.(inf|infty)\b", r"\1", text)
+    items = [] if text is None else re.split(r"[,;]|\band\b", text)
+    if len(items) == 3 and "(" in text and all(item.count("(") == item.count(")") for item in items):
+        answer, text = [item.strip() for item in items], None  # 'inf (blows up), 1, 0': each limit with its aside
     if text is not None and re.search(r"[()]|\bbecause\b", text):
         raise Unreadable(f"Could not read {shown(answer)} as a dict of three limits: {ALONE}.")
     parts = [] if text is None else [part.strip() for part in re.split(r"[,;]|\band\b", text) if part.strip()]
