@@ -593,3 +593,30 @@ def test_an_aside_inside_three_limits_or_a_list_that_says_another_value_is_refus
 def test_a_count_said_only_by_what_it_is_not_is_told_so(answer):
     with pytest.raises(Unreadable, match="it says what the count is not"):
         read_count(answer)
+
+
+# -- the forty-first cold pass: 1 false accept ('00.37', a leading zero 2.5's decimal reader did not refuse) and
+# right answers refused: the ideographic full stop, 'Answer - ', 'Max = 50', 2.5's clean data said first, 2.6's own
+# fit said first ("with section 2's hyperparameters: narrower") and the factor's fall after a colon, 3.4's
+# checkerboard asides --
+@pytest.mark.parametrize("reader, answer", [(read_side, "00.37"), (read_side, "03"),
+                                            (read_band, "narrower: the factor rises to 6")])
+def test_a_decimal_with_a_leading_zero_or_a_colon_aside_the_other_way_is_refused(reader, answer):
+    with pytest.raises(Unreadable):
+        reader(answer)
+
+
+@pytest.mark.parametrize("reader, answer, expected", [
+    (read_band, "\uff2e\uff41\uff52\uff52\uff4f\uff57\uff45\uff52\u3002", "narrower"),
+    (read_band, "Answer - narrower", "narrower"), (read_count, "Max = 50", 50),
+    (read_side, "clean: below", "below"), (read_side, "p = 0: below", "below"),
+    (read_side, "proportion = 0: below", "below"),
+    (read_band, "with section 2's hyperparameters: narrower", "narrower"),
+    (read_band, "fixed hyperparameters: narrower", "narrower"), (read_band, "section 2's fit: narrower", "narrower"),
+    (read_band, "TP band at nu = 30: narrower", "narrower"),
+    (read_band, "narrower: the factor drops to 3.47", "narrower"),
+    (read_band, "narrower; the factor falls from 5.10 to 3.47", "narrower"),
+    (read_count, "50 (a checkerboard's black squares)", 50), (read_count, "50 cells (every other one)", 50),
+    (read_count, "50 (half)", 50)])
+def test_the_forty_first_pass_s_right_answers_are_read(reader, answer, expected):
+    assert reader(answer) == expected

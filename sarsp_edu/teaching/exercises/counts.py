@@ -252,7 +252,9 @@ _DESCRIBES_THE_COUNT = re.compile(
     r"(?:(?:colou?r|half)\s+of\s+(?:a|the)\s+)?(?:gridsize\s+)?(?:chess|checker)[\s-]?board(?:\s+(?:pattern|colou?ring|layout))?|"
     r"(?:checker|chess)[\s-]?board(?:\s+(?:pattern|colou?ring|colou?r|layout))?|colou?r(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
     r"(?:all\s+(?:the\s+)?)?(?:black|white|dark|light)\s+(?:squares|cells)(?:\s+of\s+(?:a|the)\s+(?:chess|checker)board)?|"
-    r"half\s+(?:of\s+)?(?:the\s+)?(?:grid|cells|board|squares|grid'?s\s+cells)|every\s+(?:other|second)\s+(?:cell|square)|(?:the\s+)?max(?:imum)?|"
+    r"(?:(?:a|the)\s+)?(?:chess|checker)[\s-]?board'?s\s+(?:black|white|dark|light)\s+(?:squares|cells)|half|"
+    r"half\s+(?:of\s+)?(?:the\s+)?(?:grid|cells|board|squares|grid'?s\s+cells)|every\s+(?:other|second)\s+(?:cell|square|one)|"
+    r"(?:the\s+)?max(?:imum)?|"
     r"alternat(?:e|ing)\s+(?:cells|squares))", re.IGNORECASE)
 
 

@@ -128,7 +128,7 @@ def _text(answer) -> str | None:
         text = _LEAD_IN.sub("", text, count=1)
     if re.search(r"(?:\.\.|\u2026)[\s.!]*$", text):  # an ellipsis: a sentence left open, read as it is
         return text.rstrip()
-    return re.sub(r"[\s.!]+$", "", text)  # 'Below!', '0, 1, 2 (not 3)!', 'array(50).': the sentence's end
+    return re.sub(r"[\s.!\u3002]+$", "", text)  # 'Below!', '0, 1, 2 (not 3)!', 'array(50).', '。': the sentence's end
 
 
 _FULL_WIDTH = {code: code - 0xFEE0 for code in range(0xFF01, 0xFF5F)}
@@ -206,9 +206,9 @@ _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly
 _HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|approx|nearly|almost|close\s+to|rounded|estimated?)\b|"
                      r"[~\u2248]", re.IGNORECASE)
 #: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
-_LEAD = (r"(?:(?:my|the|final)\s+)*(?:prediction|answer)\s*(?::|(?:is|would\s+be|will\s+be)\b\s*:?)|"
+_LEAD = (r"(?:(?:my|the|final)\s+)*(?:prediction|answer)\s*(?::|\s[-\u2013\u2014]|(?:is|would\s+be|will\s+be)\b\s*:?)|"
          r"i(?:\s+would|'d|\u2019d)?\s+(?:predict|expect|say|answer)\b(?:\s+that)?\s*:?|"
-         r"(?:the\s+)?(?:largest|maximum|max|greatest)\s+(?:possible\s+)?(?:number|count)(?:\s+of\s+(?:unsafe\s+)?"
+         r"(?:the\s+)?(?:largest|maximum|max|greatest)(?:\s+(?:possible\s+)?(?:number|count))?(?:\s+of\s+(?:unsafe\s+)?"
          r"(?:cells|states|squares))?\s*(?:is\b|:|=)|(?:the\s+)?(?:tp(?:'?s)?\s+)?band\s+(?:is|gets|becomes|will\s+be)\b\s*:?|"
          r"(?:the\s+)?(?:tp(?:'?s)?\s+)?(?:fitted\s+)?(?:variance\s+)?factor\s+(?:is|will\s+be|gets|becomes)\b\s*:?|"
          r"(?:the\s+)?safe\s+(?:actions|set)\s*(?:(?:are|is)\b\s*:?|:|=>|->|\u2192|=)")
@@ -324,9 +324,7 @@ def _number(answer, what: str, single: bool = False) -> float:
     if text is not None:
         if re.search(r"\d\s+\d", text):  # '5 0' is two numbers, not 50
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
-        if re.search(r"(?<![\w.])0\d", text):  # '050', '01', '00': Python refuses such a number, and so does a reader
-            raise Unreadable(f"Could not read {shown(answer)} as {what}: a number in digits does not begin with 0 "
-                             "(but 0 itself, or 0.5).")
+        leading_zero(text, answer, what)
         main, asides = _clauses(text)
         if _NEGATION.search(" ".join(asides).lower()):  # '50 (or 25)', '50 (not 50)': refused
             raise Unreadable(f"Could not read {shown(answer)} as {what}.")
@@ -374,6 +372,14 @@ def _number(answer, what: str, single: bool = False) -> float:
         return float(answer)
     except (TypeError, ValueError, OverflowError, ArithmeticError):
         raise Unreadable(f"Could not read {shown(answer)} as {what}.") from None
+
+
+def leading_zero(text: str, answer, what: str) -> None:
+    """Raise :class:`Unreadable` where a number in ``text`` begins with 0 ('050', '01', '00.37'): Python refuses
+    such a number, and so does a reader (but 0 itself, and 0.5)."""
+    if re.search(r"(?<![\w.])0\d", text):
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: a number in digits does not begin with 0 "
+                         "(but 0 itself, or 0.5).")
 
 
 def exactly(given, value: float, what: str) -> float:

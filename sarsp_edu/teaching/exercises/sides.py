@@ -40,6 +40,7 @@ from .parsing import (
     _number,
     _text,
     alone,
+    leading_zero,
     read_word,
 )
 from .sentences import parse, said_in_words
@@ -56,7 +57,7 @@ _CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|(?
 # own fit: section 3's, at nu = 3 ('below (nu = 3)')
 _FACTOR = r"(?:the\s+)?(?:tp(?:'?s)?\s+)?(?:fitted\s+)?(?:variance\s+)?(?:factor|variance_scale_)"
 _WITHOUT_OUTLIERS = (rf"\s*(?:,|\u2014|\u2013|\s-)?\s+{_CLEAN}\s*$|\s*\(\s*{_CLEAN}\s*\)\s*$|"
-                     rf"^\s*{_CLEAN}\s*[,:]?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$|"
+                     rf"^\s*(?:{_CLEAN}|clean|(?:p|proportion)\s*=\s*0(?:\.0+)?)\s*[,:]?\s*|\s*\(\s*{_FACTOR}(?:,?\s+{_CLEAN})?\s*\)\s*$|"
                      r"\s*\(\s*(?:proportion|p)\s*=\s*0(?:\.0+)?\s*\)\s*$")  # '(the fitted factor)'
 #: the question's own subject said before the answer ('TP below 1', 'the TP: narrower', "the TP's band: narrower")
 _THE_TP = (r"^\s*(?:the\s+)?tp(?:'s)?(?:\s+band)?(?:\s*[:,\u2013\u2014]\s*|\s+is\s+|\s+)"
@@ -118,6 +119,7 @@ def read_side(answer) -> str:
     for _ in range(2):  # 'below 1 without outliers at nu = 3': one after another
         bare = re.sub(_WITHOUT_OUTLIERS, "", bare, flags=re.I)
     bare = said_in_words(bare)
+    leading_zero(bare, answer, "'above' or 'below'")  # '00.37', '03'
     written = re.fullmatch(r"\s*(\d+\.\d+)\s*", bare)
     if written:  # a number is on the side its digits put it: '0.9999999999999999999' is below 1, as written
         exact = Decimal(written.group(1))
@@ -272,6 +274,10 @@ def read_band(answer) -> str:
                   rf"(?!.*\b(?:{_NU})?3(?:\.0+)?\s*:)|"
                   rf"^\s*(?:from\s+)?(?:{_NU})?3(?:\.0+)?\s*(?:->|\u2192|to)\s*(?:{_NU})?30(?:\.0+)?\s*:\s*", "",
                   said, flags=re.I)  # 'At nu = 30: it's narrower', 'at nu = 30 narrower', 'from 3 to 30: narrower'
+    said = re.sub(r"^\s*(?:(?:with|using)\s+)?(?:section\s+2'?s\s+)?(?:the\s+)?(?:fixed\s+|same\s+)?"
+                  rf"(?:hyperparameters|fit)\s*:\s*|"
+                  rf"^\s*(?:the\s+)?tp(?:'?s)?\s+band\s+(?:at\s+)?(?:{_NU})?30(?:\.0+)?\s*:\s*", "", said,
+                  flags=re.I)  # "with section 2's hyperparameters: narrower", 'TP band at nu = 30: narrower'
     said = re.sub(rf"(?:^|(?<=,\s))(?:at\s+)?(?:{_NU})?(30|3)(?:\.0+)?\s*:\s*([a-z]+)", r"\2 at nu = \1", said,
                   flags=re.I)  # 'nu = 30: narrower, nu = 3: wider', 'at 30: narrower'
     said = rewritten = _denial_said_plainly(said)  # 'not wider but narrower', 'narrower and not wider'
@@ -297,7 +303,8 @@ def read_band(answer) -> str:
         if re.search(rf"\bthan\s+(?:the\s+band\s+)?(?:(?:at|with|for)\s+)?{_NU}3(?:\.0+)?(?![\d.])", said, flags=re.I):
             raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': it compares the band at nu = 3 "
                              "with itself.")
-    aside = re.fullmatch(r"(.*?\S)\s*\(\s*([^()]*?)\s*\)", said)
+    aside = (re.fullmatch(r"(.*?\S)\s*\(\s*([^()]*?)\s*\)", said)
+             or re.fullmatch(r"([a-z]+)\s*[:;,\u2013\u2014]\s*(.*?\bfactor\b.*?)", said, flags=re.I))
     factor_way = None if aside is None else _factor_way(aside.group(2))
     if factor_way:  # 'narrower (the factor drops to 3.5)': the factor's way, said again
         said = aside.group(1)
