@@ -247,6 +247,31 @@ def test_a_warm_refit_searches_from_the_last_fit_in_one_start(model):
         model(warm_start="yes").fit(X, y)
 
 
+def test_a_warm_refit_whose_search_ends_without_a_mode_starts_again_cold(monkeypatch):
+    """Seen in the rule study (nu 2.2, m = 80, p = 0.4): a warm refit's search ended where the Laplace
+    approximation has no maximum; the refit then starts again from the given values, with its restarts."""
+    X, y = wave(25)
+    model = StudentTLikelihoodGP(RBF(1.0, 1.0), optimizer="adam", max_iter=20, n_restarts=1, warm_start=True)
+    model.fit(X, y)
+    cold = StudentTLikelihoodGP(RBF(1.0, 1.0), optimizer="adam", max_iter=20, n_restarts=1).fit(X, y + 0.01)
+    settle, calls = model._settle, []
+
+    def first_fails(*args):
+        calls.append(args)
+        if len(calls) == 1:
+            raise RuntimeError("the Laplace approximation has no maximum here")
+        return settle(*args)
+
+    monkeypatch.setattr(model, "_settle", first_fails)
+    model.fit(X, y + 0.01)
+    assert len(calls) == 2 and len(model.start_objectives_) == 2  # the second, cold, with its restart
+    np.testing.assert_allclose(model.f_hat_, cold.f_hat_, rtol=1e-12)
+    never = StudentTLikelihoodGP(RBF(1.0, 1.0), optimizer="adam", max_iter=5)
+    monkeypatch.setattr(never, "_settle", lambda *args: (_ for _ in ()).throw(RuntimeError("no maximum")))
+    with pytest.raises(RuntimeError, match="no maximum"):  # a cold fit's failure is said, not retried
+        never.fit(X, y)
+
+
 # -- outliers in the targets only ----------------------------------------------------------------------
 def test_target_outliers_scale_the_same_rows_targets_at_their_clean_inputs():
     from sarsp_edu.world.offline import inject_outliers

@@ -114,7 +114,9 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         first); deterministic.
     warm_start : bool, default False
         A refit searches from the last fit's hyperparameters, one start (as
-        :class:`~sarsp_edu.models.processes.gp.GaussianProcess`).
+        :class:`~sarsp_edu.models.processes.gp.GaussianProcess`); where that
+        search ends at values whose posterior has no mode, the refit starts
+        again from the given values, with ``n_restarts``.
     max_newton : int, default 1000
         Steps allowed to find the posterior mode in the hyperparameter search, which turns back where a
         search needs more (a prior of the agent's cost data took 182, its EM steps slow where most rows start
@@ -217,12 +219,23 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64)
         X = check_X(X)
         U, group = self._distinct(X)
+        warm = self.optimizer is not None and self.warm_start and hasattr(self, "kernel_")
+        try:
+            self._fit_from(X, y, U, group, warm, on_step)
+        except RuntimeError:  # a warm search may end where the mode has no maximum: the fit starts again, cold
+            if not warm:
+                raise
+            self._fit_from(X, y, U, group, False, on_step)
+        return self
+
+    def _fit_from(self, X, y, U, group, warm: bool, on_step) -> None:
+        """The search (unless ``optimizer=None``), from the last fit's values where ``warm`` (one start), else
+        from the given ones (with ``n_restarts``), and the fitted state at its end."""
         kernel = RBF() if self.kernel is None else self.kernel
         scale, nu = float(self.scale), float(self.nu)
         last = None
         gradient_norm, start_objectives = math.nan, np.array([])
         if self.optimizer is not None:
-            warm = self.warm_start and hasattr(self, "kernel_")
             if warm:  # from the last fit's values
                 kernel, scale = self.kernel_, self.scale_
                 nu = self.nu_ if self.fit_nu else nu
@@ -235,7 +248,6 @@ class StudentTLikelihoodGP(RegressorMixin, BaseEstimator):
                 nu = 2.0 + math.exp(theta[3])
         n_iter = None if self.optimizer is None else self.n_iter_  # None: the mode search's steps
         self._settle(X, y, kernel, float(scale), nu, last, gradient_norm, start_objectives, n_iter)
-        return self
 
     @staticmethod
     def _distinct(X):
