@@ -25,6 +25,7 @@ MODULE_STATE = {
     "teaching/exercises/capstone.py": {"_LAST": "the last capstone check's runs, for its diagnosis"},
     "teaching/live/fitcache.py": {"_warned": "one warning per kind of problem and process"},
     "teaching/live/fitting.py": {"_ALL": "every fitting process alive, ended at the interpreter's exit"},
+    "_internal/owner.py": {"_OWNERS": "every owner whose thread was started, closed at the interpreter's exit"},
 }
 #: module -> its uses of ``__dict__`` (lines' text, stripped) and why
 DICT_USES = {

@@ -128,7 +128,7 @@ def _text(answer) -> str | None:
         text = _LEAD_IN.sub("", text, count=1)
     if re.search(r"(?:\.\.|\u2026)[\s.!]*$", text):  # an ellipsis: a sentence left open, read as it is
         return text.rstrip()
-    return re.sub(r"[\s.!\u3002]+$", "", text)  # 'Below!', '0, 1, 2 (not 3)!', 'array(50).', '。': the sentence's end
+    return re.sub(r"[\s.!\u3002]+$", "", text)  # 'Below!', '0, 1, 2 (not 3)!', 'array(50).', an ideographic stop
 
 
 _FULL_WIDTH = {code: code - 0xFEE0 for code in range(0xFF01, 0xFF5F)}
@@ -376,7 +376,17 @@ def _number(answer, what: str, single: bool = False) -> float:
 
 def leading_zero(text: str, answer, what: str) -> None:
     """Raise :class:`Unreadable` where a number in ``text`` begins with 0 ('050', '01', '00.37'): Python refuses
-    such a number, and so does a reader (but 0 itself, and 0.5)."""
+    such a number, and so does a reader (but 0 itself, and 0.5).
+
+    Parameters
+    ----------
+    text : str
+        The answer as text, as far as it has been read.
+    answer : object
+        The answer as given (quoted in the reply).
+    what : str
+        What the answer is read as, for the reply ('a whole number').
+    """
     if re.search(r"(?<![\w.])0\d", text):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: a number in digits does not begin with 0 "
                          "(but 0 itself, or 0.5).")
