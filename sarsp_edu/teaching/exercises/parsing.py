@@ -112,7 +112,8 @@ def _number_word(compact: str) -> float | None:
 
 def _text(answer) -> str | None:
     """``answer`` as text when it is one (a str, numpy's str, bytes), else None: full-width characters as ASCII, a
-    lead-in (:data:`_LEAD_IN`) and trailing exclamation marks and spaces dropped."""
+    lead-in (:data:`_LEAD_IN`) and the sentence's end (spaces, full stops, exclamation marks) dropped, but an
+    ellipsis."""
     if isinstance(answer, bytes):
         try:
             answer = answer.decode()
