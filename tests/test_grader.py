@@ -1100,9 +1100,10 @@ def test_number_words_in_a_row_are_actions_and_a_bracketed_list_may_follow_its_c
     assert read_actions(answer) == actions
 
 
-@pytest.mark.parametrize("answer", ["2: LEFT", "1: LEFT", "1: 3"])  # '2: LEFT' may name action 2
-def test_a_bare_number_and_a_colon_is_not_read_as_a_count(answer):
-    with pytest.raises(Unreadable, match="write the safe actions alone"):
+@pytest.mark.parametrize("answer, why", [("1: LEFT", "names action 1 as LEFT"),
+                                         ("1: 3", "write the safe actions alone")])
+def test_a_bare_number_and_a_colon_is_not_read_as_a_count(answer, why):  # '2: LEFT' names action 2 (answer_readers)
+    with pytest.raises(Unreadable, match=why):
         read_actions(answer)
 
 

@@ -27,9 +27,13 @@ __all__ = ["read_actions"]
 #: the actions' names, for answers that name them
 _ACTIONS = {"right": 0, "down": 1, "left": 2, "up": 3}
 _NAMES = "RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3"
-#: an action said with its name beside its number, either way round: 'RIGHT (0)', '0 (RIGHT)'
+#: an action said with its name beside its number, either way round: 'RIGHT (0)', '0 (RIGHT)', '0 -> RIGHT',
+#: 'RIGHT: 0', '0 \u2192 RIGHT'
+_PAIRED = r"\s*(?:-->|->|=>|\u2192|\u21d2|\u27f6|:)\s*"
 _NAMED = (re.compile(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", re.IGNORECASE),
-          re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE))
+          re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE),
+          re.compile(rf"\b(right|down|left|up){_PAIRED}([0-3])\b", re.IGNORECASE),
+          re.compile(rf"(?<![\w.])([0-3]){_PAIRED}(right|down|left|up)\b", re.IGNORECASE))
 #: every action but some: 'all but 3', 'everything except UP', 'all actions except 3'
 _ALL_BUT = re.compile(r"^\s*(?:all|every(?:thing|\s+action)?|all\s+(?:the\s+)?actions)\s+(?:but|except)\s+(.+)$",
                       re.IGNORECASE)
@@ -37,7 +41,7 @@ _ALL_BUT = re.compile(r"^\s*(?:all|every(?:thing|\s+action)?|all\s+(?:the\s+)?ac
 
 def _unnamed(text: str, answer) -> str:
     """``text`` with each 'NAME (n)' or 'n (NAME)' said as its number, once they agree."""
-    for pattern, name_first in zip(_NAMED, (True, False)):
+    for pattern, name_first in zip(_NAMED, (True, False, True, False)):
         for match in pattern.finditer(text):
             name, number = match.groups() if name_first else match.groups()[::-1]
             if _ACTIONS[name.lower()] != int(number):
@@ -109,6 +113,9 @@ def _read_text(text: str, answer) -> list[int]:
         text = re.sub(r"<-+(?!>)", " left ", re.sub(r"(?<!<)-+>", " right ", text)).translate(_ARROWS)  # '->', '<-'
     text = _mended(text)
     text = re.sub(r"^\s*none\s+but\s+", "only ", text, flags=re.I)  # 'none but 0 and 3'
+    if re.fullmatch(r"\s*(?:not|never)\s+[^:;()]+", text, flags=re.I):  # 'not 3': what the answer is not
+        raise Unreadable(f"Could not read {shown(answer)} as {what}: it says which actions are not safe; name those "
+                         "that are.")
     unsafe = re.fullmatch(r"\s*(.+?)\s+(?:are|is)\s+(?:unsafe|not\s+safe)\s*\.?\s*", text, flags=re.I)
     if unsafe and not re.search(r"\bsafe\b", unsafe.group(1), flags=re.I):  # '1, 2 are unsafe': the others are safe
         text = f"all but {unsafe.group(1)}"
@@ -117,7 +124,8 @@ def _read_text(text: str, answer) -> list[int]:
     if re.search(r"\.{2,}|\u2026|\betc\b|\band\s+so\s+on\b", text, flags=re.I):  # '0, 2, ...': the list goes on
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it says the list goes on; name every safe action.")
     if any(text.count(opening) != text.count(closing) for opening, closing in ("[]", "()", "{}")) or re.search(
-            r"^\s*[\[({]\s*[\[({]|\[[^\]]*\[", text):  # '[0, 1, 3', '[[0, 1, 3]]', '[0, [1, 2]]': not one list
+            r"^\s*[\[({]\s*[\[({]|\[[^\]]*\[|\][\s,;&]*(?:and\s*)?\[", text,
+            flags=re.I):  # '[0, 1, 3', '[[0, 1, 3]]', '[0, [1, 2]]', '[0, 1, 2], [3]': not one list
         raise Unreadable(f"Could not read {shown(answer)} as {what}: its brackets do not make one list.")
     # the question's own sigma*^2 = 10 and d = 1, said after the list: dropped (another value is refused below)
     threshold = (r"(?:(?:sigma|\u03c3)(?:_?\*|\u2217)?(?:\^2|\*\*2|\u00b2|\s+squared)|the\s+threshold)\s*=\s*"
@@ -135,8 +143,8 @@ def _read_text(text: str, answer) -> list[int]:
             first, second = None, None
         if first is not None and first == second:
             return first
-    text = re.sub(rf"^\s*(?:(?:with|at|for|when)\s+)?{own}(?:\s*(?:,|and)\s*{own})?\s*[:,]\s*", "", text,
-                  flags=re.I)  # 'sigma*^2 = 10: 0, 1, 2': the question's own settings first
+    text = re.sub(rf"^\s*(?:(?:with|at|for|when)\s+)?{own}(?:\s*(?:,|and)\s*{own})?\s*(?:[:,]|->|=>|\u2192|\u21d2)\s*",
+                  "", text, flags=re.I)  # 'sigma*^2 = 10: 0, 1, 2', 'σ*^2=10 → 0, 1, 2': the question's own first
     restated = re.fullmatch(r"(.*?)\s*,?\s*(?:i\.\s*e\.?|that\s+is|namely)\s*,?\s*(.*)", text, flags=re.I)
     if restated:  # 'right and up, i.e. 0 and 3': the same actions said twice
         first, second = (_read_text(part, answer) for part in restated.groups())
@@ -146,11 +154,12 @@ def _read_text(text: str, answer) -> list[int]:
     text = re.sub(r"(?<=[\d\])}A-Za-z])\s*[,;]\s*$", "", text)  # '0, 2,', '[0, 2],', 'RIGHT, LEFT;': a trailing mark
     if re.search(r",\s*,", text):  # '0,,3': a place with no action in it
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it has an empty place between two commas.")
-    if re.search(r"(?:\s(?:with|at|for|when)\s+|\(\s*)(?:sigma|\u03c3|d\b|the\s+threshold)", text, flags=re.I):
+    if re.search(r"(?:\s(?:with|at|for|when)\s+|\(\s*|^\s*)(?:sigma|\u03c3|d\s*=|the\s+threshold)", text, flags=re.I):
         raise Unreadable(f"Could not read {shown(answer)} as {what}: the question asks for the safe actions with "
                          "sigma*^2 = 10 and d = 1, not another setting.")
     text = _numpy_printed(_LEAD_IN.sub("", text, count=1).strip().rstrip(".!\u2026"))
-    if re.search(r"\b(?!set\(\))[A-Za-z_][\w.]*\(", text):  # 'range(0, 4, 3)': a call, not its value
+    if re.search(r"\b(?!set\(\))(?!(?:right|down|left|up)\s*\(\s*[0-3]\s*\))[A-Za-z_][\w.]*\(", text,
+                 flags=re.I):  # 'range(0, 4, 3)': a call, not its value ('RIGHT(0)' names an action)
         raise Unreadable(f"Could not read {shown(answer)} as {what}: it is a Python call; write the actions themselves "
                          "('0, 2').")
     if re.fullmatch(r"[\s\[\](),;]*[0-3]{2,}[\s\[\](),;]*", text):  # '03': two actions run together

@@ -101,10 +101,14 @@ def _arithmetic(node) -> float:
     raise ValueError("not arithmetic of whole numbers")
 
 
+#: a count's unit, closing it ('50 cells', 'fifty unsafe states')
+_UNIT = re.compile(r"\s+(?:unsafe\s+)?(?:cells|states|squares)\s*$", re.IGNORECASE)
+
+
 def _worked(text: str) -> str:
     """``text`` with its unit dropped and a number word before '=' in digits ('fifty = 100/2 cells' ->
     '50 = 100/2'), then its working checked (:func:`_checked_working`)."""
-    text = re.sub(r"\s+(?:unsafe\s+)?(?:cells|states|squares)\s*$", "", text, flags=re.I)
+    text = _UNIT.sub("", text)
     word = re.match(r"^\s*([a-z]+(?:-[a-z]+)?)\s*=", text, flags=re.I)
     value = None if word is None else _number_word(word.group(1).lower().replace("-", ""))
     if value is not None:
@@ -145,6 +149,7 @@ def read_count(answer) -> int:
     if _CALL.search(text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
                          "the number itself.")
+    _other_grid_or_range(text, answer)
     if re.fullmatch(r"\s*(?:not|never)\s+[^,;:()]+", text, flags=re.I):  # 'not 49': what the count is not
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it says what the count is not; write "
                          "what it is.")
@@ -160,6 +165,22 @@ def read_count(answer) -> int:
     except Unreadable as refused:  # said of the student's words, not of what was read from them
         why = str(refused).rpartition(" as a whole number")[2] or "."
         raise Unreadable(f"Could not read {shown(answer)} as a whole number{why}") from None
+
+
+def _other_grid_or_range(text: str, answer) -> None:
+    """Raise :class:`Unreadable` where ``text`` is a range ('49-50', '45 to 50'), a list of numbers ('[50, 50]')
+    or a count on another grid than the question's ('50 on a 9 x 9 grid'), each with its own reason."""
+    spanned = re.fullmatch(r"\s*(\d+)\s*(?:-|\u2013|\u2014|to)\s*(\d+)\s*(?:cells|states|squares)?\s*", text,
+                           flags=re.I)
+    if spanned and int(spanned.group(1)) < int(spanned.group(2)):  # not '100-50', a working
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it gives a range; a count is one "
+                         "number.")
+    if re.fullmatch(r"\s*(?:[\[({][^\[\](){}]*[,;][^\[\](){}]*[\])}]|\[[^\[\]]*\])\s*", text):  # not '(50)'
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a list; write the count alone.")
+    grid = re.search(r"\b(\d+)\s*(?:x|\u00d7|\*|-?by-?)\s*(\d+)\b(?:\s+grid\b)", text, flags=re.I)
+    if grid and grid.group(1, 2) != ("10", "10"):
+        raise Unreadable(f"Could not read {shown(answer)} as a whole number: the question's grid is 10 x 10, not "
+                         f"{grid.group(1)} x {grid.group(2)}.")
 
 
 def _said_plainly(text: str) -> str:
@@ -228,8 +249,8 @@ def _alone(text: str, answer) -> str:
         if any(_NEGATION.search(aside.lower()) or _NOT_A_COUNT.search(aside) or _HEDGED.search(aside) or "%" in aside
                for aside in asides):
             raise
-        numbered = [clause for clause in (main, *asides)
-                    if re.search(r"\d", clause) or _number_word(_compact(clause)) is not None]
+        numbered = [clause for clause in (main, *asides) if re.search(r"\d", clause) or _number_word(_compact(
+            _UNIT.sub("", clause))) is not None]  # 'fifty cells, a checkerboard'
         if any(aside not in numbered and not _DESCRIBES_THE_COUNT.fullmatch(aside.strip()) for aside in asides):
             raise  # '50 (closer to the edge)', '50 (every cell)': an aside that states no count, or another one
         try:

@@ -16,6 +16,7 @@ from .parsing import (
     _CALL,
     _DOUBT,
     _HEDGED,
+    _NUMPY_NUMBER,
     _NUMPY_PRINTED,
     _ONE_CALL,
     ALONE,
@@ -113,8 +114,9 @@ def read_limits(answer) -> dict:
                       flags=re.I)  # 'The limits are', 'limits:', '(the Gaussian ratio)'
         text = re.sub(r"^\s*(?:np\.|numpy\.)?array\(\s*(\[[^\[\]]*\])\s*(?:,\s*dtype=\w+)?\)\s*$", r"\1",
                       text)  # numpy's printed form
-        pairs = re.findall(rf"(?:^|,|;)\s*({_LAMBDA}\s*(?:<|=|>|<=|>=)\s*1)(?:\s*(?::|->|=>|\u2192)\s*|\s+)([^,;]+)",
-                           text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞'
+        pairs = re.findall(rf"(?:^|,|;)\s*(?:(?:for|when|if)\s+)?({_LAMBDA}\s*(?:<|=|>|<=|>=)\s*1)"
+                           r"(?:\s*(?::|->|=>|\u2192|\u21d2|\u27f9)\s*|\s+)([^,;]+)",
+                           text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞', 'for lambda<1 inf', 'λ < 1 ⇒ ∞'
         pairs = pairs if len(pairs) == 3 else [(key, value) for value, key in re.findall(
             rf"(?:^|,|;)\s*([^,;]+?)\s+for\s+({_LAMBDA}\s*(?:<|=|>)\s*1)\s*(?=,|;|$)", text, flags=re.I)]
         if len(pairs) == 3:  # 'lambda < 1: inf, ...' as a dict written out; 'inf for lambda < 1, ...'
@@ -133,6 +135,7 @@ def read_limits(answer) -> dict:
                 return limits
         if text is not None and re.match(r"^\s*[\[(]\s*[\[(]", text):  # '[[inf, 1, 0]]'
             raise Unreadable(f"Could not read {shown(answer)} as three limits: its brackets do not make one list.")
+        text = None if text is None else _NUMPY_NUMBER.sub(r"\1", text)  # 'np.float64(inf), np.float64(1.0), ...'
         if text is not None and _CALL.search(text):  # 'range(3)': a call, not the limits' values
             raise Unreadable(f"Could not read {shown(answer)} as three limits: it is a Python call; write the limits "
                              "themselves ('inf, 1, 0' is how three are written).")
@@ -188,6 +191,14 @@ def _restates(aside: str, limits: dict) -> bool:
             return True
     except Unreadable:
         pass
+    glossed = re.fullmatch(r"\s*([^=:]+?)\s*(?:=|:|\bmeans\b)\s*([^=:]+?)\s*", aside, flags=re.I)
+    if glossed and not re.search(_LAMBDA, aside, flags=re.I):  # 'inf = blows up': a limit's value glossed
+        try:
+            value, gloss = (_limit(part, "a limit") for part in glossed.groups())
+            if value == gloss and value in limits.values():
+                return True
+        except Unreadable:
+            pass
     said = (re.fullmatch(rf"\s*(.+?)\s+for\s+({_LAMBDA}\s*[<=>]\s*1)\s*", aside, flags=re.I)
             or re.fullmatch(rf"\s*({_LAMBDA}\s*[<=>]\s*1)\s*(?::|=|->|\u2192)\s*(.+?)\s*", aside, flags=re.I))
     if said:

@@ -219,8 +219,10 @@ _LEAD_IN = re.compile(rf"^\s*(?:{_LEAD})\s*", re.IGNORECASE)
 #: a Python call anywhere in an answer ('range(50)'), and an answer that is one call ('math.exp(0)')
 _CALL = re.compile(r"\b[A-Za-z_][\w.]*\(")
 _ONE_CALL = re.compile(r"\s*[A-Za-z_][\w.]*\(.*\)\s*")
-#: a number as numpy prints it ('np.int64(50)', 'np.float64(1.0)', 'array(50)'), not a call: its value is group 1
-_NUMPY_PRINTED = re.compile(r"^\s*(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)\s*$")
+#: a number as numpy prints it ('np.int64(50)', 'np.float64(1.0)', 'array(50)'), not a call: its value is group 1;
+#: the answer that is one (_NUMPY_PRINTED), and one among others ('np.float64(inf), np.float64(1.0), ...')
+_NUMPY_NUMBER = re.compile(r"\b(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)")
+_NUMPY_PRINTED = re.compile(rf"^\s*{_NUMPY_NUMBER.pattern}\s*$")
 #: the reply to an answer that says more than its prediction
 ALONE = ("write the prediction alone, as the question asks; anything more (a reason, another condition, an aside) "
          "belongs in the written answer below, which no check grades")

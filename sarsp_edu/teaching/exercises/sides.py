@@ -106,6 +106,7 @@ def read_side(answer) -> str:
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
+    _other_nu(text, answer, "'above' or 'below'", (3.0,), "about section 3's fit at nu = 3")
     bare = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text)  # 'below.', 'below 1,'
     bare = _denial_said_plainly(bare.replace("\u03b2", "beta"))  # 'below 1 (β < n)', 'not above but below'
     if _ONE_CALL.fullmatch(bare) and not re.fullmatch(
@@ -174,6 +175,15 @@ def read_side(answer) -> str:
     if len(sides) != 1:
         raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it names both sides.")
     return sides.pop()
+
+
+def _other_nu(text: str, answer, what: str, own: tuple, asks: str) -> None:
+    """Raise :class:`~.parsing.Unreadable` where ``text`` names a nu the question does not ('below at nu = 30'
+    for section 3's fit at nu = 3)."""
+    for value in re.findall(r"(?:\bnu|\u03bd)\s*(?:=|is\b|of\b)\s*(\d+(?:\.\d+)?)(?![\d.])", text, flags=re.I):
+        if float(value) not in own:
+            raise Unreadable(f"Could not read {shown(answer)} as {what}: it names another setting (nu = {value}); "
+                             f"the question asks {asks}.")
 
 
 def _clauses_agree(text: str, reader, reasons: str) -> str | None:
@@ -269,6 +279,7 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
+    _other_nu(text, answer, "'wider' or 'narrower'", (3.0, 30.0), "about the band at nu = 30 against nu = 3")
     said = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text.strip())  # 'wider at nu = 3.', 'narrower,'
     said = re.sub(rf"^\s*(?:(?:at|with|for)\s+)?(?:{_NU})?30(?:\.0+)?\s*(?::|,|->|\u2192|(?=\s[a-z]))\s*"
                   rf"(?!.*\b(?:{_NU})?3(?:\.0+)?\s*:)|"
