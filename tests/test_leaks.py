@@ -70,6 +70,15 @@ def _prediction_answer(cell: dict) -> bool:
             and "def my_prediction" in _text(cell))
 
 
+#: the cell a student writes a prediction or an answer in, where no check grades it (a slider's prediction)
+YOURS = re.compile(r"^\*Your (?:prediction|answer):\*\s*$")
+
+
+def _yours(cell: dict) -> bool:
+    """A Markdown cell that holds only '*Your prediction:*' or '*Your answer:*', for the student to write in."""
+    return cell["cell_type"] == "markdown" and bool(YOURS.match(_text(cell)))
+
+
 def _is_reveal(cell: dict) -> bool:
     return cell["cell_type"] == "code" and REVEAL_TAG in cell.get("metadata", {}).get("tags", [])
 
@@ -83,8 +92,9 @@ def question_start(text: str) -> int | None:
 def questions(notebook: dict) -> dict[int, int]:
     """The question-shaped cells of a notebook: {cell index: where in its text the question starts}.
 
-    A cell asks a question if it has a question's lead, if a written answer or a prediction's answer cell
-    follows it, or if it asks something ('?') and a reveal comes next.
+    A cell asks a question if it has a question's lead, if a written answer, a prediction's answer cell or a
+    cell for the student's own answer ('*Your prediction:*') follows it, or if it asks something ('?') and a
+    reveal comes next.
     """
     cells, found = notebook["cells"], {}
     for index, cell in enumerate(cells):
@@ -93,11 +103,12 @@ def questions(notebook: dict) -> dict[int, int]:
         text = _text(cell)
         start = question_start(text)
         later = cells[index + 1:]
-        answered = bool(later) and (_written_answer(later[0]) or _prediction_answer(later[0]))
+        graded = bool(later) and (_written_answer(later[0]) or _prediction_answer(later[0]))
+        answered = graded or (bool(later) and _yours(later[0]))
         revealed = "?" in text and bool(later) and _is_reveal(later[0])
         if start is None and (answered or revealed):
             mark = text.find("?")
-            start = text.rfind("\n\n", 0, mark) + 2 if mark >= 0 and not answered else 0
+            start = text.rfind("\n\n", 0, mark) + 2 if mark >= 0 and not graded else 0
         if start is not None:
             found[index] = start
     return found
@@ -177,6 +188,20 @@ def test_a_reveal_follows_every_question(path):
         if not (written or any(_is_reveal(c) for c in later)):
             problems.append(f"{_where(path, index, cell)}: no reveal follows the question (tag a later code cell "
                             f"'{REVEAL_TAG}', or follow it with a written answer cell)")
+    assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_every_question_is_followed_by_a_cell_for_the_students_answer(path):
+    """Question, the student's answer, then the run: the cell right after a question is a written answer, a
+    prediction's answer cell or a Markdown cell that holds only '*Your prediction:*' (or '*Your answer:*')."""
+    cells, problems = _read(path)["cells"], []
+    for index, cell in enumerate(cells):
+        if not phrases(cell):
+            continue
+        after = cells[index + 1] if index + 1 < len(cells) else None
+        if after is None or not (_written_answer(after) or _prediction_answer(after) or _yours(after)):
+            problems.append(f"{_where(path, index, cell)}: no cell for the student's answer right after the question")
     assert not problems, "\n".join(problems)
 
 
