@@ -56,10 +56,10 @@ TEXT_STUB = "YOUR ANSWER HERE"
 SCHEMA_VERSION = 3
 #: what a student copy holds beside the notebooks (paths relative to the repository)
 #: (repository path, path in the hand-out): the students' README is one of its own, which links only to what
-#: the hand-out holds (the repository's tutorials/README.md links to the lecturer's guide and the sources)
+#: the hand-out holds (the repository's tutorials/README.md links to the lecturer's guide and the sources); not
+#: REPRODUCTION.md, which reports every run and so answers Tutorial 6's predictions (the notebooks name it, unlinked)
 HANDOUT_FILES = (("tutorials/GLOSSARY.md", "tutorials/GLOSSARY.md"), ("tutorials/HANDOUT.md", "tutorials/README.md"),
-                 ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"),
-                 ("REPRODUCTION.md", "REPRODUCTION.md"))  # Tutorials 5 and 6 link to it (``../REPRODUCTION.md``)
+                 ("tutorials/nbval_sanitize.cfg", "tutorials/nbval_sanitize.cfg"))
 #: the stored results the tutorials read (``../results/...`` from ``tutorials/``); a test checks that every
 #: results folder a student notebook names is here
 HANDOUT_RESULTS = ("results/sweep-default", "results/sweep-latent", "results/sweep-reduced", "results/sweep-reference",

@@ -351,8 +351,9 @@ def write_pages(tutorials="tutorials", out="pages", edition: str = "student") ->
     edition : {"student", "lecturer"}, default "student"
         ``"student"``: the student notebooks, whose reveals are empty until a
         student runs them.  ``"lecturer"``: the source notebooks, every reveal
-        shown after its question and every answer in (the fallback to teach
-        from when no kernel runs; never for students).
+        shown after its question and every answer in, and ``REPRODUCTION.md``
+        as a page of its own (the fallback to teach from when no kernel runs;
+        never for students).
     """
     import nbformat
 
@@ -384,6 +385,9 @@ def write_pages(tutorials="tutorials", out="pages", edition: str = "student") ->
                           f"{'them' if missing > 1 else 'it'} only as 'Figure output of cell N'", PagesWarning,
                           stacklevel=2)
         entries.append(f'<li><a href="{page.name}">{html.escape(title)}</a></li>')
+    report = links.root / "REPRODUCTION.md"  # session 3 projects it; it answers Tutorial 6: lecturers' only
+    if edition == "lecturer" and report.is_file():
+        links.documents.setdefault(report.resolve(), "REPRODUCTION.html")
     links.write_documents()
     documents = "".join(f'<li><a href="{html.escape(name)}">{html.escape(title)}</a></li>'
                         for name, title in links.titles)
