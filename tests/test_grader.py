@@ -1443,3 +1443,37 @@ def test_a_verb_against_its_number_a_hedge_in_brackets_and_a_self_denial_are_ref
     (read_limits, {"0 < lambda < 1": "inf", "lambda = 1": 1, "lambda > 1": 0}, {"<1": np.inf, "=1": 1.0, ">1": 0.0})])
 def test_more_tenses_emphasis_and_printed_forms_are_read(reader, answer, expected):
     assert reader(answer) == expected
+
+
+# -- the forty-second cold pass: coding answers that passed with a bug the cases never reached --
+def _distance_stopping_early(position, unsafe):
+    import math
+
+    best = math.dist(position, unsafe[0])
+    for cell in unsafe[1:]:
+        if math.dist(position, cell) >= best:
+            break  # stops once a distance does not improve
+        best = math.dist(position, cell)
+    return best
+
+
+def _distance_skipping_the_last(position, unsafe):
+    import math
+
+    return min(math.dist(position, cell) for cell in unsafe[:max(1, len(unsafe) - 1)])
+
+
+def _corrects_with_a_partial_minimum(stop):
+    def corrects(mu_cost, var_cost, action, d, was_backup):
+        lowest = min(var_cost[:stop]) if stop > 0 else min(var_cost[-stop:])
+        return bool(mu_cost[action] >= d or (var_cost[action] <= lowest and not was_backup))
+    return corrects
+
+
+@pytest.mark.parametrize("exercise, answer", [
+    ("3.2", _distance_stopping_early), ("3.2", _distance_skipping_the_last),
+    ("3.2", lambda position, unsafe: _distance_skipping_the_last(position, unsafe[:3])),
+    ("4.3", _corrects_with_a_partial_minimum(3)), ("4.3", _corrects_with_a_partial_minimum(-3))])
+def test_a_loop_over_some_of_the_cells_or_actions_is_refused(exercise, answer):
+    right, reply = grade(exercise, EXERCISES[exercise], answer)
+    assert not right, reply

@@ -77,11 +77,14 @@ def test_the_package_rule_run_as_a_students_takes_the_packages_decisions():
     assert run.definition4()["preferred"].tolist() == ["neither"]
 
 
-def _run_of(rule, rows: int = len(CONFIGURATIONS) * len(SEEDS) * 2, episodes: int = EPISODES) -> RuleRun:
-    """A run as run_rule stores it, with made-up measures: the check reads only whose it is and its size."""
+def _run_of(rule, rows: int = len(CONFIGURATIONS) * len(SEEDS) * 2, episodes: int = EPISODES,
+            configurations=CONFIGURATIONS) -> RuleRun:
+    """A run as run_rule stores it, with made-up measures: the check reads whose it is, its size and its worlds."""
     made = RuleRun(fingerprint=_fingerprint(rule), episodes=episodes)
+    worlds = [(m, p, nss, seed) for m, p, nss in configurations for seed in SEEDS]
     for i in range(rows):
-        made.rows.append({"m": 40.0, "p": 0.2, "nss": 2, "seed": i // 2, "agent": ("package", "yours")[i % 2],
+        m, p, nss, seed = worlds[(i // 2) % len(worlds)]
+        made.rows.append({"m": m, "p": p, "nss": nss, "seed": seed, "agent": ("package", "yours")[i % 2],
                           "total_cost": 10.0 + i, "task_success_rate": 50.0, "mean_steps": 40.0,
                           "backup_share": 20.0, "mean_reward": -100.0, "cost_rate": 0.01})
     return made
@@ -96,6 +99,8 @@ def test_the_check_wants_a_valid_rule_and_its_own_full_run_and_never_judges_the_
     check("7.2", lower_bound, run=_run_of(lower_bound, episodes=5))
     assert "5 of 30 episodes" in capsys.readouterr().out
     assert is_right("7.2", lower_bound, run=_run_of(lower_bound))
+    check("7.2", lower_bound, run=_run_of(lower_bound, configurations=[CONFIGURATIONS[0]] * 3))  # one world, 3 times
+    assert "not the exercise's: it has no paired run at (m, p, nss) = (60, 0.3, 6), seed 0" in capsys.readouterr().out
     check("7.2", lambda mu_cost, var_cost, known_unsafe, d, variance_threshold: mu_cost >= d,
           run=_run_of(lower_bound))
     assert "known unsafe" in capsys.readouterr().out

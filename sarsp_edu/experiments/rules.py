@@ -50,7 +50,8 @@ STUDY_EPISODES = 80
 #: minutes to hours, 88 at nu 2.2, m = 80, p = 0.4, and more than a session at nu 2.5)
 CONVERGED_FIT = dict(fit_restarts=1, optimizer_steps=200, warm_refits=True)
 
-#: the two rules the full-width sweep may run under, at the paper's sigma*^2 and the tail rule's default delta:
+#: the two rules the full-width sweep may run under, at the reference code's sigma*^2 and the tail
+#: rule's default delta:
 #: :meth:`RuleStudy.fairest_rule` chooses between them
 FAIR_CANDIDATES = ("latent variance, threshold 0.8", "tail rule, delta 0.05")
 

@@ -29,19 +29,23 @@ _ACTIONS = {"right": 0, "down": 1, "left": 2, "up": 3}
 _NAMES = "RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3"
 #: an action said with its name beside its number, either way round: 'RIGHT (0)', '0 (RIGHT)', '0 -> RIGHT',
 #: 'RIGHT: 0', '0 \u2192 RIGHT'
-_PAIRED = r"\s*(?:-->|->|=>|\u2192|\u21d2|\u27f6|:)\s*"
+_PAIRED = r"\s*(?:-->|->|=>|\u2192|\u21d2|\u27f6|:|=)\s*"
 _NAMED = (re.compile(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", re.IGNORECASE),
           re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE),
-          re.compile(rf"\b(right|down|left|up){_PAIRED}([0-3])\b", re.IGNORECASE),
+          re.compile(rf"\b(right|down|left|up){_PAIRED}([0-3])(?![\w.])", re.IGNORECASE),
           re.compile(rf"(?<![\w.])([0-3]){_PAIRED}(right|down|left|up)\b", re.IGNORECASE))
 #: every action but some: 'all but 3', 'everything except UP', 'all actions except 3'
-_ALL_BUT = re.compile(r"^\s*(?:all|every(?:thing|\s+action)?|all\s+(?:the\s+)?actions)\s+(?:but|except)\s+(.+)$",
+_ALL_BUT = re.compile(r"^\s*(?:all|any(?:thing)?|every(?:thing|\s+action)?|all\s+(?:the\s+)?actions)\s+"
+                      r"(?:but|except)\s+(.+)$",
                       re.IGNORECASE)
 
 
 def _unnamed(text: str, answer) -> str:
     """``text`` with each 'NAME (n)' or 'n (NAME)' said as its number, once they agree."""
-    for pattern, name_first in zip(_NAMED, (True, False, True, False)):
+    for index, (pattern, name_first) in enumerate(zip(_NAMED, (True, False, True, False))):
+        if index > 1 and not re.fullmatch(rf"\s*(?:{pattern.pattern})(?:\s*(?:[,;&]|\band\b)\s*(?:{pattern.pattern}))*"
+                                          r"\s*", text, flags=re.IGNORECASE):
+            continue  # 'RIGHT: 0' pairs only where the answer is all pairs (not '0, 1, 2: RIGHT, DOWN, LEFT')
         for match in pattern.finditer(text):
             name, number = match.groups() if name_first else match.groups()[::-1]
             if _ACTIONS[name.lower()] != int(number):
@@ -82,7 +86,9 @@ _EVERY = re.compile(r"^\s*(?:all(?:\s+(?:four|4))?(?:\s+(?:of\s+(?:them|the\s+ac
 _NONE = re.compile(r"^\s*(?:none(?:\s+of\s+(?:them|the\s+four(?:\s+actions)?))?|there\s+are\s+none|nothing|empty|"
                    r"no\s+(?:safe\s+)?actions?|no|\[\s*\]|\u2205|(?:the\s+)?empty\s+set|set\(\))\s*$", re.IGNORECASE)
 #: the actions drawn as arrows ('→ and ↑')
-_ARROWS = str.maketrans({"\u2192": " right ", "\u2193": " down ", "\u2190": " left ", "\u2191": " up "})
+_ARROWS = str.maketrans({"\u2192": " right ", "\u2193": " down ", "\u2190": " left ", "\u2191": " up ",
+                         "\u27a1": " right ", "\u2b95": " right ", "\u2b07": " down ", "\u2b05": " left ",
+                         "\u2b06": " up ", "\ufe0f": ""})  # and as emoji, their variation selector dropped
 
 
 #: what a list of actions alone does not hold: a clause, an aside, a reason, what is not safe, an addition
@@ -92,6 +98,10 @@ _MORE = re.compile(r"[;:\u2013\u2014()]|\s-\s|\b(?:but|because|since|as|not|unsa
 
 def _read_text(text: str, answer) -> list[int]:
     what = "a list of action numbers"
+    spanned = re.fullmatch(r"\s*([0-3])\s*(?:-|\u2013|to|through)\s*([0-3])\s*", text, flags=re.I)
+    if spanned and int(spanned.group(1)) < int(spanned.group(2)):  # '0-2', '0 to 2': the actions from one to another
+        return list(range(int(spanned.group(1)), int(spanned.group(2)) + 1))
+    text = re.sub(r"\s*[\u2013\u2014]\s*(?=not\b)", ", ", text, flags=re.I)  # '0, 1, 2 \u2014 not 3'
     text = re.sub(r"(\bnot\s+\w+)\s+or\s+(?=\w)", r"\1 and ", text, flags=re.I)  # '0 and 3, not 1 or 2': a denial
     for _ in range(2):  # 'not 1 and not 2', 'not 1, not 2': one denial of both
         text = re.sub(r"(\bnot\s+\w+)\s*(?:,|\band\b|&)\s*not\s+", r"\1 and ", text, flags=re.I)

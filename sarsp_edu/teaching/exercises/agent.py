@@ -72,7 +72,10 @@ def _distance_cases(rng):
              {"position": np.array([2, 3]), "unsafe": np.array([[5, 7], [2, 1], [9, 9]])},
              {"position": np.array([0, 0]), "unsafe": np.array([[3, 4], [6, 0]])},   # 5 across, 6 along
              {"position": np.array([4, 4]), "unsafe": np.array([[5, 5], [4, 7]])},   # one diagonal step
-             {"position": np.array([1, 8]), "unsafe": np.array([[4, 6], [9, 9], [1, 3]])}]
+             {"position": np.array([1, 8]), "unsafe": np.array([[4, 6], [9, 9], [1, 3]])},
+             # the nearest last of four, after a farther one than the first (a loop that stops early misses it)
+             {"position": np.array([0, 0]), "unsafe": np.array([[9, 9], [5, 5], [7, 7], [0, 1]])},
+             {"position": np.array([5, 5]), "unsafe": np.array([[0, 0], [9, 9], [2, 8], [1, 1], [5, 6]])}]
     for _ in range(3):
         cases.append({"position": rng.integers(0, 10, 2), "unsafe": rng.integers(0, 10, (int(rng.integers(2, 16)), 2))})
     return cases
@@ -224,6 +227,11 @@ def _correction_cases(rng):
         # a predicted distance a hair below d is not one the model called safe (no tolerance, no rounding)
         case([1.0 - 1e-7, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
         case([0.9996, 0.2, 0.3, 0.4], [0.5, 0.1, 0.2, 0.3], 0, 1.0, False),
+        # the lowest variance at each action, the taken one lowest or not (a minimum over some actions only fails)
+        case([0.5, 0.2, 0.3, 0.4], [0.5, 0.4, 0.3, 0.1], 3, 1.0, False),
+        case([0.5, 0.2, 0.3, 0.4], [0.4, 0.3, 0.1, 0.2], 2, 1.0, False),
+        case([0.5, 0.2, 0.3, 0.4], [0.4, 0.3, 0.2, 0.1], 2, 1.0, False),
+        case([0.5, 0.2, 0.3, 0.4], [0.1, 0.2, 0.3, 0.4], 1, 1.0, False),
     ]
     for _ in range(6):
         cases.append(case(rng.uniform(0, 2, 4), rng.uniform(0, 1.5, 4), int(rng.integers(0, 4)),

@@ -33,6 +33,7 @@ from .parsing import (
     alone,
     exactly,
 )
+from .sentences import number_spelled
 from .wording import shown
 
 __all__ = ["arithmetic", "read_count"]
@@ -102,7 +103,7 @@ def _arithmetic(node) -> float:
 
 
 #: a count's unit, closing it ('50 cells', 'fifty unsafe states')
-_UNIT = re.compile(r"\s+(?:unsafe\s+)?(?:cells|states|squares)\s*$", re.IGNORECASE)
+_UNIT = re.compile(r"\s+(?:unsafe\s+)?(?:cells?|states?|squares?)\s*$", re.IGNORECASE)
 
 
 def _worked(text: str) -> str:
@@ -144,7 +145,8 @@ def read_count(answer) -> int:
         return _read_count(answer)
     for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
         text = _QUESTIONS_OWN.sub("", text)
-    text = _said_plainly(text)
+    word = _UNIT.sub("", text)
+    text = _said_plainly(number_spelled(word) if number_spelled(word) != word else text)  # 'fity', 'fity cells'
     text = _NUMPY_PRINTED.sub(r"\1", text)  # 'np.int64(50)', 'array(50)': numpy's printed forms ('int(50)' is a call)
     if _CALL.search(text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "
@@ -187,7 +189,9 @@ def _said_plainly(text: str) -> str:
     """``text`` with what only restates the count said as the count: Python's literals ('0x32' -> '50'), 'half of
     100' as '100/2', a sum said whole ('100 - 50', not read as a dash), another number denied ('50 not 19', 'not
     19 but 50' -> '50')."""
-    text = text.replace("\u00bd", " 1/2 ").replace("\u00b7", "*").strip()  # '½ of 100', '½ · 100'
+    text = text.replace("\u00bd", " 1/2 ").replace("\u00b7", "*").replace("\u00b2", "**2").strip()  # '½ · 100', '10²/2'
+    text = re.sub(r"^\s*(?:a\s+total\s+of|all)\s+(?=\d)|(?<=\d)\s+(?:in\s+total|total|in\s+all)\s*$", "", text,
+                  flags=re.I)  # '50 in total', 'all 50'
     literal = re.fullmatch(r"\s*(0[xob][0-9a-f_]+|\d+(?:_\d+)+)(\s+(?:unsafe\s+)?(?:cells|states|squares))?\s*", text,
                            flags=re.IGNORECASE)
     if literal:  # '0x32', '5_0', '0x32 cells'

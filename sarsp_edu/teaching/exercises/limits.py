@@ -27,7 +27,7 @@ from .parsing import (
     alone,
     exactly,
 )
-from .sentences import said_in_words
+from .sentences import number_spelled, said_in_words
 from .wording import shown
 
 __all__ = ["read_limits"]
@@ -49,8 +49,10 @@ def _limit_key(key) -> str | None:
     if text is None:
         return None
     compact = re.sub(r"^0<(?=lambda|lam|l)", "", _compact(text))  # '0 < lambda < 1': the question's own range
-    compact = re.sub(r"in[(\[]1,(?:inf|infinity|oo)[)\]]$", ">1", compact)  # 'lambda in (1, inf)'
-    compact = re.sub(r"in[(\[]0,1[)\]]$", "<1", compact)  # 'lambda in (0, 1)'
+    compact = compact.replace("\u2208", "in")  # 'λ ∈ (0, 1)'
+    # 'lambda in (1, inf)', 'lambda in (0, 1)': not a bracket closed at 1 ('(0, 1]' holds lambda = 1 too)
+    compact = re.sub(r"in\(1,(?:inf|infinity|oo|\u221e)[)\]]$", ">1", compact)
+    compact = re.sub(r"in[(\[]0,1\)$", "<1", compact)
     for name in ("lambda", "lam", "l"):
         if compact.startswith(name):
             compact = compact[len(name):]
@@ -114,9 +116,10 @@ def read_limits(answer) -> dict:
                       flags=re.I)  # 'The limits are', 'limits:', '(the Gaussian ratio)'
         text = re.sub(r"^\s*(?:np\.|numpy\.)?array\(\s*(\[[^\[\]]*\])\s*(?:,\s*dtype=\w+)?\)\s*$", r"\1",
                       text)  # numpy's printed form
-        pairs = re.findall(rf"(?:^|,|;)\s*(?:(?:for|when|if)\s+)?({_LAMBDA}\s*(?:<|=|>|<=|>=)\s*1)"
-                           r"(?:\s*(?::|->|=>|\u2192|\u21d2|\u27f9)\s*|\s+)([^,;]+)",
-                           text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞', 'for lambda<1 inf', 'λ < 1 ⇒ ∞'
+        pairs = re.findall(rf"(?:^|[,;|\s])\s*(?:(?:for|when|if)\s+)?({_LAMBDA}\s*(?:<|=|>|<=|>=)\s*1)"
+                           r"(?:\s*(?::|->|=>|\u2192|\u21d2|\u27f9)\s*|\s+)"
+                           rf"([^,;|\n]+?)(?=\s*(?:[,;|\n]|$|\s{_LAMBDA}\s*[<=>]))",
+                           text, flags=re.I)  # 'lambda < 1: inf', 'λ<1 ∞', 'for lambda<1 inf', 'λ < 1 ⇒ ∞', a line each
         pairs = pairs if len(pairs) == 3 else [(key, value) for value, key in re.findall(
             rf"(?:^|,|;)\s*([^,;]+?)\s+for\s+({_LAMBDA}\s*(?:<|=|>)\s*1)\s*(?=,|;|$)", text, flags=re.I)]
         if len(pairs) == 3:  # 'lambda < 1: inf, ...' as a dict written out; 'inf for lambda < 1, ...'
@@ -146,6 +149,8 @@ def read_limits(answer) -> dict:
         text = whole.group(1)
     if text is not None:  # 'math.inf', 'np.inf': infinity as Python spells it
         text = re.sub(r"\b(?:math|np|numpy)\.(inf|infty)\b", r"\1", text)
+    if text is not None:  # 'inf | 1 | 0', 'inf\u30011\u30010', 'inf / 1 / 0', 'inf, 1 & 0', a limit a line
+        text = re.sub(r"\s*(?:[|&\u3001\n]|\s[/\u00b7]\s)\s*", ", ", text.strip())
     items = [] if text is None else re.split(r"[,;]|\band\b", text)
     if len(items) == 3 and "(" in text and all(item.count("(") == item.count(")") for item in items):
         answer, text = [item.strip() for item in items], None  # 'inf (blows up), 1, 0': each limit with its aside
@@ -268,7 +273,7 @@ def _limit(value, what: str) -> float:
     if worked is not None and worked >= 0:  # '3 - 2', '0.5*2': a working, by its value ('0 - 5': two numbers)
         return worked
     text = _SAID.sub("", alone(text, value, what))  # '0 (1 for small x)', '0, probably': not read
-    text = said_in_words(text)  # 'zero point zero'
+    text = said_in_words(number_spelled(text))  # 'zero point zero', 'infinty', 'zeor'
     text = re.sub(r"^\s*(?:math|np|numpy)\.(inf|infty)\s*$", r"\1", text)  # 'math.inf' as text
     verb = _GOES.get(re.sub(r"[^a-z]", "", text.lower()).removeprefix("it"))
     if verb is not None:  # 'blows up', 'it decays': where the ratio goes, said by its verb

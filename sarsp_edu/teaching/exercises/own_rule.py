@@ -252,6 +252,14 @@ class OwnRule:
         if len(run.rows) < expected or run.episodes < EPISODES:
             return False, (f"This run is shorter than the exercise's ({len(run.rows)} of {expected} runs, "
                            f"{run.episodes} of {EPISODES} episodes): run run_rule(your_rule) with its defaults.")
+        made = {(row["m"], row["p"], row["nss"], row["seed"], row["agent"]) for row in run.rows}
+        lacking = [(m, p, nss, seed) for m, p, nss in CONFIGURATIONS for seed in SEEDS
+                   if not {(m, p, nss, seed, "yours"), (m, p, nss, seed, "package")} <= made]
+        if lacking:  # as many runs, but not the exercise's worlds: run_rule(rule, configurations=[...] * 3)
+            m, p, nss, seed = lacking[0]
+            return False, (f"This run is not the exercise's: it has no paired run at (m, p, nss) = ({m:g}, {p:g}, "
+                           f"{nss}), seed {seed} ({len(lacking)} of {len(CONFIGURATIONS) * len(SEEDS)} missing): "
+                           "run run_rule(your_rule) with its defaults.")
         return True, (f"Your rule is a valid part and its {expected} runs are made. Which agent you would deploy, "
                       "and why, is yours to argue in the cell below: the check does not judge it.")
 

@@ -82,11 +82,11 @@ BELOW = _compared(("below", "under", "beneath", "less", "smaller", "lower", "few
 WIDER = _words(*_bands("wider", "broader", "larger", "bigger", "higher"), "wide", "widens", "widened", "broadens",
                "broadened", "more", ">", "more wide", "more broad", "less narrow", "not as narrow", "less tight",
                "getting wider", "getting broader", "wider and wider",
-               "beta < n", *_UP)  # beta < n: the factor rises towards 1
+               *_UP)
 NARROWER = _words(*_bands("narrower", "tighter", "thinner", "slimmer", "skinnier", "smaller", "lower"), "narrow",
                   "narrows", "narrowed", "tightens", "tightened", "less", "<", "more narrow", "less wide",
                   "not as wide", "less broad", "not as broad", "getting narrower", "getting tighter",
-                  "narrower and narrower", "beta > n", *_DOWN)
+                  "narrower and narrower", *_DOWN)  # not 'beta > n': why the band narrows, not the prediction
 #: numbers written as words, as a student may ('one', 'zero', 'fifty', 'forty-two')
 _UNITS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen sixteen "
           "seventeen eighteen nineteen").split()
@@ -112,8 +112,7 @@ def _number_word(compact: str) -> float | None:
 
 def _text(answer) -> str | None:
     """``answer`` as text when it is one (a str, numpy's str, bytes), else None: full-width characters as ASCII, a
-    lead-in (:data:`_LEAD_IN`) and the sentence's end (spaces, full stops, exclamation marks) dropped, but an
-    ellipsis."""
+    lead-in (:data:`_LEAD_IN`) and the sentence's end (spaces, full stops, '!') dropped, but an ellipsis."""
     if isinstance(answer, bytes):
         try:
             answer = answer.decode()
@@ -129,7 +128,8 @@ def _text(answer) -> str | None:
         text = _LEAD_IN.sub("", text, count=1)
     if re.search(r"(?:\.\.|\u2026)[\s.!]*$", text):  # an ellipsis: a sentence left open, read as it is
         return text.rstrip()
-    return re.sub(r"[\s.!\u3002]+$", "", text)  # 'Below!', '0, 1, 2 (not 3)!', 'array(50).', an ideographic stop
+    # 'Below!', '0, 1, 2 (not 3)!', 'array(50).', an ideographic stop, '50 is my answer'
+    return re.sub(r"(?:\s+is\s+(?:my|our)\s+(?:answer|prediction))?[\s.!\u3002]*$", "", text, flags=re.I)
 
 
 _FULL_WIDTH = {code: code - 0xFEE0 for code in range(0xFF01, 0xFF5F)}
@@ -206,21 +206,22 @@ _DOUBT = re.compile(r"(^|[^a-z])(or|maybe|perhaps|unsure|guess|probably|possibly
 #: an approximate value, said as one ('about 1', '~1', 'roughly infinity'): a limit and a count are exact
 _HEDGED = re.compile(r"\b(?:about|around|roughly|approximately|approx|nearly|almost|close\s+to|rounded|estimated?)\b|"
                      r"[~\u2248]", re.IGNORECASE)
-#: what a student may write before the prediction itself ('My prediction: narrower', 'I predict below')
-_LEAD = (r"(?:(?:my|the|final)\s+)*(?:prediction|answer)\s*(?::|\s[-\u2013\u2014]|(?:is|would\s+be|will\s+be)\b\s*:?)|"
-         r"i(?:\s+would|'d|\u2019d)?\s+(?:predict|expect|say|answer)\b(?:\s+that)?\s*:?|"
+_LEAD = (r"(?:(?:my|our|the|final)\s+)*(?:prediction|answer)\s*(?::|=|->|\u2192|\s[-\u2013\u2014]|(?:is|would\s+be|"
+         r"will\s+be)\b\s*:?)(?:\s*that\s+(?:it|they)\s+(?:is|are|will\s+be|would\s+be)\b)?|"
+         r"(?:a|ans|final|result|predicted|my\s+pick)\s*:|(?:so|hence|thus|therefore)\b\s*,?|"
+         r"(?:i|we)(?:\s+would|\s+will|'d|\u2019d|'ll|\u2019ll|'m|\u2019m|\s+am)?\s+(?:predict(?:ed|ing)?|expect(?:ed|ing)?|"
+         r"say(?:ing)?|answer(?:ed|ing)?|choose|go\s+with|going\s+with|pick)\b(?:\s+that)?"
+         r"(?:\s+(?:it|they)\s+(?:is|are|will\s+be|would\s+be)\b)?\s*:?|they\s+are\b\s*:?|"
          r"(?:the\s+)?(?:largest|maximum|max|greatest)(?:\s+(?:possible\s+)?(?:number|count))?(?:\s+of\s+(?:unsafe\s+)?"
          r"(?:cells|states|squares))?\s*(?:is\b|:|=)|(?:the\s+)?(?:tp(?:'?s)?\s+)?band\s+(?:is|gets|becomes|will\s+be)\b\s*:?|"
          r"(?:the\s+)?(?:tp(?:'?s)?\s+)?(?:fitted\s+)?(?:variance\s+)?factor\s+(?:is|will\s+be|gets|becomes)\b\s*:?|"
          r"(?:the\s+)?safe\s+(?:actions|set)\s*(?:(?:are|is)\b\s*:?|:|=>|->|\u2192|=)")
-#: what a student may write before the prediction itself, dropped from every answer ('My prediction: narrower',
-#: 'I predict below', 'Answer: 50', 'The band is narrower', 'Largest number: 50', 'Safe actions: 0, 1, 2')
+#: what a student may write before the prediction, dropped ('My prediction: narrower', 'I predict below', 'A: 50')
 _LEAD_IN = re.compile(rf"^\s*(?:{_LEAD})\s*", re.IGNORECASE)
 #: a Python call anywhere in an answer ('range(50)'), and an answer that is one call ('math.exp(0)')
 _CALL = re.compile(r"\b[A-Za-z_][\w.]*\(")
 _ONE_CALL = re.compile(r"\s*[A-Za-z_][\w.]*\(.*\)\s*")
-#: a number as numpy prints it ('np.int64(50)', 'np.float64(1.0)', 'array(50)'), not a call: its value is group 1;
-#: the answer that is one (_NUMPY_PRINTED), and one among others ('np.float64(inf), np.float64(1.0), ...')
+#: a number as numpy prints it ('np.int64(50)', 'array(50)'), not a call, its value group 1; an answer that is one
 _NUMPY_NUMBER = re.compile(r"\b(?:(?:np|numpy)\.(?:u?int|float)\d*|array)\(\s*([^()]+?)\s*\)")
 _NUMPY_PRINTED = re.compile(rf"^\s*{_NUMPY_NUMBER.pattern}\s*$")
 #: the reply to an answer that says more than its prediction

@@ -38,7 +38,7 @@ from __future__ import annotations
 import re
 import unicodedata
 
-__all__ = ["QUESTION", "parse", "said_in_words", "spelled"]
+__all__ = ["QUESTION", "number_spelled", "parse", "said_in_words", "spelled"]
 
 _DETERMINERS = {"the", "a", "an", "its", "this", "that", "our", "my"}
 _OWNERS = {"tp's", "tp", "tps", "student-t", "student-t's", "t", "process's", "model's", "fit's"}
@@ -217,3 +217,20 @@ def said_in_words(text: str) -> str:
                     rf"{above_zero}\s*(?:,|and|but)?\s*{below_one})", words):
         return "between 0 and 1"
     return re.sub(r"^\s*at\s+(?=\d)", "", text)  # 'less than 1, at 0.37': its value
+
+
+#: the words a limit or a count is written with, whose one-letter slips are mended (:func:`number_spelled`)
+_NUMBER_WORDS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen fifteen "
+                 "sixteen seventeen eighteen nineteen twenty thirty forty fifty sixty seventy eighty ninety hundred "
+                 "infinity").split()
+
+
+def number_spelled(text: str) -> str:
+    """``text``, where it is one word of four letters or more that is no number word but one slip from exactly
+    one ('fiftty', 'fity', 'infinty', 'zeor'), spelt as that word ('fourty' -> 'forty'); else as it is (a slip
+    inside a sentence is not mended: 'then' is a word, not 'ten')."""
+    word = text.strip().lower()
+    if not re.fullmatch(r"[a-z]{4,}", word) or word in _NUMBER_WORDS:
+        return text
+    near = [known for known in _NUMBER_WORDS if _one_slip(word, known)]
+    return near[0] if len(near) == 1 else text

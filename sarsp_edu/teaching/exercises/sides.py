@@ -50,7 +50,8 @@ __all__ = ["read_band", "read_side"]
 
 _NU = r"(?:nu|\u03bd)\s*=?\s*"
 #: 2.5's own condition, said after the side or before it ('below 1 without outliers', 'on clean data, below')
-_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:with\s+)?no\s+outliers|(?:the\s+)?clean\s+(?:data|targets)|"
+_CLEAN = (r"(?:without\s+(?:the\s+|any\s+)?outliers|(?:(?:with|when|if)\s+(?:there\s+are\s+)?)?no\s+outliers|"
+          r"(?:at|with|for)\s+(?:p|proportion)\s*=\s*0(?:\.0+)?(?![\d.])|(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:on|for|with)\s+(?:the\s+)?clean\s+(?:data|targets)|"
           r"(?:with|for|in|at|using)\s+(?:(?:the\s+)?tp\s+fitted\s+as\s+in\s+section\s+3|section\s+3'?s\s+fit|"
           r"(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.]))|(?:nu|\u03bd)\s*=\s*3(?:\.0+)?(?![\d.]))")  # and the question's
@@ -107,6 +108,10 @@ def read_side(answer) -> str:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
     _other_nu(text, answer, "'above' or 'below'", (3.0,), "about section 3's fit at nu = 3")
+    share = re.search(r"(?:\bp|proportion)\s*=\s*(\d*\.?\d+)", text, flags=re.I)
+    if share and float(share.group(1)) != 0:  # 'below 1 (p = 0.1)': the data with outliers, not without
+        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it names another setting (p = "
+                         f"{share.group(1)}); the question asks about the data without outliers.")
     bare = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text)  # 'below.', 'below 1,'
     bare = _denial_said_plainly(bare.replace("\u03b2", "beta"))  # 'below 1 (β < n)', 'not above but below'
     if _ONE_CALL.fullmatch(bare) and not re.fullmatch(
@@ -180,7 +185,8 @@ def read_side(answer) -> str:
 def _other_nu(text: str, answer, what: str, own: tuple, asks: str) -> None:
     """Raise :class:`~.parsing.Unreadable` where ``text`` names a nu the question does not ('below at nu = 30'
     for section 3's fit at nu = 3)."""
-    for value in re.findall(r"(?:\bnu|\u03bd)\s*(?:=|is\b|of\b)\s*(\d+(?:\.\d+)?)(?![\d.])", text, flags=re.I):
+    for value in re.findall(r"(?:\bnu|\u03bd)\s*(?:=|is\b|of\b)\s*(\d+(?:\.\d+)?(?:e[+-]?\d+)?)(?![\d.])", text,
+                            flags=re.I):  # '1e5' is one value
         if float(value) not in own:
             raise Unreadable(f"Could not read {shown(answer)} as {what}: it names another setting (nu = {value}); "
                              f"the question asks {asks}.")
@@ -233,7 +239,12 @@ _THAN_THIRTY = rf"\s+than\s+(?:the\s+(?:band|one)\s+)?(?:(?:at|with|for)\s+)?(?:
 #: 2.6's own comparison in brackets, nu = 30 first ("(section 2's TP at nu = 30 against nu = 3)", '(nu = 30 vs 3)')
 _OWN_COMPARISON = (r"\s*\(\s*(?:section\s+2'?s?\s+)?(?:the\s+)?(?:tp'?s?\s+)?(?:band\s+)?(?:at\s+)?"
                    rf"(?:{_NU})?30(?:\.0+)?(?:\s*,?\s*(?:against|vs\.?|versus|than|compared\s+(?:with|to))\s+(?:at\s+)?"
-                   rf"(?:{_NU})?3(?:\.0+)?)?\s*\)\s*$")
+                   rf"(?:{_NU})?3(?:\.0+)?)?\s*\)\s*$|"  # '(nu = 30 against nu = 3)'; '(3 -> 30)': nu's own change
+                   rf"\s*\(\s*(?:(?:nu|\u03bd)\s*:?\s*)?(?:from\s+)?(?:{_NU})?3(?:\.0+)?\s*(?:->|\u2192|to)\s*"
+                   rf"(?:{_NU})?30(?:\.0+)?\s*\)\s*$")
+#: nu's change said the other way round in an aside ('narrower (30 -> 3)')
+_NU_BACKWARDS = re.compile(rf"\(\s*(?:(?:nu|\u03bd)\s*:?\s*)?(?:from\s+)?(?:{_NU})?30(?:\.0+)?\s*(?:->|\u2192|to)\s*"
+                           rf"(?:{_NU})?3(?:\.0+)?\s*\)", re.IGNORECASE)
 
 
 #: the factor's way said in words or numbers, from nu = 3 to nu = 30 ('the factor drops to 3.5', 'factor 5.1 to 3.5')
@@ -244,6 +255,19 @@ _FACTOR_MOVES = re.compile(r"(?:the\s+)?(?:tp'?s\s+)?factor\s+(?:(drops|falls|de
 _FACTOR_WORDED = re.compile(r"(?:a\s+)?(?:(smaller|lower)|(larger|bigger|higher))\s+factor", re.IGNORECASE)
 _FACTOR_COMPARED = re.compile(r"(?:(?:the\s+)?factor\s+)?(\d+(?:\.\d+)?)\s*(->|\u2192|<|>)\s*(\d+(?:\.\d+)?)",
                               re.IGNORECASE)
+
+
+def _the_factors(aside: str) -> bool:
+    """Whether every number in ``aside`` is section 2's factor at nu = 3 or at nu = 30, to the digits written
+    ('5.1 -> 3.47' is; '9 -> 8' is not)."""
+    from .short_answers import _tutorial2_tp
+
+    factors = [_tutorial2_tp(nu).variance_scale_ for nu in (3.0, 30.0)]
+    for number in re.findall(r"\d+(?:\.\d+)?", aside):
+        places = len(number.partition(".")[2])
+        if not any(abs(factor - float(number)) <= 0.5 * 10.0 ** -places for factor in factors):
+            return False
+    return True
 
 
 def _factor_way(aside: str) -> str | None:
@@ -316,7 +340,11 @@ def read_band(answer) -> str:
                              "with itself.")
     aside = (re.fullmatch(r"(.*?\S)\s*\(\s*([^()]*?)\s*\)", said)
              or re.fullmatch(r"([a-z]+)\s*[:;,\u2013\u2014]\s*(.*?\bfactor\b.*?)", said, flags=re.I))
+    if _NU_BACKWARDS.search(said):
+        raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': its aside runs nu the other way "
+                         "(from 30 to 3); the question goes from nu = 3 to nu = 30.")
     factor_way = None if aside is None else _factor_way(aside.group(2))
+    other_value = bool(factor_way) and not _the_factors(aside.group(2))  # 'narrower (the factor drops to 2)'
     if factor_way:  # 'narrower (the factor drops to 3.5)': the factor's way, said again
         said = aside.group(1)
     try:
@@ -332,4 +360,7 @@ def read_band(answer) -> str:
     if factor_way and factor_way != side:  # 'narrower (the factor rises to 6)'
         raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': its aside moves the factor the "
                          "other way.")
+    if other_value:
+        raise Unreadable(f"Could not read {shown(answer)} as 'wider' or 'narrower': its aside gives the factor a value "
+                         "section 2's fit does not have; write the prediction alone.")
     return side
