@@ -73,13 +73,10 @@ def _gaussian_limits(answer, **_) -> bool:
 
 # -- tutorial 2 ---------------------------------------------------------------
 def _tutorial2_tp(nu: float):
-    """The TP of tutorial 2, section 2: fixed hyperparameters on the section's data."""
-    from ...models.kernels import RBF
-    from ...models.processes import StudentTProcess
-    from ..demos import regression_data
+    """The TP of tutorial 2, section 2 (:func:`~sarsp_edu.teaching.demos.section2_tp`)."""
+    from ..demos import section2_tp
 
-    X, y, _ = regression_data(n=40, magnitude=10.0, proportion=0.1, seed=0)
-    return StudentTProcess(RBF(1.5, 0.5), nu=nu, noise_variance=0.5, optimizer=None).fit(X, y)
+    return section2_tp(nu)
 
 
 #: the degrees of freedom of Tutorial 2, section 3's fit (exercise 2.5)

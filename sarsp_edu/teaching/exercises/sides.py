@@ -260,9 +260,9 @@ _FACTOR_COMPARED = re.compile(r"(?:(?:the\s+)?factor\s+)?(\d+(?:\.\d+)?)\s*(->|\
 def _the_factors(aside: str) -> bool:
     """Whether every number in ``aside`` is section 2's factor at nu = 3 or at nu = 30, to the digits written
     ('5.1 -> 3.47' is; '9 -> 8' is not)."""
-    from .short_answers import _tutorial2_tp
+    from ..demos import section2_tp
 
-    factors = [_tutorial2_tp(nu).variance_scale_ for nu in (3.0, 30.0)]
+    factors = [section2_tp(nu).variance_scale_ for nu in (3.0, 30.0)]
     for number in re.findall(r"\d+(?:\.\d+)?", aside):
         places = len(number.partition(".")[2])
         if not any(abs(factor - float(number)) <= 0.5 * 10.0 ** -places for factor in factors):
