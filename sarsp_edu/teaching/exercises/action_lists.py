@@ -30,10 +30,12 @@ _NAMES = "RIGHT = 0, DOWN = 1, LEFT = 2, UP = 3"
 #: an action said with its name beside its number, either way round: 'RIGHT (0)', '0 (RIGHT)', '0 -> RIGHT',
 #: 'RIGHT: 0', '0 \u2192 RIGHT'
 _PAIRED = r"\s*(?:-->|->|=>|\u2192|\u21d2|\u27f6|:|=)\s*"
-_NAMED = (re.compile(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", re.IGNORECASE),
-          re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE),
-          re.compile(rf"\b(right|down|left|up){_PAIRED}([0-3])(?![\w.])", re.IGNORECASE),
-          re.compile(rf"(?<![\w.])([0-3]){_PAIRED}(right|down|left|up)\b", re.IGNORECASE))
+#: each as (pattern, name first, read only where the whole answer is such pairs: '0, 1, 2: RIGHT, DOWN, LEFT' is
+#: not '2: RIGHT')
+_NAMED = ((re.compile(r"\b(right|down|left|up)\s*\(\s*([0-3])\s*\)", re.IGNORECASE), True, False),
+          (re.compile(r"\b([0-3])\s*\(\s*(right|down|left|up)\s*\)", re.IGNORECASE), False, False),
+          (re.compile(rf"\b(right|down|left|up){_PAIRED}([0-3])(?![\w.])", re.IGNORECASE), True, True),
+          (re.compile(rf"(?<![\w.])([0-3]){_PAIRED}(right|down|left|up)\b", re.IGNORECASE), False, True))
 #: every action but some: 'all but 3', 'everything except UP', 'all actions except 3'
 _ALL_BUT = re.compile(r"^\s*(?:all|any(?:thing)?|every(?:thing|\s+action)?|all\s+(?:the\s+)?actions)\s+"
                       r"(?:but|except)\s+(.+)$",
@@ -42,10 +44,10 @@ _ALL_BUT = re.compile(r"^\s*(?:all|any(?:thing)?|every(?:thing|\s+action)?|all\s
 
 def _unnamed(text: str, answer) -> str:
     """``text`` with each 'NAME (n)' or 'n (NAME)' said as its number, once they agree."""
-    for index, (pattern, name_first) in enumerate(zip(_NAMED, (True, False, True, False))):
-        if index > 1 and not re.fullmatch(rf"\s*(?:{pattern.pattern})(?:\s*(?:[,;&]|\band\b)\s*(?:{pattern.pattern}))*"
-                                          r"\s*", text, flags=re.IGNORECASE):
-            continue  # 'RIGHT: 0' pairs only where the answer is all pairs (not '0, 1, 2: RIGHT, DOWN, LEFT')
+    for pattern, name_first, whole in _NAMED:
+        if whole and not re.fullmatch(rf"\s*(?:{pattern.pattern})(?:\s*(?:[,;&]|\band\b)\s*(?:{pattern.pattern}))*\s*",
+                                      text, flags=re.IGNORECASE):
+            continue
         for match in pattern.finditer(text):
             name, number = match.groups() if name_first else match.groups()[::-1]
             if _ACTIONS[name.lower()] != int(number):

@@ -146,7 +146,8 @@ def read_count(answer) -> int:
     for _ in range(3):  # '50 cells, no two 4-adjacent, on a 10 x 10 grid': one after another
         text = _QUESTIONS_OWN.sub("", text)
     word = _UNIT.sub("", text)
-    text = _said_plainly(number_spelled(word) if number_spelled(word) != word else text)  # 'fity', 'fity cells'
+    mended = number_spelled(word)  # 'fity', 'fity cells': the number word, mended (a sentence as it is)
+    text = _said_plainly(mended if mended != word else text)
     text = _NUMPY_PRINTED.sub(r"\1", text)  # 'np.int64(50)', 'array(50)': numpy's printed forms ('int(50)' is a call)
     if _CALL.search(text):  # 'range(50)', 'len(range(50))': a call, not its value
         raise Unreadable(f"Could not read {shown(answer)} as a whole number: it is a Python call, not a count; write "

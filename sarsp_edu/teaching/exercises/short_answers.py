@@ -72,13 +72,6 @@ def _gaussian_limits(answer, **_) -> bool:
 
 
 # -- tutorial 2 ---------------------------------------------------------------
-def _tutorial2_tp(nu: float):
-    """The TP of tutorial 2, section 2 (:func:`~sarsp_edu.teaching.demos.section2_tp`)."""
-    from ..demos import section2_tp
-
-    return section2_tp(nu)
-
-
 #: the degrees of freedom of Tutorial 2, section 3's fit (exercise 2.5)
 _SECTION_3_NU = 3.0
 
@@ -100,7 +93,9 @@ def _factor_without_outliers_explained() -> str:
 
 def _band_as_nu_grows(answer, **_) -> bool:
     """The fixed-hyperparameter TP of section 2: does its band get wider or narrower from nu = 3 to 30?"""
-    wider = _tutorial2_tp(30.0).variance_scale_ > _tutorial2_tp(3.0).variance_scale_
+    from ..demos import section2_factor
+
+    wider = section2_factor(30.0) > section2_factor(3.0)
     return answer == ("wider" if wider else "narrower")
 
 

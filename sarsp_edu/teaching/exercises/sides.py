@@ -107,11 +107,9 @@ def read_side(answer) -> str:
         except Unreadable:
             raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below'.") from None
         return _side_of(value, answer)
-    _other_nu(text, answer, "'above' or 'below'", (3.0,), "about section 3's fit at nu = 3")
-    share = re.search(r"(?:\bp|proportion)\s*=\s*(\d*\.?\d+)", text, flags=re.I)
-    if share and float(share.group(1)) != 0:  # 'below 1 (p = 0.1)': the data with outliers, not without
-        raise Unreadable(f"Could not read {shown(answer)} as 'above' or 'below': it names another setting (p = "
-                         f"{share.group(1)}); the question asks about the data without outliers.")
+    _other_setting(text, answer, "'above' or 'below'", _NU_IS, (3.0,), "about section 3's fit at nu = 3")
+    _other_setting(text, answer, "'above' or 'below'", _P_IS, (0.0,),  # 'below 1 (p = 0.1)': with outliers
+                   "about the data without outliers")
     bare = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text)  # 'below.', 'below 1,'
     bare = _denial_said_plainly(bare.replace("\u03b2", "beta"))  # 'below 1 (β < n)', 'not above but below'
     if _ONE_CALL.fullmatch(bare) and not re.fullmatch(
@@ -182,14 +180,19 @@ def read_side(answer) -> str:
     return sides.pop()
 
 
-def _other_nu(text: str, answer, what: str, own: tuple, asks: str) -> None:
-    """Raise :class:`~.parsing.Unreadable` where ``text`` names a nu the question does not ('below at nu = 30'
-    for section 3's fit at nu = 3)."""
-    for value in re.findall(r"(?:\bnu|\u03bd)\s*(?:=|is\b|of\b)\s*(\d+(?:\.\d+)?(?:e[+-]?\d+)?)(?![\d.])", text,
-                            flags=re.I):  # '1e5' is one value
+#: a setting named with its value: nu ('nu = 30', '1e5' one value) and the outliers' share ('p = 0.1')
+_NU_IS = re.compile(r"(\bnu|\u03bd)\s*(?:=|is\b|of\b)\s*(\d+(?:\.\d+)?(?:e[+-]?\d+)?)(?![\d.])", re.IGNORECASE)
+_P_IS = re.compile(r"(\bp|proportion)\s*=\s*(\d*\.?\d+)", re.IGNORECASE)
+
+
+def _other_setting(text: str, answer, what: str, named: re.Pattern, own: tuple, asks: str) -> None:
+    """Raise :class:`~.parsing.Unreadable` where ``text`` names a setting (``named``) at a value the question does
+    not ask ('below at nu = 30' for section 3's fit at nu = 3; 'below 1 (p = 0.1)' for the data without outliers)."""
+    for _, value in named.findall(text):
         if float(value) not in own:
-            raise Unreadable(f"Could not read {shown(answer)} as {what}: it names another setting (nu = {value}); "
-                             f"the question asks {asks}.")
+            name = "nu" if named is _NU_IS else "p"
+            raise Unreadable(f"Could not read {shown(answer)} as {what}: it names another setting ({name} = "
+                             f"{value}); the question asks {asks}.")
 
 
 def _clauses_agree(text: str, reader, reasons: str) -> str | None:
@@ -260,9 +263,9 @@ _FACTOR_COMPARED = re.compile(r"(?:(?:the\s+)?factor\s+)?(\d+(?:\.\d+)?)\s*(->|\
 def _the_factors(aside: str) -> bool:
     """Whether every number in ``aside`` is section 2's factor at nu = 3 or at nu = 30, to the digits written
     ('5.1 -> 3.47' is; '9 -> 8' is not)."""
-    from ..demos import section2_tp
+    from ..demos import section2_factor
 
-    factors = [section2_tp(nu).variance_scale_ for nu in (3.0, 30.0)]
+    factors = [section2_factor(nu) for nu in (3.0, 30.0)]
     for number in re.findall(r"\d+(?:\.\d+)?", aside):
         places = len(number.partition(".")[2])
         if not any(abs(factor - float(number)) <= 0.5 * 10.0 ** -places for factor in factors):
@@ -303,7 +306,8 @@ def read_band(answer) -> str:
     text = _text(answer)
     if text is None:
         return read_word(answer, options)
-    _other_nu(text, answer, "'wider' or 'narrower'", (3.0, 30.0), "about the band at nu = 30 against nu = 3")
+    _other_setting(text, answer, "'wider' or 'narrower'", _NU_IS, (3.0, 30.0),
+                   "about the band at nu = 30 against nu = 3")
     said = re.sub(r"\s*[.!\u2026,;:]+\s*$", "", text.strip())  # 'wider at nu = 3.', 'narrower,'
     said = re.sub(rf"^\s*(?:(?:at|with|for)\s+)?(?:{_NU})?30(?:\.0+)?\s*(?::|,|->|\u2192|(?=\s[a-z]))\s*"
                   rf"(?!.*\b(?:{_NU})?3(?:\.0+)?\s*:)|"
